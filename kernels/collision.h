@@ -1,0 +1,81 @@
+// Hard-core collision rule and the straight-line rewind of the a posteriori resolution (report
+// sec. 4, DESIGN.md sec. 2).
+//
+// After a step, a pair i,j with centre distance below d = a_i + a_j is rewound along its
+// end-of-step velocities to the moment of contact. With r = r_i - r_j, v = v_i - v_j and the
+// backward time s >= 0, |r - v s|^2 = d^2 gives a s^2 - 2 b s + c = 0 with a = |v|^2,
+// b = r.v, c = |r|^2 - d^2 < 0 (overlap). The positive root (b + sqrt(b^2 - a c)) / a is
+// rewritten as c / (b - sqrt(b^2 - a c)): for an approaching pair (b < 0) the denominator is a
+// sum of two negative terms, so no cancellation even when a is tiny.
+#pragma once
+
+#include <cmath>
+
+#include "hd.h"
+#include "vec3.h"
+
+namespace corebox {
+
+// Backward time to contact, or a negative value when the pair is not approaching (b >= 0): such an
+// overlap did not come from straight-line motion within the step and needs a positional fix.
+template <class Real>
+COREBOX_HD inline Real contactRewindTime(Vec3<Real> r, Vec3<Real> v, Real contactDistance) {
+    const Real b = dot(r, v);
+    if (b >= Real(0)) return Real(-1);
+    const Real a = norm2(v);
+    const Real c = norm2(r) - contactDistance * contactDistance;
+    if (c >= Real(0)) return Real(0);
+    const Real disc = b * b - a * c;  // > b^2 because a c < 0
+    return c / (b - sqrt(disc));
+}
+
+// Normal impulse magnitude J for a pair with normal relative speed vn = (v_i - v_j).n < 0:
+//   J = -(1 + e) mu vn, mu = m_i m_j / (m_i + m_j); v_i += J n / m_i, v_j -= J n / m_j.
+// The kinetic energy lost is (1 - e^2) mu vn^2 / 2.
+template <class Real>
+COREBOX_HD inline Real collisionImpulse(Real reducedMass, Real normalSpeed, Real restitution) {
+    return -(Real(1) + restitution) * reducedMass * normalSpeed;
+}
+
+template <class Real>
+COREBOX_HD inline Real collisionEnergyLoss(Real reducedMass, Real normalSpeed, Real restitution) {
+    return Real(0.5) * (Real(1) - restitution * restitution) * reducedMass * normalSpeed * normalSpeed;
+}
+
+// Contacts slower than this are treated as elastic, so a chain of inelastic collisions cannot
+// collapse into infinitely many events in finite time (inelastic collapse) and hang a step.
+template <class Real>
+COREBOX_HD inline Real effectiveRestitution(Real restitution, Real normalSpeed, Real elasticBelowSpeed) {
+    return fabs(normalSpeed) < elasticBelowSpeed ? Real(1) : restitution;
+}
+
+// Wall penetration on one axis: the centre must stay in [radius, boxLength - radius]. Returns the
+// backward time to contact along the current velocity, or a negative value when the particle is
+// moving away from the wall it penetrates (needs a positional fix), or 0-or-more when it does.
+// side: 0 low wall, 1 high wall.
+template <class Real>
+COREBOX_HD inline Real wallRewindTime(Real position, Real velocity, Real radius, Real boxLength, int side) {
+    if (side == 0) {
+        const Real depth = radius - position;
+        if (depth <= Real(0)) return Real(-2);  // no penetration
+        return velocity < Real(0) ? depth / -velocity : Real(-1);
+    }
+    const Real depth = position - (boxLength - radius);
+    if (depth <= Real(0)) return Real(-2);
+    return velocity > Real(0) ? depth / velocity : Real(-1);
+}
+
+}  // namespace corebox
+
+namespace corebox {
+
+// Relative slack below which a distance counts as contact, not overlap: a pair put back exactly at
+// contact must not be found overlapping again because of the last bit of rounding.
+template <class Real>
+COREBOX_HD inline Real contactSlack();
+template <>
+COREBOX_HD inline double contactSlack<double>() { return 1e-12; }
+template <>
+COREBOX_HD inline float contactSlack<float>() { return 2e-6f; }
+
+}  // namespace corebox

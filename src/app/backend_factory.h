@@ -1,0 +1,21 @@
+// Builds a backend by name for the command line and the window app: "cpu", "cuda", or "auto"
+// (CUDA when this build has it and a GPU is present, else CPU).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "backend.h"
+
+namespace corebox {
+
+struct BackendChoice {
+    std::string name = "auto";
+    Precision precision = Precision::Fp64;
+    int threads = 0;  // CPU threads; 0: all
+};
+
+// Throws InputError for an unknown name and DeviceError when the device cannot be used.
+std::unique_ptr<Backend> makeBackend(const BackendChoice& choice);
+
+}  // namespace corebox

@@ -1,0 +1,47 @@
+// corebox command line. Subcommands: run (DESIGN.md sec. 3). Usage errors exit with code 2.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+
+#include "run_command.h"
+
+int main(int argc, char** argv) {
+    using namespace corebox;
+    CLI::App app{"corebox: hard-core particles with Lennard-Jones forces in a rigid box"};
+    app.set_version_flag("--version", std::string("corebox ") + COREBOX_VERSION);
+    app.require_subcommand(1);
+
+    RunOptions run;
+    std::string precision, method;
+    double dt = 0;
+    int64_t seed = -1;
+    CLI::App* runCmd = app.add_subcommand("run", "Run a scene and write observables and the final state");
+    runCmd->add_option("scene", run.scenePath, "Scene file (TOML), e.g. assets/argon_gas.toml")->required();
+    runCmd->add_option("--steps", run.steps, "Number of steps")->capture_default_str();
+    runCmd->add_option("--every", run.every, "Observables row every K steps")->capture_default_str();
+    runCmd->add_option("--observables", run.observablesPath, "Observables CSV (default: stdout)");
+    runCmd->add_option("--state-out", run.stateOutPath, "Write the final state as CSV");
+    runCmd->add_option("--backend", run.backend.name, "cpu, cuda or auto")->capture_default_str();
+    runCmd->add_option("--threads", run.backend.threads, "CPU threads (0: all cores)")->capture_default_str();
+    auto* precisionOpt = runCmd->add_option("--precision", precision, "Override the scene's precision: fp32 or fp64");
+    auto* methodOpt = runCmd->add_option("--method", method, "Override the integrator: euler, rk2, rk4, dp5, hairer10, verlet");
+    auto* dtOpt = runCmd->add_option("--dt", dt, "Override the time step");
+    auto* seedOpt = runCmd->add_option("--seed", seed, "Override the random seed");
+    runCmd->add_option("--max-drift", run.maxEnergyDrift,
+                       "Stop (exit 3) when the conserved energy moves by more than this fraction of the energy scale")
+        ->capture_default_str();
+    runCmd->add_flag("--quiet", run.quiet, "No progress lines on stderr");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int code = app.exit(e);
+        return code == 0 ? 0 : kExitInput;
+    }
+    if (*precisionOpt) run.precision = precision;
+    if (*methodOpt) run.method = method;
+    if (*dtOpt) run.dt = dt;
+    if (*seedOpt) run.seed = seed;
+    if (*runCmd) return runCommand(run);
+    return kExitInput;
+}

@@ -1,0 +1,136 @@
+#include "run_command.h"
+
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "atomic_file.h"
+#include "errors.h"
+#include "initial_conditions.h"
+#include "observables.h"
+#include "progress.h"
+#include "scene_io.h"
+#include "simulation.h"
+#include "state_csv.h"
+
+namespace corebox {
+namespace {
+
+void applyOverrides(const RunOptions& options, Scene& scene) {
+    if (options.precision) {
+        if (*options.precision == "fp32") scene.integrator.precision = Precision::Fp32;
+        else if (*options.precision == "fp64") scene.integrator.precision = Precision::Fp64;
+        else throw InputError("--precision: expected fp32 or fp64, got '" + *options.precision + "'");
+    }
+    if (options.method && !parseMethod(*options.method, &scene.integrator.method)) {
+        throw InputError("--method: unknown method '" + *options.method + "' (expected euler, rk2, rk4, dp5, hairer10 or verlet)");
+    }
+    if (options.method && scene.integrator.adaptive && scene.integrator.method != Method::Dp5) scene.integrator.adaptive = false;
+    if (options.dt) {
+        if (!(*options.dt > 0)) throw InputError("--dt: must be > 0");
+        scene.integrator.dt = *options.dt;
+    }
+    if (options.seed) {
+        if (*options.seed < 0) throw InputError("--seed: must be >= 0");
+        scene.init.seed = uint64_t(*options.seed);
+    }
+}
+
+void checkOptions(const RunOptions& options) {
+    if (options.steps < 0) throw InputError("--steps: must be >= 0");
+    if (options.every < 1) throw InputError("--every: must be >= 1");
+    if (!(options.maxEnergyDrift > 0)) throw InputError("--max-drift: must be > 0");
+    if (!options.observablesPath.empty()) checkWritable(options.observablesPath, "--observables");
+    if (!options.stateOutPath.empty()) checkWritable(options.stateOutPath, "--state-out");
+}
+
+std::string lastGoodPath(const RunOptions& options) {
+    if (!options.stateOutPath.empty()) {
+        std::string base = options.stateOutPath;
+        if (base.size() > 4 && base.compare(base.size() - 4, 4, ".csv") == 0) base.resize(base.size() - 4);
+        return base + ".last_good.csv";
+    }
+    if (!options.observablesPath.empty()) {
+        const size_t slash = options.observablesPath.find_last_of('/');
+        return (slash == std::string::npos ? std::string() : options.observablesPath.substr(0, slash + 1)) + "last_good_state.csv";
+    }
+    return "corebox_last_good_state.csv";
+}
+
+}  // namespace
+
+int runCommand(const RunOptions& options) {
+    std::unique_ptr<Simulation> sim;
+    std::unique_ptr<AtomicFile> observablesFile;
+    try {
+        checkOptions(options);
+        Scene scene = loadScene(options.scenePath);
+        applyOverrides(options, scene);
+        const ParticleState initial = makeInitialState(scene);
+        BackendChoice choice = options.backend;
+        choice.precision = scene.integrator.precision;
+        std::unique_ptr<Backend> backend = makeBackend(choice);
+        std::fprintf(stderr, "[corebox] %s: %lld particles, %zu species, %s %s dt = %g, backend %s, %lld steps\n",
+                     options.scenePath.c_str(), (long long)initial.size(), scene.species.size(), methodName(scene.integrator.method),
+                     precisionName(scene.integrator.precision), scene.integrator.dt, backend->name().c_str(), (long long)options.steps);
+        SimulationLimits limits;
+        limits.maxEnergyDrift = options.maxEnergyDrift;
+        sim = std::make_unique<Simulation>(scene, std::move(backend), initial, limits);
+        if (!options.observablesPath.empty()) observablesFile = std::make_unique<AtomicFile>(options.observablesPath);
+    } catch (const InputError& e) {
+        std::fprintf(stderr, "corebox: error: %s\n", e.what());
+        return kExitInput;
+    } catch (const DeviceError& e) {
+        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
+        return kExitDevice;
+    } catch (const InstabilityError& e) {
+        std::fprintf(stderr, "corebox: %s\n", e.what());
+        return kExitUnstable;
+    }
+
+    std::ostream& out = observablesFile ? observablesFile->stream() : std::cout;
+    out << observablesHeader(sim->scene()) << '\n';
+    ProgressReporter progress(options.steps, !options.quiet);
+    const double dof = 3.0 * double(std::max<int64_t>(sim->particleCount(), 1));
+    int64_t capHitsReported = 0;
+    try {
+        writeObservablesRow(out, sim->observe());
+        for (int64_t s = 1; s <= options.steps; ++s) {
+            sim->step();
+            if (s % options.every == 0 || s == options.steps) writeObservablesRow(out, sim->observe());
+            if (sim->roundCapHits() > capHitsReported) {
+                std::fprintf(stderr, "[corebox] warning: step %lld: overlaps remained after %d collision rounds (%lld steps so far); "
+                             "consider a smaller dt or a larger [interaction] max_collision_rounds\n",
+                             (long long)s, sim->scene().interaction.maxCollisionRounds, (long long)sim->roundCapHits());
+                capHitsReported = sim->roundCapHits() * 2;  // report again only when it keeps happening
+            }
+            progress.update(s, sim->time(), 2.0 * sim->lastKineticEnergy() / dof);
+        }
+        progress.finish(options.steps, sim->time(), 2.0 * sim->lastKineticEnergy() / dof);
+        if (observablesFile) observablesFile->commit();
+        if (!options.stateOutPath.empty()) writeStateCsv(options.stateOutPath, sim->state());
+    } catch (const InstabilityError& e) {
+        std::fprintf(stderr, "corebox: %s\n", e.what());
+        try {
+            if (observablesFile) {
+                observablesFile->commit();
+                std::fprintf(stderr, "corebox: observables up to the failure are in %s\n", options.observablesPath.c_str());
+            }
+            const std::string path = lastGoodPath(options);
+            writeStateCsv(path, sim->lastGoodState());
+            std::fprintf(stderr, "corebox: last good state (before step %lld) written to %s\n", (long long)sim->stepIndex(), path.c_str());
+        } catch (const InputError& w) {
+            std::fprintf(stderr, "corebox: error: %s\n", w.what());
+        }
+        return kExitUnstable;
+    } catch (const InputError& e) {
+        std::fprintf(stderr, "corebox: error: %s\n", e.what());
+        return kExitInput;
+    } catch (const DeviceError& e) {
+        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
+        return kExitDevice;
+    }
+    return kExitOk;
+}
+
+}  // namespace corebox

@@ -1,0 +1,32 @@
+// `corebox run SCENE ...`: load a scene, run it on a backend, write observables and the final state.
+// Exit codes (DESIGN.md sec. 3): 0 ok, 2 usage or input error, 3 instability, 4 device error.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "backend_factory.h"
+
+namespace corebox {
+
+struct RunOptions {
+    std::string scenePath;
+    int64_t steps = 1000;
+    int64_t every = 100;               // observables row every K steps (and at step 0 and the end)
+    std::string observablesPath;       // "" : rows go to stdout
+    std::string stateOutPath;          // "" : final state not written
+    BackendChoice backend;
+    std::optional<std::string> precision;  // overrides [integrator] precision
+    std::optional<std::string> method;     // overrides [integrator] method
+    std::optional<double> dt;              // overrides [integrator] dt
+    std::optional<int64_t> seed;           // overrides [init] seed
+    double maxEnergyDrift = 0.5;
+    bool quiet = false;                    // no progress lines
+};
+
+enum ExitCode : int { kExitOk = 0, kExitInput = 2, kExitUnstable = 3, kExitDevice = 4 };
+
+int runCommand(const RunOptions& options);
+
+}  // namespace corebox

@@ -1,0 +1,199 @@
+#include "initial_conditions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "errors.h"
+#include "overlap_grid.h"
+#include "rng.h"
+#include "state_csv.h"
+
+namespace corebox {
+namespace {
+
+// Closest allowed centre distance when placing i and j: hard-core contact, and for LJ pairs also
+// 0.9 sigma_ij so the first force evaluation is not a huge repulsion.
+double placementDistance(const SpeciesDef& a, const SpeciesDef& b) {
+    double d = a.radius + b.radius;
+    if (a.epsilon > 0 && b.epsilon > 0) d = std::max(d, 0.9 * 0.5 * (a.sigma + b.sigma));
+    return d;
+}
+
+std::vector<int32_t> speciesOfIds(const Scene& scene) {
+    std::vector<int32_t> species;
+    species.reserve(size_t(scene.particleCount()));
+    for (size_t s = 0; s < scene.species.size(); ++s) species.insert(species.end(), size_t(scene.species[s].count), int32_t(s));
+    return species;
+}
+
+void placeOnLattice(const Scene& scene, ParticleState& state) {
+    const int64_t n = int64_t(state.size());
+    const std::array<double, 3>& box = scene.box.size;
+    const double density = double(n) / (box[0] * box[1] * box[2]);
+    std::array<int64_t, 3> sites{};
+    for (int a = 0; a < 3; ++a) sites[size_t(a)] = std::max<int64_t>(1, int64_t(std::ceil(box[size_t(a)] * std::cbrt(density))));
+    // Grow the axis with the widest spacing until every particle has a site.
+    while (sites[0] * sites[1] * sites[2] < n) {
+        int widest = 0;
+        for (int a = 1; a < 3; ++a) {
+            if (box[size_t(a)] / double(sites[size_t(a)]) > box[size_t(widest)] / double(sites[size_t(widest)])) widest = a;
+        }
+        ++sites[size_t(widest)];
+    }
+    double minDistance = 0;
+    for (size_t i = 0; i < scene.species.size(); ++i) {
+        if (scene.species[i].count == 0) continue;
+        for (size_t j = 0; j < scene.species.size(); ++j) {
+            if (scene.species[j].count > 0) minDistance = std::max(minDistance, scene.species[i].radius + scene.species[j].radius);
+        }
+    }
+    for (int a = 0; a < 3; ++a) {
+        const double spacing = box[size_t(a)] / double(sites[size_t(a)]);
+        if (spacing < minDistance) {
+            std::ostringstream msg;
+            msg << "more particles than fit: " << n << " particles on a lattice in this box need a spacing of " << spacing
+                << " on axis " << "xyz"[a] << ", below the largest contact distance " << minDistance
+                << "; enlarge the box or use fewer or smaller particles";
+            throw InputError(locatedMessage(scene.sourcePath, 0, "species", msg.str()));
+        }
+    }
+    // A random subset of the sites (Fisher-Yates on counter-based draws), so species mix.
+    const int64_t total = sites[0] * sites[1] * sites[2];
+    std::vector<int64_t> order(static_cast<size_t>(total));
+    for (int64_t k = 0; k < total; ++k) order[size_t(k)] = k;
+    for (int64_t k = total - 1; k > 0; --k) {
+        const Philox4 r = drawBlock(scene.init.seed, 0, uint64_t(k), RngPurpose::LatticeShuffle);
+        const int64_t j = int64_t(uniformOpen(r.v[0], r.v[1]) * double(k + 1));
+        std::swap(order[size_t(k)], order[size_t(std::min(j, k))]);
+    }
+    for (int64_t i = 0; i < n; ++i) {
+        const int64_t site = order[size_t(i)];
+        const int64_t ix = site % sites[0], iy = (site / sites[0]) % sites[1], iz = site / (sites[0] * sites[1]);
+        state.position[size_t(i)] = {(double(ix) + 0.5) * box[0] / double(sites[0]), (double(iy) + 0.5) * box[1] / double(sites[1]),
+                                     (double(iz) + 0.5) * box[2] / double(sites[2])};
+    }
+}
+
+void placeRandomly(const Scene& scene, ParticleState& state) {
+    const int64_t n = int64_t(state.size());
+    double maxDistance = 0;
+    for (const SpeciesDef& a : scene.species)
+        for (const SpeciesDef& b : scene.species) maxDistance = std::max(maxDistance, placementDistance(a, b));
+    OverlapGrid grid(scene.box.size, maxDistance);
+    constexpr int kAttempts = 2000;
+    for (int64_t i = 0; i < n; ++i) {
+        const SpeciesDef& si = scene.species[size_t(state.species[size_t(i)])];
+        bool placed = false;
+        for (int attempt = 0; attempt < kAttempts && !placed; ++attempt) {
+            const Philox4 r0 = drawBlock(scene.init.seed, uint32_t(i), uint64_t(attempt) * 2, RngPurpose::Placement);
+            const Philox4 r1 = drawBlock(scene.init.seed, uint32_t(i), uint64_t(attempt) * 2 + 1, RngPurpose::Placement);
+            const double u[3] = {uniformOpen(r0.v[0], r0.v[1]), uniformOpen(r0.v[2], r0.v[3]), uniformOpen(r1.v[0], r1.v[1])};
+            Vec3<double> p{};
+            for (int a = 0; a < 3; ++a) p[a] = si.radius + u[a] * (scene.box.size[size_t(a)] - 2 * si.radius);
+            bool free = true;
+            grid.forNeighbours(p, [&](int64_t j) {
+                const double d = placementDistance(si, scene.species[size_t(state.species[size_t(j)])]);
+                if (norm2(p - state.position[size_t(j)]) < d * d) free = false;
+            });
+            if (free) {
+                state.position[size_t(i)] = p;
+                grid.insert(i, p);
+                placed = true;
+            }
+        }
+        if (!placed) {
+            throw InputError(locatedMessage(scene.sourcePath, 0, "init.placement",
+                                            "random placement found no free spot for particle " + std::to_string(i) + " of " +
+                                                std::to_string(n) + " after " + std::to_string(kAttempts) +
+                                                " tries: the box is too full for random insertion; use placement = \"lattice\" or a larger box"));
+        }
+    }
+}
+
+}  // namespace
+
+void assignMaxwellBoltzmannVelocities(const Scene& scene, ParticleState& state) {
+    const double kT = scene.init.temperature;
+    Vec3<double> momentum{0, 0, 0};
+    double totalMass = 0;
+    for (size_t i = 0; i < state.size(); ++i) {
+        const double m = scene.species[size_t(state.species[i])].mass;
+        const double sd = std::sqrt(kT / m);
+        double g[4];
+        gaussianPair(drawBlock(scene.init.seed, uint32_t(i), 0, RngPurpose::InitialVelocity), &g[0], &g[1]);
+        gaussianPair(drawBlock(scene.init.seed, uint32_t(i), 1, RngPurpose::InitialVelocity), &g[2], &g[3]);
+        state.velocity[i] = {sd * g[0], sd * g[1], sd * g[2]};
+        momentum += m * state.velocity[i];
+        totalMass += m;
+    }
+    if (totalMass <= 0) return;
+    const Vec3<double> drift = (1.0 / totalMass) * momentum;
+    for (Vec3<double>& v : state.velocity) v -= drift;
+}
+
+void checkPlacement(const Scene& scene, const ParticleState& state, const std::string& source) {
+    const double slack = 1e-9;
+    for (size_t i = 0; i < state.size(); ++i) {
+        const double a = scene.species[size_t(state.species[i])].radius;
+        for (int ax = 0; ax < 3; ++ax) {
+            const double x = state.position[i][ax];
+            if (x < a - slack || x > scene.box.size[size_t(ax)] - a + slack) {
+                std::ostringstream msg;
+                msg << "particle " << i << " lies outside the box: " << "xyz"[ax] << " = " << x << " but its centre must be in ["
+                    << a << ", " << scene.box.size[size_t(ax)] - a << "] (radius " << a << ")";
+                throw InputError(locatedMessage(source, 0, "", msg.str()));
+            }
+        }
+    }
+    double maxContact = 0;
+    for (const SpeciesDef& s : scene.species) maxContact = std::max(maxContact, 2 * s.radius);
+    OverlapGrid grid(scene.box.size, maxContact);
+    for (size_t i = 0; i < state.size(); ++i) {
+        const double ai = scene.species[size_t(state.species[i])].radius;
+        grid.forNeighbours(state.position[i], [&](int64_t j) {
+            const double d = ai + scene.species[size_t(state.species[size_t(j)])].radius;
+            const double r = std::sqrt(norm2(state.position[i] - state.position[size_t(j)]));
+            if (r < d * (1 - slack)) {
+                std::ostringstream msg;
+                msg << "particles " << j << " and " << i << " overlap: centre distance " << r << " < contact distance " << d;
+                throw InputError(locatedMessage(source, 0, "", msg.str()));
+            }
+        });
+        grid.insert(int64_t(i), state.position[i]);
+    }
+}
+
+ParticleState makeInitialState(const Scene& scene) {
+    if (!scene.init.particlesFile.empty()) {
+        ParticleState state = readStateCsv(scene.init.particlesFile);
+        std::vector<int64_t> counts(scene.species.size(), 0);
+        for (int32_t s : state.species) {
+            if (size_t(s) >= scene.species.size()) {
+                throw InputError(locatedMessage(scene.init.particlesFile, 0, "species",
+                                                "species index " + std::to_string(s) + " but the scene defines " +
+                                                    std::to_string(scene.species.size()) + " species"));
+            }
+            ++counts[size_t(s)];
+        }
+        for (size_t s = 0; s < counts.size(); ++s) {
+            if (counts[s] != scene.species[s].count) {
+                throw InputError(locatedMessage(scene.sourcePath, 0, "species[" + std::to_string(s) + "].count",
+                                                "is " + std::to_string(scene.species[s].count) + " but " + scene.init.particlesFile +
+                                                    " holds " + std::to_string(counts[s]) + " particles of species " + std::to_string(s)));
+            }
+        }
+        checkPlacement(scene, state, scene.init.particlesFile);
+        return state;
+    }
+    ParticleState state;
+    state.resize(size_t(scene.particleCount()));
+    state.species = speciesOfIds(scene);
+    if (scene.init.placement == Placement::Lattice) placeOnLattice(scene, state);
+    else placeRandomly(scene, state);
+    assignMaxwellBoltzmannVelocities(scene, state);
+    checkPlacement(scene, state, scene.sourcePath.empty() ? "placement" : scene.sourcePath);
+    return state;
+}
+
+}  // namespace corebox

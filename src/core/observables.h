@@ -1,0 +1,35 @@
+// Observables of a run (DESIGN.md sec. 3) and their CSV form. Collision counts in a row are those
+// since the previous row. The conserved sum E_kin + E_pot + E_dissipated - E_thermostat stays
+// constant up to integration error: it is what the blow-up check and the energy tests watch.
+#pragma once
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "scene.h"
+
+namespace corebox {
+
+struct ObservablesRow {
+    int64_t step = 0;
+    double time = 0;
+    double kinetic = 0;
+    double potential = 0;
+    double dissipated = 0;   // cumulative kinetic energy lost in inelastic collisions
+    double thermostat = 0;   // cumulative energy given by the thermostat
+    double px = 0, py = 0, pz = 0;
+    double temperature = 0;
+    int64_t collisionsPair = 0;
+    int64_t collisionsWall = 0;
+    std::vector<double> speciesTemperature;
+
+    double total() const { return kinetic + potential; }
+    double conserved() const { return kinetic + potential + dissipated - thermostat; }
+};
+
+std::string observablesHeader(const Scene& scene);
+void writeObservablesRow(std::ostream& out, const ObservablesRow& row);
+
+}  // namespace corebox

@@ -1,0 +1,99 @@
+// Scene description: everything a run needs, as plain parameter structs with defaults and units.
+// Reduced units throughout: lengths in sigma of species 0, energies in epsilon, masses in the mass
+// of species 0, time tau = sigma sqrt(m / eps), k_B = 1.
+//
+// Creation-time settings (counts, species, box, initial conditions) restart a run; per-step ones
+// (StepParameters: dt, method, precision, mixing, restitution, gravity, thermostat) apply live.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "butcher_tableau.h"
+#include "pair_potential.h"
+
+namespace corebox {
+
+enum class Precision { Fp32, Fp64 };
+enum class ThermostatKind { Bussi, Rescale, None };
+enum class Placement { Lattice, Random };
+
+struct BoxDef {
+    std::array<double, 3> size{10, 10, 10};  // box edge lengths [sigma]; walls at 0 and L per axis
+    double wallRestitution = 1.0;            // e_w in [0, 1]: v_n' = -e_w v_n
+};
+
+struct SpeciesDef {
+    std::string name = "A";
+    int64_t count = 0;
+    double mass = 1.0;      // [m]
+    double radius = 0.5;    // hard-core radius a [sigma]; pairs collide at R < a_i + a_j
+    double sigma = 1.0;     // LJ length [sigma]
+    double epsilon = 1.0;   // LJ well depth [eps]; 0: no pair force (pure hard spheres)
+    std::array<float, 3> color{0.8f, 0.3f, 0.2f};  // linear RGB in [0, 1], for the renderer
+};
+
+struct InteractionDef {
+    // x_ij, symmetric, one row per species; empty means 1 for every pair.
+    std::vector<std::vector<double>> mixing;
+    double cutoff = 0.0;                     // r_c [sigma]; 0: all pairs
+    CutoffShift shift = CutoffShift::Force;
+    double restitution = 1.0;                // particle-particle e in [0, 1]
+    std::array<double, 3> gravity{0, 0, 0};  // uniform acceleration [sigma / tau^2]
+    double elasticBelowSpeed = 1e-3;         // contacts slower than this are elastic [sigma / tau]
+    int maxCollisionRounds = 64;             // cap on parallel resolution rounds per step
+};
+
+struct IntegratorDef {
+    Method method = Method::Rk4;
+    double dt = 1e-3;                // [tau]; the initial step when adaptive
+    Precision precision = Precision::Fp64;
+    bool adaptive = false;           // dp5 only: step size from the embedded error estimate
+    double tolerance = 1e-8;         // absolute and relative tolerance of the adaptive controller
+};
+
+struct ThermostatDef {
+    ThermostatKind kind = ThermostatKind::Bussi;
+    double temperature = 1.0;  // target kT [eps]
+    double tau = 0.1;          // coupling time [tau]
+};
+
+struct InitDef {
+    double temperature = 1.0;  // initial kT [eps] of the Maxwell-Boltzmann velocities
+    uint64_t seed = 1;
+    Placement placement = Placement::Lattice;
+    std::string particlesFile;  // CSV id,species,x,y,z,vx,vy,vz; overrides placement and velocities
+};
+
+struct Scene {
+    std::string sourcePath;  // file the scene came from ("" when built in code); names errors
+    BoxDef box;
+    std::vector<SpeciesDef> species;
+    InteractionDef interaction;
+    IntegratorDef integrator;
+    ThermostatDef thermostat;
+    InitDef init;
+
+    int64_t particleCount() const;
+    double mixing(size_t i, size_t j) const;
+};
+
+// Everything the backend applies per step; changes take effect at the next step.
+struct StepParameters {
+    IntegratorDef integrator;
+    InteractionDef interaction;
+    BoxDef box;
+    std::vector<SpeciesDef> species;  // masses, radii and LJ parameters per species
+};
+
+StepParameters stepParametersOf(const Scene& scene);
+
+const char* methodName(Method method);
+bool parseMethod(const std::string& text, Method* method);
+const char* precisionName(Precision precision);
+const char* thermostatName(ThermostatKind kind);
+const char* shiftName(CutoffShift shift);
+
+}  // namespace corebox

@@ -1,0 +1,133 @@
+#include "simulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "errors.h"
+#include "thermostat.h"
+
+namespace corebox {
+
+Simulation::Simulation(Scene scene, std::unique_ptr<Backend> backend, const ParticleState& initial, SimulationLimits limits)
+    : m_scene(std::move(scene)), m_backend(std::move(backend)), m_limits(limits) {
+    m_particleCount = int64_t(initial.size());
+    m_countPerSpecies.assign(m_scene.species.size(), 0);
+    for (int32_t s : initial.species) ++m_countPerSpecies[size_t(s)];
+    m_backend->setParameters(stepParametersOf(m_scene));
+    m_backend->setState(initial);
+    m_backend->keepSnapshot();
+    const EnergySums e = m_backend->energies();
+    double thermalT = m_scene.init.temperature;
+    if (m_scene.thermostat.kind != ThermostatKind::None) thermalT = std::max(thermalT, m_scene.thermostat.temperature);
+    m_energyScale = std::max({std::fabs(e.kinetic) + std::fabs(e.potential), 1.5 * double(m_particleCount) * thermalT, 1e-300});
+    m_conserved0 = e.kinetic + e.potential;
+    m_lastKinetic = e.kinetic;
+}
+
+StepReport Simulation::step() {
+    m_backend->keepSnapshot();
+    const StepReport report = m_backend->step();
+    ++m_step;
+    m_time += report.dt;
+    m_dissipated += report.dissipated;
+    m_pairCollisions += report.pairCollisions;
+    m_wallCollisions += report.wallCollisions;
+    if (report.roundCapHit) ++m_roundCapHits;
+
+    const ThermostatResult t = applyThermostat(*m_backend, m_scene.thermostat, report.dt, m_step, m_scene.init.seed, 3 * m_particleCount);
+    m_thermostatEnergy += t.energyAdded();
+    const double kinetic = m_scene.thermostat.kind == ThermostatKind::None ? m_backend->kineticEnergy() : t.kineticAfter;
+
+    const HealthReport health = m_backend->health();
+    if (!health.ok()) {
+        std::ostringstream detail;
+        if (health.nonFinite > 0) detail << health.nonFinite << " particle(s) with non-finite position or velocity";
+        if (health.outsideBox > 0) detail << (health.nonFinite > 0 ? ", " : "") << health.outsideBox << " particle(s) escaped the box";
+        detail << " (e.g. particle";
+        for (int64_t id : health.examples) detail << ' ' << id;
+        detail << ')';
+        fail("the state broke down", detail.str());
+    }
+    const double runawayBound = m_limits.runawayFactor * m_energyScale + std::fabs(m_thermostatEnergy) + std::fabs(m_conserved0);
+    if (!std::isfinite(kinetic) || kinetic > runawayBound) {
+        std::ostringstream detail;
+        detail << "kinetic energy " << kinetic << " exceeds the runaway bound " << runawayBound << " (it was " << m_lastKinetic
+               << " one step before)";
+        fail("energy is growing without bound", detail.str());
+    }
+    m_lastKinetic = kinetic;
+    return report;
+}
+
+ObservablesRow Simulation::observe() {
+    const EnergySums e = m_backend->energies();
+    ObservablesRow row;
+    row.step = m_step;
+    row.time = m_time;
+    row.kinetic = e.kinetic;
+    row.potential = e.potential;
+    row.dissipated = m_dissipated;
+    row.thermostat = m_thermostatEnergy;
+    row.px = e.momentum.x;
+    row.py = e.momentum.y;
+    row.pz = e.momentum.z;
+    row.temperature = m_particleCount > 0 ? 2.0 * e.kinetic / (3.0 * double(m_particleCount)) : 0.0;
+    row.collisionsPair = m_pairCollisions;
+    row.collisionsWall = m_wallCollisions;
+    for (size_t s = 0; s < m_countPerSpecies.size(); ++s) {
+        row.speciesTemperature.push_back(m_countPerSpecies[s] > 0 ? 2.0 * e.kineticPerSpecies[s] / (3.0 * double(m_countPerSpecies[s])) : 0.0);
+    }
+    m_pairCollisions = 0;
+    m_wallCollisions = 0;
+    if (!std::isfinite(row.conserved())) fail("the energy is not finite", "E_kin = " + std::to_string(e.kinetic) + ", E_pot = " + std::to_string(e.potential));
+    const double drift = std::fabs(row.conserved() - m_conserved0);
+    if (drift > m_limits.maxEnergyDrift * m_energyScale) {
+        std::ostringstream detail;
+        detail << "the conserved energy E_kin + E_pot + E_diss - E_thermo moved by " << drift << ", more than "
+               << m_limits.maxEnergyDrift << " of the energy scale " << m_energyScale;
+        fail("energy drift beyond the bound", detail.str());
+    }
+    return row;
+}
+
+void Simulation::setStepParameters(const StepParameters& parameters) {
+    m_scene.integrator = parameters.integrator;
+    m_scene.interaction = parameters.interaction;
+    m_scene.box.wallRestitution = parameters.box.wallRestitution;
+    m_backend->setParameters(stepParametersOf(m_scene));
+}
+
+void Simulation::setThermostat(const ThermostatDef& thermostat) { m_scene.thermostat = thermostat; }
+
+void Simulation::replaceBackend(std::unique_ptr<Backend> backend) {
+    const ParticleState current = m_backend->state();
+    backend->setParameters(stepParametersOf(m_scene));
+    backend->setState(current);
+    backend->keepSnapshot();
+    m_backend = std::move(backend);
+}
+
+std::string Simulation::likelyCause() const {
+    const Method m = m_scene.integrator.method;
+    std::ostringstream out;
+    out << "likely cause: dt = " << m_scene.integrator.dt << " is too large for " << methodName(m) << " ("
+        << precisionName(m_scene.integrator.precision) << ")";
+    switch (m) {
+        case Method::Euler:
+        case Method::Rk2: out << "; euler and rk2 gain energy on every oscillation at any dt: prefer verlet or rk4"; break;
+        case Method::Rk4: out << "; rk4 is stable up to omega*dt ~ 2.83 for the fastest oscillation"; break;
+        case Method::Verlet: out << "; verlet is stable up to omega*dt = 2 for the fastest oscillation"; break;
+        case Method::Dp5: out << "; dp5 is stable up to omega*dt ~ 1.0 (or use adaptive = true)"; break;
+        case Method::Hairer10: out << "; hairer10 is stable up to omega*dt ~ 1.16"; break;
+    }
+    out << ", or particles start too close (strong LJ repulsion)";
+    return out.str();
+}
+
+void Simulation::fail(const std::string& what, const std::string& detail) const {
+    throw InstabilityError("instability at step " + std::to_string(m_step) + " (t = " + std::to_string(m_time) + "): " + what +
+                           ": " + detail + "; " + likelyCause());
+}
+
+}  // namespace corebox

@@ -1,0 +1,82 @@
+// A running simulation: one backend, the scene it runs, the step clock, the thermostat, the
+// accumulated energy bookkeeping and the blow-up policy. Front ends (command line, window, tests)
+// drive it with step() and observe(); live parameter edits go through setStepParameters() and
+// setThermostat().
+//
+// Blow-up policy (exit code 3 at the command line): after every step the backend reports non-finite
+// values and particles outside the box, and the kinetic energy is compared with a generous runaway
+// bound; at every observation the conserved sum is compared with its initial value. A failure
+// throws InstabilityError naming the step, the particles and the likely cause; the state before the
+// failing step stays available from lastGoodState().
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "backend.h"
+#include "observables.h"
+#include "particle_state.h"
+#include "scene.h"
+
+namespace corebox {
+
+struct SimulationLimits {
+    // Largest allowed |E_cons - E_cons(0)| as a fraction of the energy scale |K0| + |U0| (at least
+    // the thermal energy 3N kT/2 of the target or initial temperature).
+    double maxEnergyDrift = 0.5;
+    // Kinetic energy above this many energy scales (plus the energy exchanged) is a runaway.
+    double runawayFactor = 20.0;
+};
+
+class Simulation {
+public:
+    Simulation(Scene scene, std::unique_ptr<Backend> backend, const ParticleState& initial,
+               SimulationLimits limits = SimulationLimits{});
+
+    // One step: integrate + collide, thermostat, health check. Throws InstabilityError.
+    StepReport step();
+    // Full observables (O(N^2) potential); resets the collision counters. Throws InstabilityError
+    // when the conserved energy drifted beyond the limit or a value is not finite.
+    ObservablesRow observe();
+
+    void setStepParameters(const StepParameters& parameters);
+    void setThermostat(const ThermostatDef& thermostat);
+    // Replaces the backend (e.g. to switch precision), carrying the current state over.
+    void replaceBackend(std::unique_ptr<Backend> backend);
+
+    const Scene& scene() const { return m_scene; }
+    Backend& backend() { return *m_backend; }
+    int64_t stepIndex() const { return m_step; }
+    double time() const { return m_time; }
+    int64_t particleCount() const { return m_particleCount; }
+    double dissipatedEnergy() const { return m_dissipated; }
+    double thermostatEnergy() const { return m_thermostatEnergy; }
+    int64_t roundCapHits() const { return m_roundCapHits; }
+    double energyScale() const { return m_energyScale; }
+    double lastKineticEnergy() const { return m_lastKinetic; }
+    ParticleState state() const { return m_backend->state(); }
+    ParticleState lastGoodState() const { return m_backend->snapshot(); }
+
+private:
+    [[noreturn]] void fail(const std::string& what, const std::string& detail) const;
+    std::string likelyCause() const;
+
+    Scene m_scene;
+    std::unique_ptr<Backend> m_backend;
+    SimulationLimits m_limits;
+    int64_t m_particleCount = 0;
+    int64_t m_step = 0;
+    double m_time = 0;
+    double m_dissipated = 0;
+    double m_thermostatEnergy = 0;
+    int64_t m_pairCollisions = 0;
+    int64_t m_wallCollisions = 0;
+    int64_t m_roundCapHits = 0;
+    double m_energyScale = 1;
+    double m_conserved0 = 0;
+    double m_lastKinetic = 0;
+    std::vector<int64_t> m_countPerSpecies;
+};
+
+}  // namespace corebox

@@ -1,0 +1,23 @@
+// CPU reference backend: the oracle every GPU path is compared with. Clarity first, every core
+// used (OpenMP over particles), and deterministic whatever the thread count: each particle's sums
+// run over partners in index order, and every reduction over particles is made in fixed-size
+// chunks added in chunk order.
+//
+// Forces are all pairs, each pair evaluated from both sides (no Newton-3 halving): the same
+// arithmetic as the GPU tiles, so CPU and GPU differ only by rounding order, never by formula.
+#pragma once
+
+#include <memory>
+
+#include "backend.h"
+
+namespace corebox {
+
+struct CpuBackendOptions {
+    Precision precision = Precision::Fp64;
+    int threads = 0;  // 0: all hardware threads (or OMP_NUM_THREADS)
+};
+
+std::unique_ptr<Backend> makeCpuBackend(const CpuBackendOptions& options);
+
+}  // namespace corebox
