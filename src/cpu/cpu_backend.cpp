@@ -49,6 +49,7 @@ public:
         m_params = parameters;
         if (parameters.integrator.method != Method::Verlet) m_tableau = tableauFor(parameters.integrator.method);
         m_pairs = convertPairTable<Real>(buildPairTable(parameters));
+        m_anyPairForce = std::any_of(m_pairs.begin(), m_pairs.end(), [](const PairCoefficients<Real>& p) { return p.eps4 != Real(0); });
         const size_t s = parameters.species.size();
         m_invMass.assign(s, 0);
         m_mass.assign(s, 0);
@@ -210,6 +211,11 @@ private:
         const int64_t n = int64_t(x.size());
         const size_t s = m_params.species.size();
         out.resize(size_t(n));
+        if (!m_anyPairForce) {  // pure hard spheres: only gravity, no pair loop
+            std::fill(out.begin(), out.end(), m_gravity);
+            if (pairEnergy) std::fill(pairEnergy, pairEnergy + n, 0.0);
+            return;
+        }
         parallelFor(m_threads, n, [&](int64_t i) {
             const Vec3<Real> xi = x[size_t(i)];
             const PairCoefficients<Real>* row = &m_pairs[size_t(m_species[size_t(i)]) * s];
@@ -469,6 +475,7 @@ private:
     StepParameters m_params;
     ButcherTableau m_tableau;
     std::vector<PairCoefficients<Real>> m_pairs;
+    bool m_anyPairForce = true;
     std::vector<Real> m_mass, m_invMass, m_radius;
     Vec3<Real> m_gravity{0, 0, 0};
     Vec3<Real> m_boxLength{0, 0, 0};
