@@ -79,3 +79,46 @@ template <>
 COREBOX_HD inline float contactSlack<float>() { return 2e-6f; }
 
 }  // namespace corebox
+
+namespace corebox {
+
+// Second-order rewind. The integrator already applied the forces over the whole step, so a
+// straight-line rewind reflects a velocity that kept accelerating after the contact: under a force
+// F pressing a particle onto a wall it gains ~2 F v s of energy per hit (first order in dt). Rewinding
+// along the parabola x(-s) = x - v s + a s^2 / 2 with the end-of-step acceleration a, colliding with
+// the contact velocity v - a s and moving forward along the parabola again removes that error.
+
+// Backward time to the wall along the parabola for the normal coordinate: p = x - wall (signed so
+// that the penetration is p < 0 when v < 0 reaches the wall), v and a the normal velocity and
+// acceleration. Solves (a/2) s^2 - v s + p = 0 for its smallest positive root in the stable form
+// s = 2p / (v + sgn(v) sqrt(v^2 - 2 a p)); falls back to the straight line p / v.
+template <class Real>
+COREBOX_HD inline Real parabolicWallRewindTime(Real p, Real v, Real a, Real straightLine) {
+    const Real disc = v * v - Real(2) * a * p;
+    if (disc < Real(0)) return straightLine;
+    const Real root = sqrt(disc);
+    const Real denominator = v + (v < Real(0) ? -root : root);
+    if (denominator == Real(0)) return straightLine;
+    const Real s = Real(2) * p / denominator;
+    return s >= Real(0) ? s : straightLine;
+}
+
+// Backward time to contact of a pair along the relative parabola r(-s) = r - v s + a s^2 / 2,
+// refined by Newton from the straight-line time s0 (|r(-s)|^2 = d^2 is a quartic). Keeps s0 when
+// Newton does not converge to a non-negative root nearby.
+template <class Real>
+COREBOX_HD inline Real parabolicContactRewindTime(Vec3<Real> r, Vec3<Real> v, Vec3<Real> a, Real d, Real s0) {
+    Real s = s0;
+    for (int it = 0; it < 4; ++it) {
+        const Vec3<Real> rs = r - s * v + (Real(0.5) * s * s) * a;
+        const Vec3<Real> drs = (s * a) - v;
+        const Real f = norm2(rs) - d * d;
+        const Real df = Real(2) * dot(rs, drs);
+        if (df == Real(0)) return s0;
+        s -= f / df;
+    }
+    const Real tolerance = Real(0.5) * s0 + Real(1e-12);
+    return (s >= Real(0) && fabs(s - s0) <= tolerance) ? s : s0;
+}
+
+}  // namespace corebox

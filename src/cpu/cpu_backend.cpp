@@ -9,6 +9,7 @@
 
 #include "butcher_tableau.h"
 #include "collision.h"
+#include "contact_grid.h"
 #include "cpu_parallel.h"
 #include "errors.h"
 #include "maxwell_boltzmann.h"
@@ -206,33 +207,35 @@ private:
         return out;
     }
 
-    // a_i = sum_j F_ij / m_i + g over all pairs; pairEnergy[i] = sum_j U_ij when asked.
-    void accelerations(const std::vector<Vec3<Real>>& x, std::vector<Vec3<Real>>& out, double* pairEnergy) {
-        const int64_t n = int64_t(x.size());
-        const size_t s = m_params.species.size();
-        out.resize(size_t(n));
+    // a_i = sum_j F_ij / m_i + g over all pairs, and sum_j U_ij into *pairEnergy when asked.
+    Vec3<Real> accelerationOf(int64_t i, const std::vector<Vec3<Real>>& x, double* pairEnergy) const {
         if (!m_anyPairForce) {  // pure hard spheres: only gravity, no pair loop
-            std::fill(out.begin(), out.end(), m_gravity);
-            if (pairEnergy) std::fill(pairEnergy, pairEnergy + n, 0.0);
-            return;
+            if (pairEnergy) *pairEnergy = 0;
+            return m_gravity;
         }
-        parallelFor(m_threads, n, [&](int64_t i) {
-            const Vec3<Real> xi = x[size_t(i)];
-            const PairCoefficients<Real>* row = &m_pairs[size_t(m_species[size_t(i)]) * s];
-            Vec3<Real> force{0, 0, 0};
-            double energy = 0;
-            for (int64_t j = 0; j < n; ++j) {
-                if (j == i) continue;
-                const Vec3<Real> r = xi - x[size_t(j)];
-                const Real r2 = norm2(r);
-                if (r2 == Real(0)) continue;  // coincident centres carry no direction
-                Real u = 0;
-                const Real f = pairForceOverR(row[m_species[size_t(j)]], r2, pairEnergy ? &u : nullptr);
-                force += f * r;
-                energy += double(u);
-            }
-            out[size_t(i)] = m_invMass[size_t(m_species[size_t(i)])] * force + m_gravity;
-            if (pairEnergy) pairEnergy[i] = energy;
+        const int64_t n = int64_t(x.size());
+        const Vec3<Real> xi = x[size_t(i)];
+        const PairCoefficients<Real>* row = &m_pairs[size_t(m_species[size_t(i)]) * m_params.species.size()];
+        Vec3<Real> force{0, 0, 0};
+        double energy = 0;
+        for (int64_t j = 0; j < n; ++j) {
+            if (j == i) continue;
+            const Vec3<Real> r = xi - x[size_t(j)];
+            const Real r2 = norm2(r);
+            if (r2 == Real(0)) continue;  // coincident centres carry no direction
+            Real u = 0;
+            const Real f = pairForceOverR(row[m_species[size_t(j)]], r2, pairEnergy ? &u : nullptr);
+            force += f * r;
+            energy += double(u);
+        }
+        if (pairEnergy) *pairEnergy = energy;
+        return m_invMass[size_t(m_species[size_t(i)])] * force + m_gravity;
+    }
+
+    void accelerations(const std::vector<Vec3<Real>>& x, std::vector<Vec3<Real>>& out, double* pairEnergy) {
+        out.resize(x.size());
+        parallelFor(m_threads, int64_t(x.size()), [&](int64_t i) {
+            out[size_t(i)] = accelerationOf(i, x, pairEnergy ? &pairEnergy[i] : nullptr);
         });
     }
 
@@ -312,27 +315,22 @@ private:
 
     // ---- a posteriori collision resolution in parallel rounds (DESIGN.md sec. 2) ----
 
-    // Earliest event of particle i against every candidate partner; `checkAll` false restricts the
-    // pair search to the active list (an inactive pair cannot have started overlapping).
-    Event earliestEvent(int64_t i, bool checkAll, const std::vector<int64_t>& activeList) const {
+    // Earliest event of particle i against its grid neighbours; `checkAll` false restricts the pair
+    // search to active partners (a pair of inactive particles cannot have started overlapping).
+    Event earliestEvent(int64_t i, bool checkAll, const std::vector<char>& active) const {
         Event best;
         const Vec3<Real> xi = m_x[size_t(i)], vi = m_v[size_t(i)];
         const Real ai = m_radius[size_t(m_species[size_t(i)])];
         const Real slack = contactSlack<Real>();
-        auto consider = [&](int64_t j) {
-            if (j == i) return;
+        m_grid.forNeighbours(xi, [&](int64_t j) {
+            if (j == i || !(checkAll || active[size_t(j)])) return;
             const Real d = ai + m_radius[size_t(m_species[size_t(j)])];
             const Vec3<Real> r = xi - m_x[size_t(j)];
             if (norm2(r) >= d * d * (Real(1) - slack)) return;
             const Real s = contactRewindTime(r, vi - m_v[size_t(j)], d);
             const Event e{s >= Real(0) ? double(s) : Event::kFixKey, j};
             if (e.betterThan(best)) best = e;
-        };
-        if (checkAll) {
-            for (int64_t j = 0; j < int64_t(m_x.size()); ++j) consider(j);
-        } else {
-            for (int64_t j : activeList) consider(j);
-        }
+        });
         for (int axis = 0; axis < 3; ++axis) {
             for (int side = 0; side < 2; ++side) {
                 const Real pos = side == 0 ? xi[axis] + slack * std::max(ai, Real(1)) : xi[axis] - slack * std::max(ai, Real(1));
@@ -352,22 +350,29 @@ private:
         const Real elasticBelow = Real(m_params.interaction.elasticBelowSpeed);
         m_events.resize(size_t(n));
         m_loss.assign(size_t(n), 0.0);
+        m_contactAcceleration.resize(size_t(n));
+        m_hasContactAcceleration.assign(size_t(n), 0);
         std::vector<char> active(size_t(n), 1);
-        std::vector<int64_t> activeList;
         std::vector<int64_t> kind(size_t(n), 0);  // 0 none, 1 pair impulse, 2 wall, 3 fix
+        const double reach = 2.0 * double(*std::max_element(m_radius.begin(), m_radius.end()));
         for (int round = 0; round < m_params.interaction.maxCollisionRounds; ++round) {
-            const bool firstRound = round == 0;
-            activeList.clear();
-            for (int64_t i = 0; i < n; ++i) {
-                if (active[size_t(i)]) activeList.push_back(i);
-            }
-            if (activeList.empty()) return;
-            // Every particle's earliest event: active particles look at all partners, inactive ones
-            // only at active partners.
+            m_grid.build(m_x, m_boxLength, reach);
+            // Every particle's earliest event: active particles look at all neighbours, inactive
+            // ones only at active neighbours.
             parallelForDynamic(m_threads, n, [&](int64_t i) {
-                m_events[size_t(i)] = earliestEvent(i, firstRound || active[size_t(i)], activeList);
+                m_events[size_t(i)] = earliestEvent(i, active[size_t(i)] != 0, active);
             });
             report.rounds = round + 1;
+            // End-of-step accelerations of the particles about to be resolved (second-order rewind).
+            m_needAcceleration.clear();
+            for (int64_t i = 0; i < n; ++i) {
+                if (m_events[size_t(i)].valid() && !m_hasContactAcceleration[size_t(i)]) m_needAcceleration.push_back(i);
+            }
+            parallelFor(m_threads, int64_t(m_needAcceleration.size()), [&](int64_t k) {
+                const int64_t i = m_needAcceleration[size_t(k)];
+                m_contactAcceleration[size_t(i)] = accelerationOf(i, m_x, nullptr);
+                m_hasContactAcceleration[size_t(i)] = 1;
+            });
             // Resolve every event that is the earliest of each particle it touches: a matching, so
             // the updates below never write the same particle twice.
             std::fill(kind.begin(), kind.end(), 0);
@@ -401,10 +406,10 @@ private:
             }
         }
         // The cap was reached; see whether anything is still left.
-        activeList.clear();
-        for (int64_t i = 0; i < n; ++i) activeList.push_back(i);
+        m_grid.build(m_x, m_boxLength, reach);
+        std::fill(active.begin(), active.end(), 1);
         for (int64_t i = 0; i < n && !report.roundCapHit; ++i) {
-            if (earliestEvent(i, true, activeList).valid()) report.roundCapHit = true;
+            if (earliestEvent(i, true, active).valid()) report.roundCapHit = true;
         }
         report.dissipated = sumLoss();
     }
@@ -433,22 +438,49 @@ private:
             xj -= (gap * mi / (mi + mj)) * nrm;
             return 3;
         }
-        const Real s = Real(key);
-        xi -= s * vi;
-        xj -= s * vj;
+        const Vec3<Real> ai = m_contactAcceleration[size_t(i)], aj = m_contactAcceleration[size_t(j)];
+        const Real s = parabolicContactRewindTime(xi - xj, vi - vj, ai - aj, d, Real(key));
+        const Real halfS2 = Real(0.5) * s * s;
+        xi += halfS2 * ai - s * vi;  // back to contact along each parabola
+        xj += halfS2 * aj - s * vj;
+        vi -= s * ai;
+        vj -= s * aj;
         const Vec3<Real> r = xi - xj;
         const Vec3<Real> nrm = (Real(1) / std::sqrt(norm2(r))) * r;
+        const Real mu = mi * mj / (mi + mj);
         const Real vn = dot(vi - vj, nrm);
         if (vn < Real(0)) {
-            const Real mu = mi * mj / (mi + mj);
             const Real eEff = effectiveRestitution(e, vn, elasticBelow);
             const Real impulse = collisionImpulse(mu, vn, eEff);
             vi += (impulse / mi) * nrm;
             vj -= (impulse / mj) * nrm;
             *loss += double(collisionEnergyLoss(mu, vn, eEff));
         }
-        xi += s * vi;
-        xj += s * vj;
+        xi += s * vi + halfS2 * ai;  // and forward to the end of the step
+        xj += s * vj + halfS2 * aj;
+        vi += s * ai;
+        vj += s * aj;
+        // Resting contact: when the relative acceleration presses the pair together faster than
+        // the rebound separates it, they end the step still overlapping. Put them at contact and
+        // remove the closing normal velocity instead of colliding again. The energy this takes out
+        // (kinetic, minus the work done lifting the pair apart against the pressing force, to
+        // first order in the small gap) is counted as dissipated, so the balance stays exact.
+        const Vec3<Real> rEnd = xi - xj;
+        const Real distEnd = std::sqrt(norm2(rEnd));
+        if (distEnd < d * (Real(1) - contactSlack<Real>())) {
+            const Vec3<Real> nEnd = distEnd > Real(0) ? (Real(1) / distEnd) * rEnd : nrm;
+            const Real gap = d - distEnd;
+            xi += (gap * mj / (mi + mj)) * nEnd;
+            xj -= (gap * mi / (mi + mj)) * nEnd;
+            *loss += double(mu * dot(ai - aj, nEnd) * gap);
+            const Real closing = dot(vi - vj, nEnd);
+            if (closing < Real(0)) {
+                const Real impulse = collisionImpulse(mu, closing, Real(0));
+                vi += (impulse / mi) * nEnd;
+                vj -= (impulse / mj) * nEnd;
+                *loss += double(collisionEnergyLoss(mu, closing, Real(0)));
+            }
+        }
         return 1;
     }
 
@@ -461,13 +493,32 @@ private:
             x[axis] = wall;
             return 3;
         }
-        const Real s = Real(key);
-        x[axis] = wall;  // the rewind lands on the wall exactly: x - v s = wall by construction
-        const Real vn = v[axis];
-        const Real eEff = effectiveRestitution(e, vn, elasticBelow);
-        v[axis] = -eEff * vn;
-        *loss += double(collisionEnergyLoss(m_mass[size_t(m_species[size_t(i)])], vn, eEff));
-        x[axis] += s * v[axis];
+        // Normal coordinate pointing into the box: p = distance from the wall plane, vn, an.
+        const Real sign = side == 0 ? Real(1) : Real(-1);
+        const Real p = sign * (x[axis] - wall);
+        const Real vIn = sign * v[axis];
+        const Real aIn = sign * m_contactAcceleration[size_t(i)][axis];
+        const Real s = parabolicWallRewindTime(p, vIn, aIn, Real(key));
+        const Real vContact = vIn - aIn * s;
+        const Real m = m_mass[size_t(m_species[size_t(i)])];
+        const Real eEff = effectiveRestitution(e, vContact, elasticBelow);
+        const Real vOut = vContact < Real(0) ? -eEff * vContact : vContact;
+        if (vContact < Real(0)) *loss += double(collisionEnergyLoss(m, vContact, eEff));
+        Real pEnd = vOut * s + Real(0.5) * aIn * s * s;
+        Real vEnd = vOut + aIn * s;
+        if (pEnd < Real(0)) {
+            // Resting contact: pressed onto the wall harder than it rebounds. It stays on the wall
+            // and an inward normal velocity is absorbed. Dissipated: that kinetic energy minus the
+            // work of lifting it by -pEnd against the pressing acceleration.
+            *loss -= double(m * aIn * pEnd);
+            pEnd = 0;
+            if (vEnd < Real(0)) {
+                *loss += double(Real(0.5) * m * vEnd * vEnd);
+                vEnd = 0;
+            }
+        }
+        x[axis] = wall + sign * pEnd;
+        v[axis] = sign * vEnd;
         return 2;
     }
 
@@ -487,6 +538,10 @@ private:
     bool m_accelerationValid = false;
     std::vector<Vec3<Real>> m_kx, m_kv, m_xStage, m_vStage;
     std::vector<Event> m_events;
+    std::vector<Vec3<Real>> m_contactAcceleration;
+    std::vector<char> m_hasContactAcceleration;
+    std::vector<int64_t> m_needAcceleration;
+    ContactGrid<Real> m_grid;
     std::vector<double> m_loss;
     std::vector<Vec3<Real>> m_snapshotX, m_snapshotV;
 };

@@ -179,16 +179,16 @@ TEST(Collisions, BouncingBallSettlesWithoutHanging) {
         EXPECT_FALSE(r.roundCapHit);
         if (s > 15000) lastPeak = std::max(lastPeak, sim->state().position[0].z);
         if (s == 3000) {
-            // The straight-line rewind ignores gravity within the step: O(m g v dt) per bounce,
-            // about 0.4% over the first bounces at dt = 1e-3 (first order in dt).
-            EXPECT_NEAR(sim->observe().conserved(), e0, 1e-2 * e0);
+            const double c = sim->observe().conserved();
+            RecordProperty("bouncing_relative_error", std::to_string((c - e0) / e0));
+            // The parabolic rewind is exact under uniform gravity: only round-off remains.
+            EXPECT_NEAR(c, e0, 1e-9 * e0);
         }
     }
     EXPECT_LT(lastPeak - 0.5, 1e-3);  // resting on the floor (centre at the radius)
     EXPECT_GE(sim->state().position[0].z, 0.5 - 1e-12);
     const ObservablesRow row = sim->observe();
     EXPECT_GT(row.dissipated, 0.99 * 9.81 * 3.5);  // nearly all the potential energy was lost
-    // At rest the ball re-enters the floor by g dt^2 every step and is put back on it: an O(dt)
-    // energy error per unit time, a few per cent over the 15 time units spent resting here.
-    EXPECT_NEAR(row.conserved(), e0, 5e-2 * e0);
+    RecordProperty("resting_relative_error", std::to_string((row.conserved() - e0) / e0));
+    EXPECT_NEAR(row.conserved(), e0, 1e-9 * e0);
 }
