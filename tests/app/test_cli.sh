@@ -1,0 +1,139 @@
+#!/usr/bin/env bash
+# Command-line contract of `corebox run`: exit codes, messages that name file, line and key, no
+# partial output files on errors, blow-up reporting with the last good state, and a normal run.
+# Needs COREBOX (the binary) and SRC (the source tree) in the environment.
+set -u
+: "${COREBOX:?}" "${SRC:?}"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+passed=0
+failed=0
+
+fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
+pass() { passed=$((passed + 1)); }
+
+# expect NAME CODE PATTERN -- ARGS...: runs corebox, checks the exit code and that stderr matches.
+expect() {
+    local name=$1 code=$2 pattern=$3
+    shift 4
+    local err rc
+    err=$("$COREBOX" "$@" 2>&1 >/dev/null)
+    rc=$?
+    if [ "$rc" -ne "$code" ]; then fail "$name: exit $rc, expected $code; stderr: $err"; return; fi
+    if ! grep -Eq -- "$pattern" <<<"$err"; then fail "$name: stderr does not match /$pattern/: $err"; return; fi
+    pass
+}
+
+# no_outputs NAME: nothing but the inputs may be left in $work/out.
+no_outputs() {
+    local left
+    left=$(ls -A "$work/out")
+    if [ -n "$left" ]; then fail "$1: left files behind: $left"; else pass; fi
+}
+
+scene() {  # scene FILE BODY: a valid scene with BODY appended or substituted
+    printf '%s\n' "$2" >"$work/$1"
+}
+
+base='[box]
+size = [10, 10, 10]
+
+[[species]]
+name = "A"
+count = 20
+mass = 1.0
+radius = 0.5
+
+[integrator]
+method = "verlet"
+dt = 0.002'
+
+run_bad() {  # run_bad NAME FILE LINE KEY [EXTRA PATTERN]
+    local name=$1 file=$2 line=$3 key=$4
+    rm -rf "$work/out" && mkdir -p "$work/out"
+    expect "$name" 2 "$(basename "$file"):$line: $key" -- run "$file" --steps 5 --observables "$work/out/obs.csv" --state-out "$work/out/state.csv"
+    no_outputs "$name"
+}
+
+scene malformed.toml "$(sed 's/count = 20/count = = 20/' <<<"$base")"
+run_bad malformed "$work/malformed.toml" 6 ""
+scene unknown_key.toml "$base
+colour_depth = 3"
+run_bad "unknown key" "$work/unknown_key.toml" 13 "integrator.colour_depth"
+scene negative_mass.toml "$(sed 's/mass = 1.0/mass = -2.0/' <<<"$base")"
+run_bad "negative mass" "$work/negative_mass.toml" 7 "species\[0\].mass"
+scene zero_mass.toml "$(sed 's/mass = 1.0/mass = 0/' <<<"$base")"
+run_bad "zero mass" "$work/zero_mass.toml" 7 "species\[0\].mass"
+scene zero_radius.toml "$(sed 's/radius = 0.5/radius = 0.0/' <<<"$base")"
+run_bad "zero radius" "$work/zero_radius.toml" 8 "species\[0\].radius"
+scene zero_dt.toml "$(sed 's/dt = 0.002/dt = 0.0/' <<<"$base")"
+run_bad "zero dt" "$work/zero_dt.toml" 12 "integrator.dt"
+scene negative_dt.toml "$(sed 's/dt = 0.002/dt = -1e-3/' <<<"$base")"
+run_bad "negative dt" "$work/negative_dt.toml" 12 "integrator.dt"
+scene zero_box.toml "$(sed 's/size = \[10, 10, 10\]/size = [10, 0, 10]/' <<<"$base")"
+run_bad "zero box" "$work/zero_box.toml" 2 "box.size"
+scene bad_method.toml "$(sed 's/method = "verlet"/method = "leapfrog"/' <<<"$base")"
+run_bad "unknown method" "$work/bad_method.toml" 11 "integrator.method"
+scene crowded.toml "$(sed 's/count = 20/count = 2000/' <<<"$base")"
+run_bad "too many particles" "$work/crowded.toml" "[0-9]+" "species"
+
+# Particle files: overlapping and outside the box, named by the CSV.
+printf 'id,species,x,y,z,vx,vy,vz\n0,0,5,5,5,0,0,0\n1,0,5.4,5,5,0,0,0\n' >"$work/overlap.csv"
+printf 'id,species,x,y,z,vx,vy,vz\n0,0,5,5,5,0,0,0\n1,0,12,5,5,0,0,0\n' >"$work/outside.csv"
+printf 'id,species,x,y,z,vx,vy,vz\n0,0,5,5,5,0,0,0\n1,0,7,5,five,0,0,0\n' >"$work/garbled.csv"
+for case in overlap outside garbled; do
+    scene "$case.toml" "$(sed 's/count = 20/count = 2/' <<<"$base")
+[init]
+particles = \"$case.csv\""
+done
+rm -rf "$work/out" && mkdir -p "$work/out"
+expect "overlapping particles" 2 "overlap.csv.*particles 0 and 1 overlap" -- run "$work/overlap.toml" --steps 5 --observables "$work/out/o.csv"
+expect "outside the box" 2 "outside.csv.*outside the box" -- run "$work/outside.toml" --steps 5 --observables "$work/out/o.csv"
+expect "garbled particle file" 2 "garbled.csv:3: z: not a finite number" -- run "$work/garbled.toml" --steps 5 --observables "$work/out/o.csv"
+no_outputs "bad particle files"
+
+# Files that cannot be read or written.
+rm -rf "$work/out" && mkdir -p "$work/out"
+expect "missing scene" 2 "cannot read '$work/none.toml'" -- run "$work/none.toml"
+scene good.toml "$base"
+expect "unwritable observables" 2 "--observables: cannot write" -- run "$work/good.toml" --observables "$work/missing_dir/o.csv"
+expect "unwritable state" 2 "--state-out: cannot write" -- run "$work/good.toml" --state-out "$work/missing_dir/s.csv"
+no_outputs "unwritable outputs"
+
+# Usage errors.
+expect "unknown flag" 2 "--bogus" -- run "$work/good.toml" --bogus
+expect "bad steps" 2 "--steps" -- run "$work/good.toml" --steps -3
+expect "bad backend" 2 "unknown backend" -- run "$work/good.toml" --backend fpga
+"$COREBOX" --help | grep -q "run" && pass || fail "--help does not list run"
+
+# A normal run: observables header, rows at 0, every K and the end, final state readable.
+rm -rf "$work/out" && mkdir -p "$work/out"
+if "$COREBOX" run "$SRC/assets/hard_spheres.toml" --steps 25 --every 10 --observables "$work/out/obs.csv" \
+    --state-out "$work/out/state.csv" --quiet 2>"$work/err"; then
+    pass
+    head -1 "$work/out/obs.csv" | grep -q '^step,time,kinetic,potential,total,dissipated,thermostat,px,py,pz,temperature,collisions_pair,collisions_wall' \
+        && pass || fail "observables header"
+    steps=$(cut -d, -f1 "$work/out/obs.csv" | tail -n +2 | tr '\n' ' ')
+    [ "$steps" = "0 10 20 25 " ] && pass || fail "observable rows at steps '$steps', expected '0 10 20 25 '"
+    head -1 "$work/out/state.csv" | grep -q '^id,species,x,y,z,vx,vy,vz$' && pass || fail "state header"
+    # The written state is a valid particle file for a new run.
+    scene restart.toml "$(sed -e '/^\[init\]/,$d' "$SRC/assets/hard_spheres.toml")
+[init]
+particles = \"$work/out/state.csv\""
+    "$COREBOX" run "$work/restart.toml" --steps 5 --quiet >/dev/null 2>"$work/err2" && pass || fail "restart from state: $(cat "$work/err2")"
+else
+    fail "normal run failed: $(cat "$work/err")"
+fi
+
+# A blow-up: euler with a huge step on an LJ gas stops with exit 3, names the step and the cause,
+# writes the last good state and keeps the observables up to the failure.
+rm -rf "$work/out" && mkdir -p "$work/out"
+expect "blow-up" 3 "instability at step [0-9]+.*likely cause: dt = 0.05 is too large for euler" -- \
+    run "$SRC/assets/argon_gas.toml" --method euler --dt 0.05 --steps 5000 --every 1 --observables "$work/out/obs.csv" \
+    --state-out "$work/out/state.csv"
+[ -s "$work/out/state.last_good.csv" ] && pass || fail "no last good state after a blow-up"
+[ ! -e "$work/out/state.csv" ] && pass || fail "final state written despite the blow-up"
+if grep -qiE 'nan|inf' "$work/out/obs.csv"; then fail "NaN or inf in the observables"; else pass; fi
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
