@@ -3,6 +3,7 @@
 
 #include <cstdio>
 
+#include "force_benchmark.h"
 #include "run_command.h"
 
 int main(int argc, char** argv) {
@@ -32,6 +33,18 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     runCmd->add_flag("--quiet", run.quiet, "No progress lines on stderr");
 
+    CLI::App* benchCmd = app.add_subcommand("bench", "Benchmarks that write CSV and JSON results");
+    benchCmd->require_subcommand(1);
+    ForceBenchmarkOptions forces;
+    std::vector<std::string> precisions{"fp32", "fp64"};
+    CLI::App* forcesCmd = benchCmd->add_subcommand("forces", "Pair interactions per second of the all-pairs force pass");
+    forcesCmd->add_option("--backend", forces.backend, "cpu or cuda")->capture_default_str();
+    forcesCmd->add_option("--threads", forces.threads, "CPU threads (0: all cores)")->capture_default_str();
+    forcesCmd->add_option("--n", forces.sizes, "Particle counts")->delimiter(',')->capture_default_str();
+    forcesCmd->add_option("--precision", precisions, "fp32 and/or fp64")->delimiter(',')->check(CLI::IsMember({"fp32", "fp64"}));
+    forcesCmd->add_option("--min-seconds", forces.minSeconds, "Repeat each measurement at least this long")->capture_default_str();
+    forcesCmd->add_option("--out", forces.outputPrefix, "Write OUT.csv and OUT.json");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -43,5 +56,17 @@ int main(int argc, char** argv) {
     if (*dtOpt) run.dt = dt;
     if (*seedOpt) run.seed = seed;
     if (*runCmd) return runCommand(run);
+    if (*forcesCmd) {
+        forces.precisions.clear();
+        for (const std::string& p : precisions) forces.precisions.push_back(p == "fp32" ? Precision::Fp32 : Precision::Fp64);
+        for (int i = 0; i < argc; ++i) forces.commandLine += (i ? " " : "") + std::string(i ? argv[i] : "corebox");
+        try {
+            runForceBenchmark(forces);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "corebox: error: %s\n", e.what());
+            return kExitInput;
+        }
+        return 0;
+    }
     return kExitInput;
 }
