@@ -32,6 +32,16 @@ int main(int argc, char** argv) {
                        "Stop (exit 3) when the conserved energy moves by more than this fraction of the energy scale")
         ->capture_default_str();
     runCmd->add_flag("--quiet", run.quiet, "No progress lines on stderr");
+    HeadlessOptions& h = run.headless;
+    runCmd->add_flag("--headless", h.enabled, "Render frames without a display (EGL) into --out");
+    runCmd->add_option("--frames", h.frames, "Number of frames (frame 0 is the initial state)");
+    runCmd->add_option("--steps-per-frame", h.stepsPerFrame, "Simulation steps between frames")->capture_default_str();
+    runCmd->add_option("--size", h.size, "Frame size WIDTHxHEIGHT")->capture_default_str();
+    runCmd->add_option("--out", h.outDir, "Directory for frame_NNNNNN.png and observables.csv");
+    runCmd->add_option("--color-by", h.colorBy, "species or speed")->capture_default_str();
+    runCmd->add_option("--video", h.videoPath, "Also encode the frames into this video file (needs ffmpeg)");
+    runCmd->add_option("--speed-max", h.speedMax, "Top of the speed colour bar (default: from the temperature)");
+    runCmd->add_flag("--software-gl", h.softwareOnly, "Render on Mesa's software device even when a GPU is present");
 
     CLI::App* benchCmd = app.add_subcommand("bench", "Benchmarks that write CSV and JSON results");
     benchCmd->require_subcommand(1);

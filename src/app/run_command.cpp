@@ -4,11 +4,16 @@
 #include <iostream>
 #include <memory>
 
+#include <filesystem>
+
 #include "atomic_file.h"
 #include "errors.h"
+#include "frame_dumper.h"
+#include "gl_program.h"
 #include "initial_conditions.h"
 #include "observables.h"
 #include "progress.h"
+#include "scene_view.h"
 #include "scene_io.h"
 #include "simulation.h"
 #include "state_csv.h"
@@ -36,6 +41,47 @@ void applyOverrides(const RunOptions& options, Scene& scene) {
     }
 }
 
+struct FrameSize {
+    int width, height;
+};
+
+FrameSize parseSize(const std::string& text) {
+    int w = 0, h = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 16 || h < 16 ||
+        w > 16384 || h > 16384) {
+        throw InputError("--size: expected WIDTHxHEIGHT with each between 16 and 16384, got '" + text + "'");
+    }
+    return {w, h};
+}
+
+// Checks the headless flags and turns them into run settings: steps, observation interval and the
+// observables file inside the output directory (created if missing).
+void prepareHeadless(RunOptions& options) {
+    HeadlessOptions& h = options.headless;
+    if (!h.enabled) return;
+    if (h.frames < 1) throw InputError("--frames: must be >= 1 (got " + std::to_string(h.frames) + ")");
+    if (h.stepsPerFrame < 1) throw InputError("--steps-per-frame: must be >= 1");
+    if (h.outDir.empty()) throw InputError("--headless needs --out DIR for the frames");
+    parseSize(h.size);
+    if (h.colorBy != "species" && h.colorBy != "speed") throw InputError("--color-by: expected species or speed, got '" + h.colorBy + "'");
+    std::error_code ec;
+    std::filesystem::create_directories(h.outDir, ec);
+    if (ec) throw InputError("--out: cannot create directory '" + h.outDir + "': " + ec.message());
+    checkWritable(h.outDir + "/frame_000000.png", "--out");
+    if (!h.videoPath.empty()) {
+        checkWritable(h.videoPath, "--video");
+        try {
+            requireFfmpeg();
+        } catch (const std::runtime_error& e) {
+            throw InputError(e.what());
+        }
+    }
+    options.steps = (h.frames - 1) * h.stepsPerFrame;
+    options.every = h.stepsPerFrame;
+    if (options.observablesPath.empty()) options.observablesPath = h.outDir + "/observables.csv";
+}
+
 void checkOptions(const RunOptions& options) {
     if (options.steps < 0) throw InputError("--steps: must be >= 0");
     if (options.every < 1) throw InputError("--every: must be >= 1");
@@ -57,12 +103,36 @@ std::string lastGoodPath(const RunOptions& options) {
     return "corebox_last_good_state.csv";
 }
 
+void reportFrames(const RunOptions& options, FrameDumper& frames) {
+    const bool videoOk = frames.finish();
+    const FrameTimings& t = frames.timings();
+    const double total = t.render + t.readback + t.encode + t.write;
+    std::fprintf(stderr,
+                 "[corebox] %lld frames in %s/ (frame_000000.png ...): %.1f frames/s of rendering and output; per frame "
+                 "%.1f ms render, %.1f ms read-back, %.1f ms PNG encode, %.1f ms write\n",
+                 (long long)t.frames, options.headless.outDir.c_str(), total > 0 ? double(t.frames) / total : 0.0,
+                 1e3 * t.render / double(t.frames), 1e3 * t.readback / double(t.frames), 1e3 * t.encode / double(t.frames),
+                 1e3 * t.write / double(t.frames));
+    if (!options.headless.videoPath.empty()) {
+        if (videoOk) std::fprintf(stderr, "[corebox] video written to %s\n", options.headless.videoPath.c_str());
+        else throw std::runtime_error("ffmpeg failed to write " + options.headless.videoPath);
+    } else {
+        std::fprintf(stderr, "[corebox] make a video with: ffmpeg -framerate 30 -i %s/frame_%%06d.png -pix_fmt yuv420p %s/movie.mp4\n",
+                     options.headless.outDir.c_str(), options.headless.outDir.c_str());
+    }
+}
+
 }  // namespace
 
-int runCommand(const RunOptions& options) {
+int runCommand(const RunOptions& requested) {
+    RunOptions options = requested;
     std::unique_ptr<Simulation> sim;
     std::unique_ptr<AtomicFile> observablesFile;
+    std::unique_ptr<FrameDumper> frames;
+    const ColorMode colorMode = options.headless.colorBy == "speed" ? ColorMode::Speed : ColorMode::Species;
+    RenderStyle style;
     try {
+        prepareHeadless(options);
         checkOptions(options);
         Scene scene = loadScene(options.scenePath);
         applyOverrides(options, scene);
@@ -76,7 +146,26 @@ int runCommand(const RunOptions& options) {
         SimulationLimits limits;
         limits.maxEnergyDrift = options.maxEnergyDrift;
         sim = std::make_unique<Simulation>(scene, std::move(backend), initial, limits);
+        if (options.headless.enabled) {
+            const FrameSize size = parseSize(options.headless.size);
+            FrameDumpOptions dump;
+            dump.outDir = options.headless.outDir;
+            dump.width = size.width;
+            dump.height = size.height;
+            dump.videoPath = options.headless.videoPath;
+            dump.context.softwareOnly = options.headless.softwareOnly;
+            const std::array<double, 3>& box = sim->scene().box.size;
+            frames = std::make_unique<FrameDumper>(dump, std::array<float, 3>{float(box[0]), float(box[1]), float(box[2])});
+            style = renderStyleFor(sim->scene(), colorMode, options.headless.speedMax);
+            std::fprintf(stderr, "[corebox] headless rendering on %s\n", frames->contextDescription().c_str());
+        }
         if (!options.observablesPath.empty()) observablesFile = std::make_unique<AtomicFile>(options.observablesPath);
+    } catch (const PlatformError& e) {
+        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
+        return kExitDevice;
+    } catch (const RenderError& e) {
+        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
+        return kExitDevice;
     } catch (const InputError& e) {
         std::fprintf(stderr, "corebox: error: %s\n", e.what());
         return kExitInput;
@@ -93,11 +182,19 @@ int runCommand(const RunOptions& options) {
     ProgressReporter progress(options.steps, !options.quiet);
     const double dof = 3.0 * double(std::max<int64_t>(sim->particleCount(), 1));
     int64_t capHitsReported = 0;
+    std::vector<ParticleInstance> instances;
+    auto renderFrame = [&](int64_t index) {
+        buildInstances(sim->state(), sim->scene(), colorMode, instances);
+        frames->renderer().upload(instances.data(), instances.size());
+        frames->writeFrame(index, style);
+    };
     try {
         writeObservablesRow(out, sim->observe());
+        if (frames) renderFrame(0);
         for (int64_t s = 1; s <= options.steps; ++s) {
             sim->step();
             if (s % options.every == 0 || s == options.steps) writeObservablesRow(out, sim->observe());
+            if (frames && s % options.headless.stepsPerFrame == 0) renderFrame(s / options.headless.stepsPerFrame);
             if (sim->roundCapHits() > capHitsReported) {
                 std::fprintf(stderr, "[corebox] warning: step %lld: overlaps remained after %d collision rounds (%lld steps so far); "
                              "consider a smaller dt or a larger [interaction] max_collision_rounds\n",
@@ -109,6 +206,7 @@ int runCommand(const RunOptions& options) {
         progress.finish(options.steps, sim->time(), 2.0 * sim->lastKineticEnergy() / dof);
         if (observablesFile) observablesFile->commit();
         if (!options.stateOutPath.empty()) writeStateCsv(options.stateOutPath, sim->state());
+        if (frames) reportFrames(options, *frames);
     } catch (const InstabilityError& e) {
         std::fprintf(stderr, "corebox: %s\n", e.what());
         try {
@@ -129,6 +227,12 @@ int runCommand(const RunOptions& options) {
     } catch (const DeviceError& e) {
         std::fprintf(stderr, "corebox: device error: %s\n", e.what());
         return kExitDevice;
+    } catch (const RenderError& e) {
+        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
+        return kExitDevice;
+    } catch (const std::runtime_error& e) {  // frame or video output
+        std::fprintf(stderr, "corebox: error: %s\n", e.what());
+        return kExitInput;
     }
     return kExitOk;
 }

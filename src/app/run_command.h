@@ -10,6 +10,19 @@
 
 namespace corebox {
 
+// `--headless`: frames rendered on an EGL context and dumped as PNG (and video).
+struct HeadlessOptions {
+    bool enabled = false;
+    int64_t frames = 0;           // frame 0 is the initial state, then one every stepsPerFrame steps
+    int64_t stepsPerFrame = 10;
+    std::string size = "1280x720";
+    std::string outDir;
+    std::string colorBy = "species";  // species | speed
+    std::string videoPath;
+    double speedMax = 0;          // colour bar top; 0: from the temperature
+    bool softwareOnly = false;    // render on Mesa's software device even when a GPU is there
+};
+
 struct RunOptions {
     std::string scenePath;
     int64_t steps = 1000;
@@ -23,6 +36,7 @@ struct RunOptions {
     std::optional<int64_t> seed;           // overrides [init] seed
     double maxEnergyDrift = 0.5;
     bool quiet = false;                    // no progress lines
+    HeadlessOptions headless;
 };
 
 enum ExitCode : int { kExitOk = 0, kExitInput = 2, kExitUnstable = 3, kExitDevice = 4 };

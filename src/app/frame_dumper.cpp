@@ -1,0 +1,96 @@
+#include "frame_dumper.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace corebox {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+std::string shellQuote(const std::string& s) {
+    std::string out = "'";
+    for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+}
+
+}  // namespace
+
+void requireFfmpeg() {
+    if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
+        throw std::runtime_error("--video needs ffmpeg, which is not installed (apt-get install ffmpeg), or leave out --video");
+    }
+}
+
+FrameDumper::FrameDumper(const FrameDumpOptions& options, const std::array<float, 3>& boxSize)
+    : m_options(options), m_box(boxSize), m_context(options.context) {
+    m_renderer = std::make_unique<ParticleRenderer>();
+    m_target = std::make_unique<OffscreenTarget>(options.width, options.height);
+    m_camera.frameBox({boxSize[0], boxSize[1], boxSize[2]}, float(options.width) / float(options.height));
+    m_image.width = options.width;
+    m_image.height = options.height;
+    if (!options.videoPath.empty()) {
+        requireFfmpeg();
+        // ffmpeg picks the container from the extension, so the temporary keeps it.
+        const size_t dot = options.videoPath.find_last_of('.');
+        const std::string ext = dot == std::string::npos ? ".mp4" : options.videoPath.substr(dot);
+        m_videoTemp = options.videoPath + ".tmp-" + std::to_string(::getpid()) + ext;
+        const std::string cmd = "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgba -s " + std::to_string(options.width) + "x" +
+                                std::to_string(options.height) + " -r " + std::to_string(options.videoFps) +
+                                " -i - -c:v libx264 -pix_fmt yuv420p -vf " + shellQuote("pad=ceil(iw/2)*2:ceil(ih/2)*2") + " " +
+                                shellQuote(m_videoTemp);
+        m_video = ::popen(cmd.c_str(), "w");
+        if (!m_video) throw std::runtime_error("cannot start ffmpeg for --video " + options.videoPath);
+    }
+}
+
+FrameDumper::~FrameDumper() {
+    if (m_video) {
+        ::pclose(m_video);
+        std::remove(m_videoTemp.c_str());
+    }
+}
+
+std::string FrameDumper::framePath(const std::string& dir, int64_t index) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06lld.png", (long long)index);
+    return dir + "/" + name;
+}
+
+void FrameDumper::writeFrame(int64_t index, const RenderStyle& style) {
+    Clock::time_point t = Clock::now();
+    m_target->bind();
+    m_renderer->render(m_camera, m_box, style, m_options.width, m_options.height);
+    glFinish();
+    m_timings.render += since(t);
+    t = Clock::now();
+    m_target->readPixels(m_image.rgba);
+    m_timings.readback += since(t);
+    t = Clock::now();
+    const std::vector<uint8_t> png = encodePng(m_image);
+    m_timings.encode += since(t);
+    t = Clock::now();
+    writeFileAtomic(framePath(m_options.outDir, index), png);
+    if (m_video && std::fwrite(m_image.rgba.data(), 1, m_image.rgba.size(), m_video) != m_image.rgba.size()) {
+        throw std::runtime_error("ffmpeg stopped accepting frames for " + m_options.videoPath);
+    }
+    m_timings.write += since(t);
+    ++m_timings.frames;
+}
+
+bool FrameDumper::finish() {
+    if (!m_video) return true;
+    const int status = ::pclose(m_video);
+    m_video = nullptr;
+    if (status != 0 || std::rename(m_videoTemp.c_str(), m_options.videoPath.c_str()) != 0) {
+        std::remove(m_videoTemp.c_str());
+        return false;
+    }
+    return true;
+}
+
+}  // namespace corebox

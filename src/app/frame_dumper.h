@@ -1,0 +1,67 @@
+// Headless frames: an EGL context, the renderer and an offscreen target; each frame becomes
+// DIR/frame_NNNNNN.png (written whole, then renamed) and, optionally, a video through ffmpeg.
+// Timing of render, read-back and PNG encoding is kept for the progress line and the benchmark.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "egl_headless_context.h"
+#include "image_io.h"
+#include "offscreen_target.h"
+#include "orbit_camera.h"
+#include "particle_renderer.h"
+
+namespace corebox {
+
+struct FrameDumpOptions {
+    std::string outDir;
+    int width = 1280, height = 720;
+    std::string videoPath;  // "" : no video
+    int videoFps = 30;
+    HeadlessContextOptions context;
+};
+
+struct FrameTimings {
+    double render = 0, readback = 0, encode = 0, write = 0;  // seconds, summed over frames
+    int64_t frames = 0;
+};
+
+class FrameDumper {
+public:
+    // Throws PlatformError (no EGL), RenderError, or std::runtime_error for ffmpeg problems.
+    FrameDumper(const FrameDumpOptions& options, const std::array<float, 3>& boxSize);
+    ~FrameDumper();
+
+    const std::string& contextDescription() const { return m_context.description(); }
+    ParticleRenderer& renderer() { return *m_renderer; }
+    OrbitCamera& camera() { return m_camera; }
+
+    // Renders what the renderer's buffer holds and writes frame number `index`.
+    void writeFrame(int64_t index, const RenderStyle& style);
+    // Closes the video (renaming it into place). Returns false when ffmpeg reported an error.
+    bool finish();
+    const FrameTimings& timings() const { return m_timings; }
+
+    static std::string framePath(const std::string& dir, int64_t index);
+
+private:
+    FrameDumpOptions m_options;
+    std::array<float, 3> m_box;
+    EglHeadlessContext m_context;
+    std::unique_ptr<ParticleRenderer> m_renderer;
+    std::unique_ptr<OffscreenTarget> m_target;
+    OrbitCamera m_camera;
+    Image m_image;
+    std::FILE* m_video = nullptr;
+    std::string m_videoTemp;
+    FrameTimings m_timings;
+};
+
+// Throws std::runtime_error with advice when ffmpeg is not on PATH.
+void requireFfmpeg();
+
+}  // namespace corebox

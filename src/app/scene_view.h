@@ -1,0 +1,21 @@
+// The bridge from simulation to renderer (only the app sees both): particle instances (position,
+// hard-core radius, colour key) and the render style (palette, legend, speed range) of a scene.
+#pragma once
+
+#include <vector>
+
+#include "particle_state.h"
+#include "particle_view.h"
+#include "scene.h"
+
+namespace corebox {
+
+// Colour key: species index, or the speed |v| in speed mode.
+void buildInstances(const ParticleState& state, const Scene& scene, ColorMode mode, std::vector<ParticleInstance>& out);
+
+// speedMax <= 0 picks 3.5 sqrt(kT / m_lightest) at the larger of the initial and target
+// temperatures: above the 99.9th percentile of Maxwell-Boltzmann, fixed for the whole run so
+// colours compare across frames.
+RenderStyle renderStyleFor(const Scene& scene, ColorMode mode, double speedMax = 0.0);
+
+}  // namespace corebox

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Every shader in shaders/ must compile and link with glslangValidator, as the programs the renderer
+# builds (src/render/particle_renderer.cpp). A shader file that belongs to no program fails too, so
+# a new shader cannot slip past validation.
+set -u
+dir=${1:?shader directory}
+programs=("sphere.vert sphere.frag viridis.frag" "lines.vert flat.frag" "overlay.vert overlay.frag viridis.frag")
+failed=0
+covered=" "
+for program in "${programs[@]}"; do
+    (cd "$dir" && glslangValidator -l $program >/dev/null) || { echo "FAIL: $program"; (cd "$dir" && glslangValidator -l $program); failed=1; }
+    covered+="$program "
+done
+for f in "$dir"/*.vert "$dir"/*.frag; do
+    name=$(basename "$f")
+    [[ "$covered" == *" $name "* ]] || { echo "FAIL: $name is in no validated program"; failed=1; }
+done
+[ "$failed" -eq 0 ] && echo "all shaders validated"
+exit "$failed"
