@@ -26,7 +26,7 @@ COREBOX_HD inline Real contactRewindTime(Vec3<Real> r, Vec3<Real> v, Real contac
     const Real c = norm2(r) - contactDistance * contactDistance;
     if (c >= Real(0)) return Real(0);
     const Real disc = b * b - a * c;  // > b^2 because a c < 0
-    return c / (b - sqrt(disc));
+    return c / (b - realSqrt(disc));
 }
 
 // Normal impulse magnitude J for a pair with normal relative speed vn = (v_i - v_j).n < 0:
@@ -46,7 +46,7 @@ COREBOX_HD inline Real collisionEnergyLoss(Real reducedMass, Real normalSpeed, R
 // collapse into infinitely many events in finite time (inelastic collapse) and hang a step.
 template <class Real>
 COREBOX_HD inline Real effectiveRestitution(Real restitution, Real normalSpeed, Real elasticBelowSpeed) {
-    return fabs(normalSpeed) < elasticBelowSpeed ? Real(1) : restitution;
+    return realAbs(normalSpeed) < elasticBelowSpeed ? Real(1) : restitution;
 }
 
 // Wall penetration on one axis: the centre must stay in [radius, boxLength - radius]. Returns the
@@ -96,7 +96,7 @@ template <class Real>
 COREBOX_HD inline Real parabolicWallRewindTime(Real p, Real v, Real a, Real straightLine) {
     const Real disc = v * v - Real(2) * a * p;
     if (disc < Real(0)) return straightLine;
-    const Real root = sqrt(disc);
+    const Real root = realSqrt(disc);
     const Real denominator = v + (v < Real(0) ? -root : root);
     if (denominator == Real(0)) return straightLine;
     const Real s = Real(2) * p / denominator;
@@ -118,7 +118,7 @@ COREBOX_HD inline Real parabolicContactRewindTime(Vec3<Real> r, Vec3<Real> v, Ve
         s -= f / df;
     }
     const Real tolerance = Real(0.5) * s0 + Real(1e-12);
-    return (s >= Real(0) && fabs(s - s0) <= tolerance) ? s : s0;
+    return (s >= Real(0) && realAbs(s - s0) <= tolerance) ? s : s0;
 }
 
 }  // namespace corebox

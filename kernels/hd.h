@@ -8,3 +8,20 @@
 #else
 #define COREBOX_HD
 #endif
+
+#include <cmath>
+
+namespace corebox {
+
+// Precision-preserving math for templates over float and double: std::sqrt(float) stays in float
+// on the host and on the device (an unqualified sqrt may promote to double on the host).
+template <class Real>
+COREBOX_HD inline Real realSqrt(Real x) {
+    return std::sqrt(x);
+}
+template <class Real>
+COREBOX_HD inline Real realAbs(Real x) {
+    return std::fabs(x);
+}
+
+}  // namespace corebox

@@ -67,7 +67,7 @@ COREBOX_HD inline Real pairForceOverR(const PairCoefficients<Real>& p, Real r2, 
         if (energy) *energy -= p.energyShift;
         return f;
     }
-    const Real r = sqrt(r2);
+    const Real r = realSqrt(r2);
     if (energy) *energy += -p.energyShift + (r - p.cutoff) * p.forceAtCutoff;
     return f - p.forceAtCutoff / r;
 }

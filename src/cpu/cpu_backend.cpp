@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "butcher_tableau.h"
-#include "collision.h"
+#include "collision_resolution.h"
 #include "contact_grid.h"
 #include "cpu_parallel.h"
 #include "errors.h"
@@ -19,22 +19,6 @@
 
 namespace corebox {
 namespace {
-
-// One candidate event of a particle in a collision-resolution round. Larger key = earlier in the
-// step (longer rewind); positional fixes (overlaps not produced by approach) rank below every
-// contact. partner: particle index, or a wall code -1 - (2 * axis + side).
-struct Event {
-    double key = -std::numeric_limits<double>::infinity();
-    int64_t partner = kNone;
-    static constexpr int64_t kNone = std::numeric_limits<int64_t>::min();
-    static constexpr double kFixKey = -1.0;
-
-    bool valid() const { return partner != kNone; }
-    // Deterministic order: earlier event first, then the lower partner code.
-    bool betterThan(const Event& o) const { return key > o.key || (key == o.key && partner < o.partner); }
-};
-
-int64_t wallCode(int axis, int side) { return -1 - (2 * axis + side); }
 
 template <class Real>
 class CpuBackendImpl final : public Backend {
@@ -317,29 +301,15 @@ private:
 
     // Earliest event of particle i against its grid neighbours; `checkAll` false restricts the pair
     // search to active partners (a pair of inactive particles cannot have started overlapping).
-    Event earliestEvent(int64_t i, bool checkAll, const std::vector<char>& active) const {
-        Event best;
+    CollisionEvent earliestEvent(int64_t i, bool checkAll, const std::vector<char>& active) const {
+        CollisionEvent best = noEvent();
         const Vec3<Real> xi = m_x[size_t(i)], vi = m_v[size_t(i)];
         const Real ai = m_radius[size_t(m_species[size_t(i)])];
-        const Real slack = contactSlack<Real>();
         m_grid.forNeighbours(xi, [&](int64_t j) {
             if (j == i || !(checkAll || active[size_t(j)])) return;
-            const Real d = ai + m_radius[size_t(m_species[size_t(j)])];
-            const Vec3<Real> r = xi - m_x[size_t(j)];
-            if (norm2(r) >= d * d * (Real(1) - slack)) return;
-            const Real s = contactRewindTime(r, vi - m_v[size_t(j)], d);
-            const Event e{s >= Real(0) ? double(s) : Event::kFixKey, j};
-            if (e.betterThan(best)) best = e;
+            considerPair(xi, vi, ai, m_x[size_t(j)], m_v[size_t(j)], m_radius[size_t(m_species[size_t(j)])], j, best);
         });
-        for (int axis = 0; axis < 3; ++axis) {
-            for (int side = 0; side < 2; ++side) {
-                const Real pos = side == 0 ? xi[axis] + slack * std::max(ai, Real(1)) : xi[axis] - slack * std::max(ai, Real(1));
-                const Real s = wallRewindTime(pos, vi[axis], ai, m_boxLength[axis], side);
-                if (s == Real(-2)) continue;
-                const Event e{s >= Real(0) ? double(s) : Event::kFixKey, wallCode(axis, side)};
-                if (e.betterThan(best)) best = e;
-            }
-        }
+        considerWalls(xi, vi, ai, m_boxLength, best);
         return best;
     }
 
@@ -366,7 +336,7 @@ private:
             // End-of-step accelerations of the particles about to be resolved (second-order rewind).
             m_needAcceleration.clear();
             for (int64_t i = 0; i < n; ++i) {
-                if (m_events[size_t(i)].valid() && !m_hasContactAcceleration[size_t(i)]) m_needAcceleration.push_back(i);
+                if (isValid(m_events[size_t(i)]) && !m_hasContactAcceleration[size_t(i)]) m_needAcceleration.push_back(i);
             }
             parallelFor(m_threads, int64_t(m_needAcceleration.size()), [&](int64_t k) {
                 const int64_t i = m_needAcceleration[size_t(k)];
@@ -377,26 +347,33 @@ private:
             // the updates below never write the same particle twice.
             std::fill(kind.begin(), kind.end(), 0);
             parallelFor(m_threads, n, [&](int64_t i) {
-                const Event e = m_events[size_t(i)];
-                if (!e.valid()) return;
+                const CollisionEvent e = m_events[size_t(i)];
+                if (!isValid(e)) return;
+                const int si = m_species[size_t(i)];
                 if (e.partner >= 0) {
                     const int64_t j = e.partner;
                     if (j < i || m_events[size_t(j)].partner != i) return;
-                    kind[size_t(i)] = resolvePair(i, j, e.key, eParticle, elasticBelow, &m_loss[size_t(i)]);
+                    const int sj = m_species[size_t(j)];
+                    kind[size_t(i)] = resolvePairEvent(m_x[size_t(i)], m_v[size_t(i)], m_contactAcceleration[size_t(i)], m_mass[size_t(si)],
+                                                       m_x[size_t(j)], m_v[size_t(j)], m_contactAcceleration[size_t(j)], m_mass[size_t(sj)],
+                                                       m_radius[size_t(si)] + m_radius[size_t(sj)], e.key, eParticle, elasticBelow,
+                                                       &m_loss[size_t(i)]);
                 } else {
-                    const int code = int(-1 - e.partner);
-                    kind[size_t(i)] = resolveWall(i, code / 2, code % 2, e.key, eWall, elasticBelow, &m_loss[size_t(i)]);
+                    const int code = int(-1 - e.partner), axis = code / 2;
+                    kind[size_t(i)] = resolveWallEvent(m_x[size_t(i)][axis], m_v[size_t(i)][axis], m_contactAcceleration[size_t(i)][axis],
+                                                       m_mass[size_t(si)], m_radius[size_t(si)], m_boxLength[axis], code % 2, e.key, eWall,
+                                                       elasticBelow, &m_loss[size_t(i)]);
                 }
             });
             bool anyEvent = false;
             for (int64_t i = 0; i < n; ++i) {
-                const Event e = m_events[size_t(i)];
-                active[size_t(i)] = e.valid();  // resolved now or still pending: look again next round
-                anyEvent = anyEvent || e.valid();
+                const bool valid = isValid(m_events[size_t(i)]);
+                active[size_t(i)] = valid;  // resolved now or still pending: look again next round
+                anyEvent = anyEvent || valid;
                 switch (kind[size_t(i)]) {
-                    case 1: ++report.pairCollisions; break;
-                    case 2: ++report.wallCollisions; break;
-                    case 3: ++report.positionalFixes; break;
+                    case kPairCollision: ++report.pairCollisions; break;
+                    case kWallCollision: ++report.wallCollisions; break;
+                    case kPositionalFix: ++report.positionalFixes; break;
                     default: break;
                 }
             }
@@ -409,7 +386,7 @@ private:
         m_grid.build(m_x, m_boxLength, reach);
         std::fill(active.begin(), active.end(), 1);
         for (int64_t i = 0; i < n && !report.roundCapHit; ++i) {
-            if (earliestEvent(i, true, active).valid()) report.roundCapHit = true;
+            if (isValid(earliestEvent(i, true, active))) report.roundCapHit = true;
         }
         report.dissipated = sumLoss();
     }
@@ -418,108 +395,6 @@ private:
         double total = 0;
         for (double l : m_loss) total += l;
         return total;
-    }
-
-    // Rewind i and j to contact, apply the impulse, move forward again. Returns the event kind.
-    int resolvePair(int64_t i, int64_t j, double key, Real e, Real elasticBelow, double* loss) {
-        Vec3<Real>& xi = m_x[size_t(i)];
-        Vec3<Real>& xj = m_x[size_t(j)];
-        Vec3<Real>& vi = m_v[size_t(i)];
-        Vec3<Real>& vj = m_v[size_t(j)];
-        const Real mi = m_mass[size_t(m_species[size_t(i)])], mj = m_mass[size_t(m_species[size_t(j)])];
-        const Real d = m_radius[size_t(m_species[size_t(i)])] + m_radius[size_t(m_species[size_t(j)])];
-        if (key == Event::kFixKey) {
-            // Overlapping but separating: push apart along the line of centres, heavier moves less.
-            const Vec3<Real> r = xi - xj;
-            const Real dist = std::sqrt(norm2(r));
-            const Vec3<Real> nrm = dist > Real(0) ? (Real(1) / dist) * r : Vec3<Real>{1, 0, 0};
-            const Real gap = d - dist;
-            xi += (gap * mj / (mi + mj)) * nrm;
-            xj -= (gap * mi / (mi + mj)) * nrm;
-            return 3;
-        }
-        const Vec3<Real> ai = m_contactAcceleration[size_t(i)], aj = m_contactAcceleration[size_t(j)];
-        const Real s = parabolicContactRewindTime(xi - xj, vi - vj, ai - aj, d, Real(key));
-        const Real halfS2 = Real(0.5) * s * s;
-        xi += halfS2 * ai - s * vi;  // back to contact along each parabola
-        xj += halfS2 * aj - s * vj;
-        vi -= s * ai;
-        vj -= s * aj;
-        const Vec3<Real> r = xi - xj;
-        const Vec3<Real> nrm = (Real(1) / std::sqrt(norm2(r))) * r;
-        const Real mu = mi * mj / (mi + mj);
-        const Real vn = dot(vi - vj, nrm);
-        if (vn < Real(0)) {
-            const Real eEff = effectiveRestitution(e, vn, elasticBelow);
-            const Real impulse = collisionImpulse(mu, vn, eEff);
-            vi += (impulse / mi) * nrm;
-            vj -= (impulse / mj) * nrm;
-            *loss += double(collisionEnergyLoss(mu, vn, eEff));
-        }
-        xi += s * vi + halfS2 * ai;  // and forward to the end of the step
-        xj += s * vj + halfS2 * aj;
-        vi += s * ai;
-        vj += s * aj;
-        // Resting contact: when the relative acceleration presses the pair together faster than
-        // the rebound separates it, they end the step still overlapping. Put them at contact and
-        // remove the closing normal velocity instead of colliding again. The energy this takes out
-        // (kinetic, minus the work done lifting the pair apart against the pressing force, to
-        // first order in the small gap) is counted as dissipated, so the balance stays exact.
-        const Vec3<Real> rEnd = xi - xj;
-        const Real distEnd = std::sqrt(norm2(rEnd));
-        if (distEnd < d * (Real(1) - contactSlack<Real>())) {
-            const Vec3<Real> nEnd = distEnd > Real(0) ? (Real(1) / distEnd) * rEnd : nrm;
-            const Real gap = d - distEnd;
-            xi += (gap * mj / (mi + mj)) * nEnd;
-            xj -= (gap * mi / (mi + mj)) * nEnd;
-            *loss += double(mu * dot(ai - aj, nEnd) * gap);
-            const Real closing = dot(vi - vj, nEnd);
-            if (closing < Real(0)) {
-                const Real impulse = collisionImpulse(mu, closing, Real(0));
-                vi += (impulse / mi) * nEnd;
-                vj -= (impulse / mj) * nEnd;
-                *loss += double(collisionEnergyLoss(mu, closing, Real(0)));
-            }
-        }
-        return 1;
-    }
-
-    int resolveWall(int64_t i, int axis, int side, double key, Real e, Real elasticBelow, double* loss) {
-        Vec3<Real>& x = m_x[size_t(i)];
-        Vec3<Real>& v = m_v[size_t(i)];
-        const Real a = m_radius[size_t(m_species[size_t(i)])];
-        const Real wall = side == 0 ? a : m_boxLength[axis] - a;
-        if (key == Event::kFixKey) {
-            x[axis] = wall;
-            return 3;
-        }
-        // Normal coordinate pointing into the box: p = distance from the wall plane, vn, an.
-        const Real sign = side == 0 ? Real(1) : Real(-1);
-        const Real p = sign * (x[axis] - wall);
-        const Real vIn = sign * v[axis];
-        const Real aIn = sign * m_contactAcceleration[size_t(i)][axis];
-        const Real s = parabolicWallRewindTime(p, vIn, aIn, Real(key));
-        const Real vContact = vIn - aIn * s;
-        const Real m = m_mass[size_t(m_species[size_t(i)])];
-        const Real eEff = effectiveRestitution(e, vContact, elasticBelow);
-        const Real vOut = vContact < Real(0) ? -eEff * vContact : vContact;
-        if (vContact < Real(0)) *loss += double(collisionEnergyLoss(m, vContact, eEff));
-        Real pEnd = vOut * s + Real(0.5) * aIn * s * s;
-        Real vEnd = vOut + aIn * s;
-        if (pEnd < Real(0)) {
-            // Resting contact: pressed onto the wall harder than it rebounds. It stays on the wall
-            // and an inward normal velocity is absorbed. Dissipated: that kinetic energy minus the
-            // work of lifting it by -pEnd against the pressing acceleration.
-            *loss -= double(m * aIn * pEnd);
-            pEnd = 0;
-            if (vEnd < Real(0)) {
-                *loss += double(Real(0.5) * m * vEnd * vEnd);
-                vEnd = 0;
-            }
-        }
-        x[axis] = wall + sign * pEnd;
-        v[axis] = sign * vEnd;
-        return 2;
     }
 
     int m_threads;
@@ -537,7 +412,7 @@ private:
     std::vector<Vec3<Real>> m_acceleration, m_scratchAcceleration;
     bool m_accelerationValid = false;
     std::vector<Vec3<Real>> m_kx, m_kv, m_xStage, m_vStage;
-    std::vector<Event> m_events;
+    std::vector<CollisionEvent> m_events;
     std::vector<Vec3<Real>> m_contactAcceleration;
     std::vector<char> m_hasContactAcceleration;
     std::vector<int64_t> m_needAcceleration;

@@ -1,0 +1,164 @@
+// The a posteriori resolution step by step, shared by the CPU backend and the CUDA kernels (DESIGN.md
+// sec. 2): the candidate events of a particle, the order that picks its earliest one, and the
+// resolution of a pair or wall event along the second-order (parabolic) rewind of collision.h.
+//
+// In each parallel round every particle finds its earliest event among its overlaps; an event is
+// resolved when it is the earliest event of every particle it touches. Those events form a matching,
+// so they can be resolved concurrently without two threads writing one particle.
+#pragma once
+
+#include <cfloat>
+#include <cstdint>
+
+#include "collision.h"
+#include "hd.h"
+#include "vec3.h"
+
+namespace corebox {
+
+// One candidate event of a particle. Larger key = earlier in the step (longer rewind); positional
+// fixes (overlaps not produced by approach) rank below every contact. partner: particle index, or a
+// wall code -1 - (2 * axis + side).
+struct CollisionEvent {
+    double key;
+    int64_t partner;
+};
+
+constexpr int64_t kNoPartner = INT64_MIN;
+constexpr double kFixKey = -1.0;
+
+enum CollisionKind : int { kNoCollision = 0, kPairCollision = 1, kWallCollision = 2, kPositionalFix = 3 };
+
+COREBOX_HD inline CollisionEvent noEvent() { return CollisionEvent{-DBL_MAX, kNoPartner}; }
+COREBOX_HD inline bool isValid(const CollisionEvent& e) { return e.partner != kNoPartner; }
+// Deterministic order: earlier event first, then the lower partner code.
+COREBOX_HD inline bool isBetter(const CollisionEvent& a, const CollisionEvent& b) {
+    return a.key > b.key || (a.key == b.key && a.partner < b.partner);
+}
+COREBOX_HD inline int64_t wallCode(int axis, int side) { return -1 - (2 * axis + side); }
+
+// Offers the pair (i, j) to i's best event when the two overlap.
+template <class Real>
+COREBOX_HD inline void considerPair(Vec3<Real> xi, Vec3<Real> vi, Real ai, Vec3<Real> xj, Vec3<Real> vj, Real aj, int64_t j,
+                                    CollisionEvent& best) {
+    const Real d = ai + aj;
+    const Vec3<Real> r = xi - xj;
+    if (norm2(r) >= d * d * (Real(1) - contactSlack<Real>())) return;
+    const Real s = contactRewindTime(r, vi - vj, d);
+    const CollisionEvent e{s >= Real(0) ? double(s) : kFixKey, j};
+    if (isBetter(e, best)) best = e;
+}
+
+// Offers every wall the particle has crossed to its best event.
+template <class Real>
+COREBOX_HD inline void considerWalls(Vec3<Real> x, Vec3<Real> v, Real radius, Vec3<Real> box, CollisionEvent& best) {
+    const Real slack = contactSlack<Real>() * (radius > Real(1) ? radius : Real(1));
+    for (int axis = 0; axis < 3; ++axis) {
+        for (int side = 0; side < 2; ++side) {
+            const Real pos = side == 0 ? x[axis] + slack : x[axis] - slack;
+            const Real s = wallRewindTime(pos, v[axis], radius, box[axis], side);
+            if (s == Real(-2)) continue;
+            const CollisionEvent e{s >= Real(0) ? double(s) : kFixKey, wallCode(axis, side)};
+            if (isBetter(e, best)) best = e;
+        }
+    }
+}
+
+// Resolves the pair event of i and j (key from i's event); a_i, a_j are their end-of-step
+// accelerations. Adds the kinetic energy lost to *loss and returns the CollisionKind.
+template <class Real>
+COREBOX_HD inline int resolvePairEvent(Vec3<Real>& xi, Vec3<Real>& vi, Vec3<Real> ai, Real mi, Vec3<Real>& xj, Vec3<Real>& vj,
+                                       Vec3<Real> aj, Real mj, Real d, double key, Real e, Real elasticBelow, double* loss) {
+    const Real mu = mi * mj / (mi + mj);
+    if (key == kFixKey) {
+        // Overlapping but separating: push apart along the line of centres, heavier moves less.
+        const Vec3<Real> r = xi - xj;
+        const Real dist = realSqrt(norm2(r));
+        const Vec3<Real> n = dist > Real(0) ? (Real(1) / dist) * r : Vec3<Real>{1, 0, 0};
+        const Real gap = d - dist;
+        xi += (gap * mj / (mi + mj)) * n;
+        xj -= (gap * mi / (mi + mj)) * n;
+        return kPositionalFix;
+    }
+    const Real s = parabolicContactRewindTime(xi - xj, vi - vj, ai - aj, d, Real(key));
+    const Real halfS2 = Real(0.5) * s * s;
+    xi += halfS2 * ai - s * vi;  // back to contact along each parabola
+    xj += halfS2 * aj - s * vj;
+    vi -= s * ai;
+    vj -= s * aj;
+    const Vec3<Real> r = xi - xj;
+    const Vec3<Real> n = (Real(1) / realSqrt(norm2(r))) * r;
+    const Real vn = dot(vi - vj, n);
+    if (vn < Real(0)) {
+        const Real eEff = effectiveRestitution(e, vn, elasticBelow);
+        const Real impulse = collisionImpulse(mu, vn, eEff);
+        vi += (impulse / mi) * n;
+        vj -= (impulse / mj) * n;
+        *loss += double(collisionEnergyLoss(mu, vn, eEff));
+    }
+    xi += s * vi + halfS2 * ai;  // and forward to the end of the step
+    xj += s * vj + halfS2 * aj;
+    vi += s * ai;
+    vj += s * aj;
+    // Resting contact: when the relative acceleration presses the pair together faster than the
+    // rebound separates it, they end the step still overlapping. Put them at contact and remove the
+    // closing normal velocity instead of colliding again. The energy this takes out (kinetic, minus
+    // the work of lifting the pair apart against the pressing force, to first order in the small
+    // gap) is counted as dissipated, so the balance stays exact.
+    const Vec3<Real> rEnd = xi - xj;
+    const Real distEnd = realSqrt(norm2(rEnd));
+    if (distEnd < d * (Real(1) - contactSlack<Real>())) {
+        const Vec3<Real> nEnd = distEnd > Real(0) ? (Real(1) / distEnd) * rEnd : n;
+        const Real gap = d - distEnd;
+        xi += (gap * mj / (mi + mj)) * nEnd;
+        xj -= (gap * mi / (mi + mj)) * nEnd;
+        *loss += double(mu * dot(ai - aj, nEnd) * gap);
+        const Real closing = dot(vi - vj, nEnd);
+        if (closing < Real(0)) {
+            const Real impulse = collisionImpulse(mu, closing, Real(0));
+            vi += (impulse / mi) * nEnd;
+            vj -= (impulse / mj) * nEnd;
+            *loss += double(collisionEnergyLoss(mu, closing, Real(0)));
+        }
+    }
+    return kPairCollision;
+}
+
+// Resolves a wall event on one axis: x, v, a are that axis' components of the particle.
+template <class Real>
+COREBOX_HD inline int resolveWallEvent(Real& x, Real& v, Real a, Real mass, Real radius, Real boxLength, int side, double key,
+                                       Real e, Real elasticBelow, double* loss) {
+    const Real wall = side == 0 ? radius : boxLength - radius;
+    if (key == kFixKey) {
+        x = wall;
+        return kPositionalFix;
+    }
+    // Normal coordinate pointing into the box: p = distance from the wall plane.
+    const Real sign = side == 0 ? Real(1) : Real(-1);
+    const Real p = sign * (x - wall);
+    const Real vIn = sign * v;
+    const Real aIn = sign * a;
+    const Real s = parabolicWallRewindTime(p, vIn, aIn, Real(key));
+    const Real vContact = vIn - aIn * s;
+    const Real eEff = effectiveRestitution(e, vContact, elasticBelow);
+    const Real vOut = vContact < Real(0) ? -eEff * vContact : vContact;
+    if (vContact < Real(0)) *loss += double(collisionEnergyLoss(mass, vContact, eEff));
+    Real pEnd = vOut * s + Real(0.5) * aIn * s * s;
+    Real vEnd = vOut + aIn * s;
+    if (pEnd < Real(0)) {
+        // Resting contact: pressed onto the wall harder than it rebounds. It stays on the wall and
+        // an inward normal velocity is absorbed. Dissipated: that kinetic energy minus the work of
+        // lifting it by -pEnd against the pressing acceleration.
+        *loss -= double(mass * aIn * pEnd);
+        pEnd = 0;
+        if (vEnd < Real(0)) {
+            *loss += double(Real(0.5) * mass * vEnd * vEnd);
+            vEnd = 0;
+        }
+    }
+    x = wall + sign * pEnd;
+    v = sign * vEnd;
+    return kWallCollision;
+}
+
+}  // namespace corebox
