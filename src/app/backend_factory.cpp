@@ -2,13 +2,31 @@
 
 #include "cpu_backend.h"
 #include "errors.h"
+#if COREBOX_WITH_CUDA
+#include "cuda_backend.h"
+#endif
 
 namespace corebox {
 
+bool cudaAvailable() {
+#if COREBOX_WITH_CUDA
+    return cudaDeviceCount() > 0;
+#else
+    return false;
+#endif
+}
+
 std::unique_ptr<Backend> makeBackend(const BackendChoice& choice) {
-    if (choice.name == "cpu" || choice.name == "auto") return makeCpuBackend(CpuBackendOptions{choice.precision, choice.threads});
-    if (choice.name == "cuda") throw DeviceError("--backend cuda: this build of corebox has no CUDA backend yet; use --backend cpu");
-    throw InputError("--backend: unknown backend '" + choice.name + "' (expected cpu, cuda or auto)");
+    if (choice.name != "cpu" && choice.name != "cuda" && choice.name != "auto") {
+        throw InputError("--backend: unknown backend '" + choice.name + "' (expected cpu, cuda or auto)");
+    }
+    const bool cuda = choice.name == "cuda" || (choice.name == "auto" && cudaAvailable());
+    if (!cuda) return makeCpuBackend(CpuBackendOptions{choice.precision, choice.threads});
+#if COREBOX_WITH_CUDA
+    return makeCudaBackend(CudaBackendOptions{choice.precision, choice.device});
+#else
+    throw DeviceError("--backend cuda: this build of corebox has no CUDA backend (built without nvcc); use --backend cpu");
+#endif
 }
 
 }  // namespace corebox

@@ -13,7 +13,11 @@ struct BackendChoice {
     std::string name = "auto";
     Precision precision = Precision::Fp64;
     int threads = 0;  // CPU threads; 0: all
+    int device = 0;   // CUDA device ordinal
 };
+
+// True when this build has the CUDA backend and a GPU is present.
+bool cudaAvailable();
 
 // Throws InputError for an unknown name and DeviceError when the device cannot be used.
 std::unique_ptr<Backend> makeBackend(const BackendChoice& choice);

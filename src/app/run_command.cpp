@@ -10,6 +10,7 @@
 #include "errors.h"
 #include "frame_dumper.h"
 #include "gl_program.h"
+#include "instance_feed.h"
 #include "initial_conditions.h"
 #include "observables.h"
 #include "progress.h"
@@ -129,6 +130,7 @@ int runCommand(const RunOptions& requested) {
     std::unique_ptr<Simulation> sim;
     std::unique_ptr<AtomicFile> observablesFile;
     std::unique_ptr<FrameDumper> frames;
+    std::unique_ptr<InstanceFeed> feed;
     const ColorMode colorMode = options.headless.colorBy == "speed" ? ColorMode::Speed : ColorMode::Species;
     RenderStyle style;
     try {
@@ -154,10 +156,21 @@ int runCommand(const RunOptions& requested) {
             dump.height = size.height;
             dump.videoPath = options.headless.videoPath;
             dump.context.softwareOnly = options.headless.softwareOnly;
+            dump.context.cudaDevice = options.headless.softwareOnly ? -1 : interopDeviceFor(sim->backend());
             const std::array<double, 3>& box = sim->scene().box.size;
-            frames = std::make_unique<FrameDumper>(dump, std::array<float, 3>{float(box[0]), float(box[1]), float(box[2])});
+            const std::array<float, 3> boxSize{float(box[0]), float(box[1]), float(box[2])};
+            try {
+                frames = std::make_unique<FrameDumper>(dump, boxSize);
+            } catch (const PlatformError& e) {
+                if (dump.context.cudaDevice < 0) throw;
+                std::fprintf(stderr, "[corebox] warning: %s; rendering on another EGL device without interop\n", e.what());
+                dump.context.cudaDevice = -1;
+                frames = std::make_unique<FrameDumper>(dump, boxSize);
+            }
+            feed = std::make_unique<InstanceFeed>(*sim, frames->renderer(), colorMode);
             style = renderStyleFor(sim->scene(), colorMode, options.headless.speedMax);
-            std::fprintf(stderr, "[corebox] headless rendering on %s\n", frames->contextDescription().c_str());
+            std::fprintf(stderr, "[corebox] headless rendering on %s; particles by %s\n", frames->contextDescription().c_str(),
+                         feed->description().c_str());
         }
         if (!options.observablesPath.empty()) observablesFile = std::make_unique<AtomicFile>(options.observablesPath);
     } catch (const PlatformError& e) {
@@ -182,10 +195,8 @@ int runCommand(const RunOptions& requested) {
     ProgressReporter progress(options.steps, !options.quiet);
     const double dof = 3.0 * double(std::max<int64_t>(sim->particleCount(), 1));
     int64_t capHitsReported = 0;
-    std::vector<ParticleInstance> instances;
     auto renderFrame = [&](int64_t index) {
-        buildInstances(sim->state(), sim->scene(), colorMode, instances);
-        frames->renderer().upload(instances.data(), instances.size());
+        feed->update();
         frames->writeFrame(index, style);
     };
     try {

@@ -1,0 +1,23 @@
+// Small helpers shared by the .cu files: launch geometry and error checks after launches.
+#pragma once
+
+#include <cuda_runtime.h>
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+namespace corebox::gpu {
+
+constexpr int kBlock = 256;
+
+inline unsigned int blocksFor(int64_t n, int block = kBlock) { return unsigned((n + block - 1) / block); }
+
+// Launch errors (bad configuration) surface at once; asynchronous faults at the next sync, where
+// the host side (src/cuda) checks them.
+inline void checkLaunch(const char* what) {
+    const cudaError_t e = cudaGetLastError();
+    if (e != cudaSuccess) throw std::runtime_error(std::string(what) + ": " + cudaGetErrorString(e));
+}
+
+}  // namespace corebox::gpu

@@ -1,0 +1,185 @@
+// Host-callable launch functions of the CUDA kernels (kernels/*.cu). Each takes a plain args struct
+// of device pointers and sizes plus a stream; the .cu files include no GL, GLFW or ImGui headers and
+// the host side (src/cuda) never sees CUDA syntax. Templates are instantiated for float and double.
+#pragma once
+
+#include <cuda_runtime_api.h>
+
+#include <cstdint>
+
+#include "butcher_tableau.h"
+#include "collision_resolution.h"
+#include "pair_potential.h"
+#include "vec3.h"
+
+namespace corebox::gpu {
+
+template <class Real>
+struct ParticleArrays {
+    Vec3<Real>* x;
+    Vec3<Real>* v;
+    const int32_t* species;
+    int64_t n;
+};
+
+template <class Real>
+struct SpeciesTable {
+    const PairCoefficients<Real>* pairs;  // S x S
+    const Real* mass;
+    const Real* invMass;
+    const Real* radius;
+    int count;  // S
+};
+
+// ---- forces (force_kernels.cu) ----
+template <class Real>
+struct ForceArgs {
+    const Vec3<Real>* x;
+    const int32_t* species;
+    int64_t n;
+    int64_t begin, end;  // rows computed: [begin, end) (the device's slice of the partition)
+    SpeciesTable<Real> table;
+    Vec3<Real> gravity;
+    bool anyPairForce;
+    Vec3<Real>* acceleration;  // out, indexed by particle
+    double* pairEnergy;        // out when not null: sum_j U_ij per particle
+};
+template <class Real>
+void launchForces(const ForceArgs<Real>& args, cudaStream_t stream);
+
+// ---- integration (integrate_kernels.cu) ----
+void uploadTableau(const ButcherTableau& tableau);  // to constant memory, once per method change
+
+template <class Real>
+struct StageArgs {
+    const Vec3<Real>* x0;
+    const Vec3<Real>* v0;
+    Vec3<Real>* kx;  // stage-major, stages * n
+    Vec3<Real>* kv;
+    Vec3<Real>* xOut;
+    Vec3<Real>* vOut;
+    int64_t n;
+    int stage;  // stage index, or -1 for the final combination with b
+    int count;  // weights used
+    Real dt;
+};
+// Stage state Y_s = y0 + dt sum_{j<s} a_sj K_j into (xOut, vOut) and kx[s] = vOut; or, with
+// stage = -1, the solution y0 + dt sum b_j K_j.
+template <class Real>
+void launchStage(const StageArgs<Real>& args, cudaStream_t stream);
+// Per-particle scaled error of the embedded pair into errorOut (summed by the caller).
+template <class Real>
+void launchErrorNorm(const StageArgs<Real>& args, double tolerance, double* errorOut, cudaStream_t stream);
+
+template <class Real>
+void launchVerletKickDrift(Vec3<Real>* x, Vec3<Real>* v, const Vec3<Real>* a, int64_t n, Real dt, cudaStream_t stream);
+template <class Real>
+void launchVerletKick(Vec3<Real>* v, const Vec3<Real>* a, int64_t n, Real dt, cudaStream_t stream);
+template <class Real>
+void launchScale(Vec3<Real>* v, int64_t n, Real alpha, cudaStream_t stream);
+
+// ---- collisions (collision_kernels.cu) ----
+template <class Real>
+struct GridArgs {
+    const Vec3<Real>* x;
+    int64_t n;
+    int dims[3];
+    Real inverseCell[3];
+    int32_t* cellOf;     // n
+    int32_t* cellStart;  // cells + 1
+    int32_t* cellFill;   // cells (scratch)
+    int32_t* sorted;     // n
+    void* scanScratch;
+    size_t scanScratchBytes;
+};
+// Bytes of scratch the grid build needs for `cells` cells.
+size_t gridScanScratchBytes(int cells);
+template <class Real>
+void launchBuildGrid(const GridArgs<Real>& args, cudaStream_t stream);
+
+template <class Real>
+struct CollisionArgs {
+    ParticleArrays<Real> p;
+    SpeciesTable<Real> table;
+    Vec3<Real> box;
+    GridArgs<Real> grid;
+    CollisionEvent* events;
+    char* active;
+    Vec3<Real>* contactAcceleration;
+    char* hasContactAcceleration;
+    int32_t* needList;         // particles needing an acceleration this round
+    unsigned int* counters;    // [0] need count, [1] any event
+    unsigned long long* kindCounts;  // pair, wall, fix
+    double* loss;              // per particle
+    Real restitution, wallRestitution, elasticBelow;
+};
+// Each particle's earliest event (all neighbours when active, else only active ones); counts the
+// particles that need a contact acceleration into counters[0] and lists them.
+template <class Real>
+void launchFindEvents(const CollisionArgs<Real>& args, cudaStream_t stream);
+// End-of-step accelerations of the listed particles, one warp each (all-pairs sum).
+template <class Real>
+void launchContactAccelerations(const CollisionArgs<Real>& args, const ForceArgs<Real>& forces, int count, cudaStream_t stream);
+// Resolves the matching of mutual-earliest events and adds to the kind counts and losses.
+template <class Real>
+void launchResolve(const CollisionArgs<Real>& args, cudaStream_t stream);
+// active[i] = particle i had an event this round; counters[1] = 1 when any particle had one.
+template <class Real>
+void launchUpdateActive(const CollisionArgs<Real>& args, cudaStream_t stream);
+
+// ---- reductions and statistics (reduce_kernels.cu) ----
+// Sums of per-particle quantities: rows of `values` (row-major, rows x n) reduced into per-block
+// partials (rows x blocks); returns the number of blocks.
+int launchBlockSums(const double* values, int rows, int64_t n, double* partials, cudaStream_t stream);
+int blockSumBlocks(int64_t n);
+
+template <class Real>
+struct EnergyArgs {
+    ParticleArrays<Real> p;
+    SpeciesTable<Real> table;
+    Vec3<Real> gravity;
+    const double* pairEnergy;  // per particle (may be null)
+    double* rows;              // out: (S + 4) x n: kinetic per species, potential, px, py, pz
+};
+template <class Real>
+void launchEnergyRows(const EnergyArgs<Real>& args, cudaStream_t stream);
+template <class Real>
+void launchKineticRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, double* row, cudaStream_t stream);
+
+template <class Real>
+struct HealthArgs {
+    ParticleArrays<Real> p;
+    Vec3<Real> box;
+    unsigned long long* counts;  // nonFinite, outside, examples used
+    long long* examples;         // 5 slots
+};
+template <class Real>
+void launchHealth(const HealthArgs<Real>& args, cudaStream_t stream);
+
+template <class Real>
+struct SpeedArgs {
+    ParticleArrays<Real> p;
+    int species;            // -1: all
+    double* speeds;         // out, compacted
+    unsigned int* count;    // out
+};
+template <class Real>
+void launchCollectSpeeds(const SpeedArgs<Real>& args, cudaStream_t stream);
+size_t sortScratchBytes(int64_t n);
+void sortDoubles(const double* in, double* out, int64_t n, void* scratch, size_t scratchBytes, cudaStream_t stream);
+void launchHistogram(const double* speeds, int64_t n, double binWidth, int bins, unsigned long long* histogram, cudaStream_t stream);
+// Per-block maxima of the KS distance of the sorted sample against the MB mixture (weights sum to 1).
+struct MixtureArgs {
+    double weight[32];
+    double mass[32];
+    int count;
+    double temperature;
+};
+int launchKsPartials(const double* sorted, int64_t n, const MixtureArgs& mixture, double* partials, cudaStream_t stream);
+
+// ---- interop (interop_kernels.cu) ----
+// Writes the renderer's instance layout (x, y, z, radius, colour key: species or speed) as floats.
+template <class Real>
+void launchFillInstances(const ParticleArrays<Real>& p, const Real* radius, bool keyIsSpeed, float* out, cudaStream_t stream);
+
+}  // namespace corebox::gpu

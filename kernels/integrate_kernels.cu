@@ -1,0 +1,113 @@
+// Integrator stages on the GPU: the same per-particle arithmetic as the CPU (rk_stage.h), with the
+// Butcher table in constant memory.
+#include "gpu_common.cuh"
+#include "gpu_launch.h"
+#include "rk_stage.h"
+
+namespace corebox::gpu {
+namespace {
+
+__constant__ ButcherTableau c_tableau;
+
+template <class Real>
+__global__ void stageKernel(StageArgs<Real> a) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.n) return;
+    const double* weights = a.stage >= 0 ? c_tableau.a[a.stage] : c_tableau.b;
+    const Vec3<Real> x = rkCombine(weights, a.count, a.dt, a.x0[i], a.kx, size_t(a.n), size_t(i));
+    const Vec3<Real> v = rkCombine(weights, a.count, a.dt, a.v0[i], a.kv, size_t(a.n), size_t(i));
+    a.xOut[i] = x;
+    a.vOut[i] = v;
+    if (a.stage >= 0) a.kx[size_t(a.stage) * size_t(a.n) + size_t(i)] = v;
+}
+
+template <class Real>
+__global__ void errorKernel(StageArgs<Real> a, double tolerance, double* out) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.n) return;
+    const Vec3<Real> zero{0, 0, 0};
+    const Vec3<Real> ex = rkCombine(c_tableau.bError, a.count, a.dt, zero, a.kx, size_t(a.n), size_t(i));
+    const Vec3<Real> ev = rkCombine(c_tableau.bError, a.count, a.dt, zero, a.kv, size_t(a.n), size_t(i));
+    double e = 0;
+    for (int k = 0; k < 3; ++k) {
+        e += scaledErrorSquared(ex[k], a.x0[i][k], a.xOut[i][k], tolerance);
+        e += scaledErrorSquared(ev[k], a.v0[i][k], a.vOut[i][k], tolerance);
+    }
+    out[i] = e;
+}
+
+template <class Real>
+__global__ void kickDriftKernel(Vec3<Real>* x, Vec3<Real>* v, const Vec3<Real>* acc, int64_t n, Real dt) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    Vec3<Real> vi = v[i];
+    verletKick(vi, acc[i], Real(0.5) * dt);
+    Vec3<Real> xi = x[i];
+    verletDrift(xi, vi, dt);
+    v[i] = vi;
+    x[i] = xi;
+}
+
+template <class Real>
+__global__ void kickKernel(Vec3<Real>* v, const Vec3<Real>* acc, int64_t n, Real dt) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    Vec3<Real> vi = v[i];
+    verletKick(vi, acc[i], Real(0.5) * dt);
+    v[i] = vi;
+}
+
+template <class Real>
+__global__ void scaleKernel(Vec3<Real>* v, int64_t n, Real alpha) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i < n) v[i] = alpha * v[i];
+}
+
+}  // namespace
+
+void uploadTableau(const ButcherTableau& tableau) {
+    const cudaError_t e = cudaMemcpyToSymbol(c_tableau, &tableau, sizeof(ButcherTableau));
+    if (e != cudaSuccess) throw std::runtime_error(std::string("uploading the Butcher table: ") + cudaGetErrorString(e));
+}
+
+template <class Real>
+void launchStage(const StageArgs<Real>& a, cudaStream_t stream) {
+    stageKernel<Real><<<blocksFor(a.n), kBlock, 0, stream>>>(a);
+    checkLaunch("stage kernel");
+}
+
+template <class Real>
+void launchErrorNorm(const StageArgs<Real>& a, double tolerance, double* out, cudaStream_t stream) {
+    errorKernel<Real><<<blocksFor(a.n), kBlock, 0, stream>>>(a, tolerance, out);
+    checkLaunch("error kernel");
+}
+
+template <class Real>
+void launchVerletKickDrift(Vec3<Real>* x, Vec3<Real>* v, const Vec3<Real>* a, int64_t n, Real dt, cudaStream_t stream) {
+    kickDriftKernel<Real><<<blocksFor(n), kBlock, 0, stream>>>(x, v, a, n, dt);
+    checkLaunch("verlet kick-drift kernel");
+}
+
+template <class Real>
+void launchVerletKick(Vec3<Real>* v, const Vec3<Real>* a, int64_t n, Real dt, cudaStream_t stream) {
+    kickKernel<Real><<<blocksFor(n), kBlock, 0, stream>>>(v, a, n, dt);
+    checkLaunch("verlet kick kernel");
+}
+
+template <class Real>
+void launchScale(Vec3<Real>* v, int64_t n, Real alpha, cudaStream_t stream) {
+    scaleKernel<Real><<<blocksFor(n), kBlock, 0, stream>>>(v, n, alpha);
+    checkLaunch("scale kernel");
+}
+
+#define COREBOX_INSTANTIATE(Real)                                                                              \
+    template void launchStage<Real>(const StageArgs<Real>&, cudaStream_t);                                     \
+    template void launchErrorNorm<Real>(const StageArgs<Real>&, double, double*, cudaStream_t);                \
+    template void launchVerletKickDrift<Real>(Vec3<Real>*, Vec3<Real>*, const Vec3<Real>*, int64_t, Real, cudaStream_t); \
+    template void launchVerletKick<Real>(Vec3<Real>*, const Vec3<Real>*, int64_t, Real, cudaStream_t);         \
+    template void launchScale<Real>(Vec3<Real>*, int64_t, Real, cudaStream_t);
+COREBOX_INSTANTIATE(float)
+COREBOX_INSTANTIATE(double)
+#undef COREBOX_INSTANTIATE
+
+}  // namespace corebox::gpu

@@ -1,0 +1,178 @@
+// Reductions and statistics on the GPU; only small results go to the host. Sums are made per block
+// in a fixed tree and the block partials are added on the host in block order, so they do not
+// depend on scheduling.
+#include <cub/device/device_radix_sort.cuh>
+
+#include "gpu_common.cuh"
+#include "gpu_launch.h"
+#include "maxwell_boltzmann.h"
+
+namespace corebox::gpu {
+namespace {
+
+constexpr int kReduceBlock = 256;
+constexpr int kItemsPerThread = 8;
+
+__global__ void blockSumsKernel(const double* values, int64_t n, double* partials, int blocks) {
+    __shared__ double cache[kReduceBlock];
+    const int row = blockIdx.y;
+    const double* v = values + size_t(row) * size_t(n);
+    const int64_t base = int64_t(blockIdx.x) * kReduceBlock * kItemsPerThread;
+    double sum = 0;
+    for (int k = 0; k < kItemsPerThread; ++k) {
+        const int64_t i = base + int64_t(k) * kReduceBlock + threadIdx.x;
+        if (i < n) sum += v[i];
+    }
+    cache[threadIdx.x] = sum;
+    __syncthreads();
+    for (int stride = kReduceBlock / 2; stride > 0; stride /= 2) {
+        if (threadIdx.x < stride) cache[threadIdx.x] += cache[threadIdx.x + stride];
+        __syncthreads();
+    }
+    if (threadIdx.x == 0) partials[size_t(row) * size_t(blocks) + blockIdx.x] = cache[0];
+}
+
+template <class Real>
+__global__ void energyRowsKernel(EnergyArgs<Real> a) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    const int64_t n = a.p.n;
+    if (i >= n) return;
+    const int s = a.p.species[i];
+    const double m = double(a.table.mass[s]);
+    const Vec3<double> v = vec3Cast<double>(a.p.v[i]);
+    const Vec3<double> x = vec3Cast<double>(a.p.x[i]);
+    const int species = a.table.count;
+    for (int k = 0; k < species; ++k) a.rows[size_t(k) * size_t(n) + size_t(i)] = k == s ? 0.5 * m * norm2(v) : 0.0;
+    const double pair = a.pairEnergy ? 0.5 * a.pairEnergy[i] : 0.0;  // each pair counted from both sides
+    a.rows[size_t(species) * size_t(n) + size_t(i)] = pair - m * dot(vec3Cast<double>(a.gravity), x);
+    a.rows[size_t(species + 1) * size_t(n) + size_t(i)] = m * v.x;
+    a.rows[size_t(species + 2) * size_t(n) + size_t(i)] = m * v.y;
+    a.rows[size_t(species + 3) * size_t(n) + size_t(i)] = m * v.z;
+}
+
+template <class Real>
+__global__ void kineticRowKernel(ParticleArrays<Real> p, SpeciesTable<Real> table, double* row) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= p.n) return;
+    row[i] = 0.5 * double(table.mass[p.species[i]]) * double(norm2(p.v[i]));
+}
+
+template <class Real>
+__global__ void healthKernel(HealthArgs<Real> a) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.p.n) return;
+    const Vec3<Real> x = a.p.x[i], v = a.p.v[i];
+    bool finite = true, inside = true;
+    for (int k = 0; k < 3; ++k) {
+        finite = finite && isfinite(double(x[k])) && isfinite(double(v[k]));
+        inside = inside && x[k] >= Real(0) && x[k] <= a.box[k];
+    }
+    if (finite && inside) return;
+    atomicAdd(&a.counts[finite ? 1 : 0], 1ull);
+    const unsigned long long slot = atomicAdd(&a.counts[2], 1ull);
+    if (slot < 5) a.examples[slot] = i;
+}
+
+template <class Real>
+__global__ void collectSpeedsKernel(SpeedArgs<Real> a) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.p.n) return;
+    if (a.species >= 0 && a.p.species[i] != a.species) return;
+    const unsigned slot = atomicAdd(a.count, 1u);
+    a.speeds[slot] = sqrt(double(norm2(a.p.v[i])));
+}
+
+__global__ void histogramKernel(const double* speeds, int64_t n, double binWidth, int bins, unsigned long long* histogram) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    const int64_t bin = int64_t(speeds[i] / binWidth);
+    if (bin >= 0 && bin < bins) atomicAdd(&histogram[bin], 1ull);
+}
+
+__global__ void ksKernel(const double* sorted, int64_t n, MixtureArgs mix, double* partials) {
+    __shared__ double cache[kBlock];
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    double d = 0;
+    if (i < n) {
+        double f = 0;
+        for (int s = 0; s < mix.count; ++s) f += mix.weight[s] * maxwellBoltzmannCdf(sorted[i], mix.mass[s], mix.temperature);
+        d = fmax(f - double(i) / double(n), double(i + 1) / double(n) - f);
+    }
+    cache[threadIdx.x] = d;
+    __syncthreads();
+    for (int stride = kBlock / 2; stride > 0; stride /= 2) {
+        if (threadIdx.x < stride) cache[threadIdx.x] = fmax(cache[threadIdx.x], cache[threadIdx.x + stride]);
+        __syncthreads();
+    }
+    if (threadIdx.x == 0) partials[blockIdx.x] = cache[0];
+}
+
+}  // namespace
+
+int blockSumBlocks(int64_t n) { return int((n + int64_t(kReduceBlock) * kItemsPerThread - 1) / (int64_t(kReduceBlock) * kItemsPerThread)); }
+
+int launchBlockSums(const double* values, int rows, int64_t n, double* partials, cudaStream_t stream) {
+    const int blocks = std::max(blockSumBlocks(n), 1);
+    blockSumsKernel<<<dim3(unsigned(blocks), unsigned(rows)), kReduceBlock, 0, stream>>>(values, n, partials, blocks);
+    checkLaunch("block sums kernel");
+    return blocks;
+}
+
+template <class Real>
+void launchEnergyRows(const EnergyArgs<Real>& a, cudaStream_t stream) {
+    energyRowsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+    checkLaunch("energy rows kernel");
+}
+
+template <class Real>
+void launchKineticRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, double* row, cudaStream_t stream) {
+    kineticRowKernel<Real><<<blocksFor(p.n), kBlock, 0, stream>>>(p, table, row);
+    checkLaunch("kinetic row kernel");
+}
+
+template <class Real>
+void launchHealth(const HealthArgs<Real>& a, cudaStream_t stream) {
+    healthKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+    checkLaunch("health kernel");
+}
+
+template <class Real>
+void launchCollectSpeeds(const SpeedArgs<Real>& a, cudaStream_t stream) {
+    collectSpeedsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+    checkLaunch("speed kernel");
+}
+
+size_t sortScratchBytes(int64_t n) {
+    size_t bytes = 0;
+    cub::DeviceRadixSort::SortKeys(nullptr, bytes, static_cast<const double*>(nullptr), static_cast<double*>(nullptr), int(n));
+    return bytes;
+}
+
+void sortDoubles(const double* in, double* out, int64_t n, void* scratch, size_t scratchBytes, cudaStream_t stream) {
+    cub::DeviceRadixSort::SortKeys(scratch, scratchBytes, in, out, int(n), 0, int(sizeof(double) * 8), stream);
+    checkLaunch("radix sort");
+}
+
+void launchHistogram(const double* speeds, int64_t n, double binWidth, int bins, unsigned long long* histogram, cudaStream_t stream) {
+    if (n <= 0) return;
+    histogramKernel<<<blocksFor(n), kBlock, 0, stream>>>(speeds, n, binWidth, bins, histogram);
+    checkLaunch("histogram kernel");
+}
+
+int launchKsPartials(const double* sorted, int64_t n, const MixtureArgs& mixture, double* partials, cudaStream_t stream) {
+    const int blocks = int(blocksFor(n));
+    if (blocks > 0) ksKernel<<<unsigned(blocks), kBlock, 0, stream>>>(sorted, n, mixture, partials);
+    checkLaunch("KS kernel");
+    return blocks;
+}
+
+#define COREBOX_INSTANTIATE(Real)                                                                      \
+    template void launchEnergyRows<Real>(const EnergyArgs<Real>&, cudaStream_t);                       \
+    template void launchKineticRow<Real>(const ParticleArrays<Real>&, SpeciesTable<Real>, double*, cudaStream_t); \
+    template void launchHealth<Real>(const HealthArgs<Real>&, cudaStream_t);                           \
+    template void launchCollectSpeeds<Real>(const SpeedArgs<Real>&, cudaStream_t);
+COREBOX_INSTANTIATE(float)
+COREBOX_INSTANTIATE(double)
+#undef COREBOX_INSTANTIATE
+
+}  // namespace corebox::gpu

@@ -1,0 +1,52 @@
+#include "gl_buffer_interop.h"
+
+#include <epoxy/gl.h>  // before cuda_gl_interop.h, which wants GL types
+// clang-format off
+#include <cuda_gl_interop.h>
+// clang-format on
+
+#include "cuda_backend.h"
+#include "cuda_check.h"
+
+namespace corebox {
+
+CudaGlInterop::CudaGlInterop(unsigned int glBuffer, int cudaDevice) : m_buffer(glBuffer) {
+    unsigned int count = 0;
+    int devices[8] = {};
+    const cudaError_t status = cudaGLGetDevices(&count, devices, 8, cudaGLDeviceListAll);
+    if (status != cudaSuccess || count == 0) {
+        cudaGetLastError();
+        throw DeviceError("the GL context does not run on a CUDA device (cudaGLGetDevices: " + std::string(cudaGetErrorString(status)) +
+                          "); CUDA device " + std::to_string(cudaDevice) + " cannot share its buffers");
+    }
+    bool match = false;
+    std::string found;
+    for (unsigned int k = 0; k < count; ++k) {
+        match = match || devices[k] == cudaDevice;
+        found += (k ? ", " : "") + std::to_string(devices[k]);
+    }
+    if (!match) {
+        throw DeviceError("the GL context runs on CUDA device " + found + " but the simulation runs on CUDA device " +
+                          std::to_string(cudaDevice));
+    }
+    cudaGraphicsResource_t resource = nullptr;
+    cudaCheck(cudaGraphicsGLRegisterBuffer(&resource, glBuffer, cudaGraphicsRegisterFlagsWriteDiscard), "cudaGraphicsGLRegisterBuffer");
+    m_resource = resource;
+}
+
+CudaGlInterop::~CudaGlInterop() {
+    if (m_resource) cudaGraphicsUnregisterResource(static_cast<cudaGraphicsResource_t>(m_resource));
+}
+
+void CudaGlInterop::fill(CudaParticleSource& source, bool keyIsSpeed) {
+    auto resource = static_cast<cudaGraphicsResource_t>(m_resource);
+    cudaCheck(cudaGraphicsMapResources(1, &resource, nullptr), "cudaGraphicsMapResources");
+    void* pointer = nullptr;
+    size_t bytes = 0;
+    const cudaError_t mapped = cudaGraphicsResourceGetMappedPointer(&pointer, &bytes, resource);
+    if (mapped == cudaSuccess) source.writeInstances(static_cast<float*>(pointer), keyIsSpeed);
+    cudaCheck(cudaGraphicsUnmapResources(1, &resource, nullptr), "cudaGraphicsUnmapResources");
+    cudaCheck(mapped, "cudaGraphicsResourceGetMappedPointer");
+}
+
+}  // namespace corebox

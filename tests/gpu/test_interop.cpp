@@ -1,0 +1,70 @@
+// A frame drawn through CUDA-GL interop equals the frame drawn from a CPU upload of the same state,
+// on the EGL device that drives the CUDA device.
+#include <cstdlib>
+
+#include "egl_headless_context.h"
+#include "gl_buffer_interop.h"
+#include "gpu_fixture.h"
+#include "image_io.h"
+#include "initial_conditions.h"
+#include "offscreen_target.h"
+#include "particle_renderer.h"
+#include "scene_io.h"
+#include "scene_view.h"
+
+using namespace corebox;
+
+namespace {
+
+Image drawFrame(ParticleRenderer& renderer, const Scene& scene, ColorMode mode) {
+    OffscreenTarget target(480, 320);
+    OrbitCamera camera;
+    const std::array<float, 3> box{float(scene.box.size[0]), float(scene.box.size[1]), float(scene.box.size[2])};
+    camera.frameBox({box[0], box[1], box[2]}, 480.0f / 320.0f);
+    target.bind();
+    renderer.render(camera, box, renderStyleFor(scene, mode), 480, 320);
+    Image img{480, 320, {}};
+    target.readPixels(img.rgba);
+    return img;
+}
+
+}  // namespace
+
+TEST(CudaInterop, InteropFrameEqualsTheCpuUploadFrame) {
+    COREBOX_REQUIRE_GPU();
+    std::unique_ptr<EglHeadlessContext> context;
+    try {
+        context = std::make_unique<EglHeadlessContext>(HeadlessContextOptions{0, false});
+    } catch (const PlatformError& e) {
+        FAIL() << "a GPU is present but no EGL device drives it: " << e.what();
+    }
+    const Scene scene = loadScene(std::string(COREBOX_SOURCE_DIR) + "/assets/polydisperse.toml");
+    auto backend = makeCudaBackend(CudaBackendOptions{Precision::Fp64, 0});
+    backend->setParameters(stepParametersOf(scene));
+    backend->setState(makeInitialState(scene));
+    for (int s = 0; s < 10; ++s) backend->step();
+    for (ColorMode mode : {ColorMode::Species, ColorMode::Speed}) {
+        ParticleRenderer renderer;
+        renderer.reserve(size_t(scene.particleCount()));
+        CudaGlInterop interop(renderer.instanceBuffer(), 0);
+        interop.fill(dynamic_cast<CudaParticleSource&>(*backend), mode == ColorMode::Speed);
+        renderer.setInstanceCount(size_t(scene.particleCount()));
+        const Image viaInterop = drawFrame(renderer, scene, mode);
+        std::vector<ParticleInstance> instances;
+        buildInstances(backend->state(), scene, mode, instances);
+        renderer.upload(instances.data(), instances.size());
+        const Image viaUpload = drawFrame(renderer, scene, mode);
+        size_t differing = 0;
+        int worst = 0;
+        for (size_t k = 0; k < viaUpload.rgba.size(); ++k) {
+            const int d = std::abs(int(viaUpload.rgba[k]) - int(viaInterop.rgba[k]));
+            differing += d != 0;
+            worst = std::max(worst, d);
+        }
+        RecordProperty(mode == ColorMode::Species ? "species_differing_bytes" : "speed_differing_bytes", std::to_string(differing));
+        EXPECT_EQ(differing, 0u) << "worst channel difference " << worst;
+        if (const char* dir = std::getenv("COREBOX_GPU_FRAMES")) {
+            writePng(std::string(dir) + (mode == ColorMode::Species ? "/interop_species.png" : "/interop_speed.png"), viaInterop);
+        }
+    }
+}
