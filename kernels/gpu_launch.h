@@ -41,6 +41,7 @@ struct ForceArgs {
     SpeciesTable<Real> table;
     Vec3<Real> gravity;
     bool anyPairForce;
+    bool hasCutoff;
     Vec3<Real>* acceleration;  // out, indexed by particle
     double* pairEnergy;        // out when not null: sum_j U_ij per particle
 };

@@ -33,7 +33,7 @@ struct PairCoefficients {
 //   -dU/dR = (24 eps / R) [2 (s/R)^12 - x (s/R)^6], so F/R = (6 * eps4 / R^2) [2 s12 - x s6].
 template <class Real>
 COREBOX_HD inline Real ljForceOverR(Real sigma2, Real eps4, Real mixing, Real r2, Real* energy) {
-    const Real inv2 = Real(1) / r2;
+    const Real inv2 = realReciprocal(r2);
     const Real s2 = sigma2 * inv2;
     const Real s6 = s2 * s2 * s2;
     const Real s12 = s6 * s6;

@@ -3,8 +3,11 @@
 
 #include <cstdio>
 
+#include "errors.h"
+
 #include "force_benchmark.h"
 #include "run_command.h"
+#include "throughput_benchmark.h"
 
 int main(int argc, char** argv) {
     using namespace corebox;
@@ -55,6 +58,20 @@ int main(int argc, char** argv) {
     forcesCmd->add_option("--min-seconds", forces.minSeconds, "Repeat each measurement at least this long")->capture_default_str();
     forcesCmd->add_option("--out", forces.outputPrefix, "Write OUT.csv and OUT.json");
 
+    ThroughputOptions throughput;
+    std::vector<std::string> throughputPrecisions{"fp32", "fp64"}, throughputMethods{"euler", "rk2", "rk4", "dp5", "hairer10", "verlet"};
+    std::string frameSize = "1920x1080";
+    CLI::App* throughputCmd = benchCmd->add_subcommand("throughput", "Force pass, full steps per method, interop and frames");
+    throughputCmd->add_option("--backend", throughput.backend, "cpu or cuda")->capture_default_str();
+    throughputCmd->add_option("--n-forces", throughput.forceSizes, "Particle counts for the force pass")->delimiter(',')->capture_default_str();
+    throughputCmd->add_option("--n-step", throughput.stepN, "Particle count for the full steps")->capture_default_str();
+    throughputCmd->add_option("--precision", throughputPrecisions, "fp32 and/or fp64")->delimiter(',')->check(CLI::IsMember({"fp32", "fp64"}));
+    throughputCmd->add_option("--methods", throughputMethods, "Integrators for the full steps")->delimiter(',');
+    throughputCmd->add_option("--n-frames", throughput.frameN, "Particle count for the frame measurements (0: none)")->capture_default_str();
+    throughputCmd->add_option("--size", frameSize, "Frame size WIDTHxHEIGHT")->capture_default_str();
+    throughputCmd->add_option("--min-seconds", throughput.minSeconds, "Repeat each measurement at least this long")->capture_default_str();
+    throughputCmd->add_option("--out", throughput.outputPrefix, "Write OUT.csv and OUT.json");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -66,6 +83,34 @@ int main(int argc, char** argv) {
     if (*dtOpt) run.dt = dt;
     if (*seedOpt) run.seed = seed;
     if (*runCmd) return runCommand(run);
+    if (*throughputCmd) {
+        throughput.precisions.clear();
+        for (const std::string& p : throughputPrecisions) throughput.precisions.push_back(p == "fp32" ? Precision::Fp32 : Precision::Fp64);
+        throughput.methods.clear();
+        for (const std::string& m : throughputMethods) {
+            Method method;
+            if (!parseMethod(m, &method)) {
+                std::fprintf(stderr, "corebox: error: --methods: unknown method '%s'\n", m.c_str());
+                return kExitInput;
+            }
+            throughput.methods.push_back(method);
+        }
+        if (std::sscanf(frameSize.c_str(), "%dx%d", &throughput.frameWidth, &throughput.frameHeight) != 2) {
+            std::fprintf(stderr, "corebox: error: --size: expected WIDTHxHEIGHT\n");
+            return kExitInput;
+        }
+        for (int i = 0; i < argc; ++i) throughput.commandLine += (i ? " " : "") + std::string(i ? argv[i] : "corebox");
+        try {
+            runThroughputBenchmark(throughput);
+        } catch (const DeviceError& e) {
+            std::fprintf(stderr, "corebox: device error: %s\n", e.what());
+            return kExitDevice;
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "corebox: error: %s\n", e.what());
+            return kExitInput;
+        }
+        return 0;
+    }
     if (*forcesCmd) {
         forces.precisions.clear();
         for (const std::string& p : precisions) forces.precisions.push_back(p == "fp32" ? Precision::Fp32 : Precision::Fp64);

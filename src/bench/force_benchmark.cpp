@@ -73,7 +73,7 @@ std::vector<ForceBenchmarkResult> runForceBenchmark(const ForceBenchmarkOptions&
             Scene scene = benchmarkScene(n);
             scene.integrator.precision = precision;
             std::unique_ptr<Backend> backend = makeBackend(BackendChoice{options.backend, precision, options.threads});
-            if (deviceName.empty()) deviceName = options.backend == "cpu" ? hostHardware().cpuModel : backend->name();
+            if (deviceName.empty()) deviceName = backend->deviceName();
             backend->setParameters(stepParametersOf(scene));
             backend->setState(makeInitialState(scene));
             backend->computeForcesOnly();  // warm-up: page in buffers, spin up threads

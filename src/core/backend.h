@@ -64,6 +64,7 @@ public:
     virtual ~Backend() = default;
 
     virtual std::string name() const = 0;
+    virtual std::string deviceName() const = 0;  // "NVIDIA H200 (...)", the CPU model, for records
     virtual Precision precision() const = 0;
 
     virtual void setParameters(const StepParameters& parameters) = 0;

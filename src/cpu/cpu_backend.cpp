@@ -3,6 +3,8 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <fstream>
+#include <string>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -20,6 +22,15 @@
 namespace corebox {
 namespace {
 
+std::string cpuModelName() {
+    std::ifstream cpuinfo("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(cpuinfo, line)) {
+        if (line.rfind("model name", 0) == 0 && line.find(':') != std::string::npos) return line.substr(line.find(':') + 2);
+    }
+    return "CPU";
+}
+
 template <class Real>
 class CpuBackendImpl final : public Backend {
 public:
@@ -27,6 +38,7 @@ public:
         : m_threads(options.threads > 0 ? options.threads : omp_get_max_threads()) {}
 
     std::string name() const override { return "cpu"; }
+    std::string deviceName() const override { return cpuModelName() + " (" + std::to_string(m_threads) + " threads)"; }
     Precision precision() const override { return std::is_same<Real, float>::value ? Precision::Fp32 : Precision::Fp64; }
 
     void setParameters(const StepParameters& parameters) override {

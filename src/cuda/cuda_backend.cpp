@@ -49,6 +49,7 @@ public:
     }
 
     std::string name() const override { return "cuda"; }
+    std::string deviceName() const override { return cudaDeviceDescription(m_device); }
     Precision precision() const override { return std::is_same<Real, float>::value ? Precision::Fp32 : Precision::Fp64; }
     int device() const override { return m_device; }
 
@@ -235,7 +236,7 @@ private:
     }
     gpu::ForceArgs<Real> forceArgs(const Vec3<Real>* x, Vec3<Real>* out) const {
         const DeviceSlice& slice = m_partition.primary();
-        return {x, m_species.data(), m_n, slice.begin, slice.end, table(), m_gravity, m_anyPairForce, out, nullptr};
+        return {x, m_species.data(), m_n, slice.begin, slice.end, table(), m_gravity, m_anyPairForce, m_params.interaction.cutoff > 0, out, nullptr};
     }
     Vec3<Real>* scratchAcceleration() {
         m_scratch.resize(size_t(m_n));

@@ -19,7 +19,7 @@ TEST(CudaSanitized, SmallSceneWithCollisions) {
     b.radius = 0.6;
     b.mass = 2;
     scene.species = {a, b};
-    scene.box.size = {7, 7, 7};
+    scene.box.size = {9, 9, 9};
     scene.interaction.restitution = 0.9;
     scene.interaction.gravity = {0, 0, -1};
     scene.interaction.cutoff = 2.5;
