@@ -8,7 +8,12 @@
 // - a tile entry is one 16-byte (float) or two 16-byte (double) loads: x, y, z and the species;
 // - with one species the pair coefficients live in registers; with several they come from a
 //   shared-memory table;
-// - without a cutoff the loop calls ljForceOverR directly (what pairForceOverR reduces to then).
+// - without a cutoff the loop calls ljForceOverR directly (what pairForceOverR reduces to then);
+// - when the rows alone give too few blocks to fill the GPU (N below a few hundred thousand), the
+//   j range is split into chunks computed by separate blocks; their partial forces are added by a
+//   second kernel in chunk order, so the result does not depend on scheduling (no atomics).
+#include <algorithm>
+
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
 
@@ -29,8 +34,11 @@ __device__ __forceinline__ Real pairForce(const PairCoefficients<Real>& p, Real 
     return ljForceOverR(p.sigma2, p.eps4, p.mixing, r2, energy);
 }
 
+// Partial sums of chunk `blockIdx.y` over j in [jBegin, jEnd) for kRows rows per thread; chunk c
+// writes force (and energy) partials at c * rows + row when the j range is split, else the result.
 template <class Real, bool kEnergy, bool kSingleSpecies, bool kCutoff>
-__global__ void __launch_bounds__(kBlock) forceKernel(ForceArgs<Real> a) {
+__global__ void __launch_bounds__(kBlock) forceKernel(ForceArgs<Real> a, int64_t chunkLength, Vec3<Real>* partialForce,
+                                                       double* partialEnergy) {
     extern __shared__ __align__(16) unsigned char shared[];
     const int s = a.table.count;
     auto* tile = reinterpret_cast<TileEntry<Real>*>(shared);
@@ -53,15 +61,17 @@ __global__ void __launch_bounds__(kBlock) forceKernel(ForceArgs<Real> a) {
         force[r] = Vec3<Real>{0, 0, 0};
         energy[r] = 0;
     }
-    for (int64_t start = 0; start < a.n; start += blockDim.x) {
+    const int64_t jBegin = int64_t(blockIdx.y) * chunkLength;
+    const int64_t jEnd = min(a.n, jBegin + chunkLength);
+    for (int64_t start = jBegin; start < jEnd; start += blockDim.x) {
         __syncthreads();
         const int64_t j = start + threadIdx.x;
-        if (j < a.n) {
+        if (j < jEnd) {
             const Vec3<Real> xj = a.x[j];
             tile[threadIdx.x] = TileEntry<Real>{xj.x, xj.y, xj.z, a.species[j]};
         }
         __syncthreads();
-        const int count = int(min(int64_t(blockDim.x), a.n - start));
+        const int count = int(min(int64_t(blockDim.x), jEnd - start));
 #pragma unroll 4
         for (int k = 0; k < count; ++k) {
             const TileEntry<Real> e = tile[k];
@@ -69,7 +79,9 @@ __global__ void __launch_bounds__(kBlock) forceKernel(ForceArgs<Real> a) {
             for (int r = 0; r < kRows; ++r) {
                 const Vec3<Real> d{xi[r].x - e.x, xi[r].y - e.y, xi[r].z - e.z};
                 const Real r2 = norm2(d);
-                if (r2 == Real(0)) continue;  // itself (or a coincident centre: no direction)
+                // Itself (or a coincident centre: no direction). Without a cutoff ljForceOverR
+                // already gives zero there, branch-free.
+                if (kCutoff && r2 == Real(0)) continue;
                 const PairCoefficients<Real>& p = kSingleSpecies ? single : pairs[si[r] * s + e.species];
                 Real u = 0;
                 const Real f = pairForce<Real, kCutoff>(p, r2, kEnergy ? &u : nullptr);
@@ -81,11 +93,33 @@ __global__ void __launch_bounds__(kBlock) forceKernel(ForceArgs<Real> a) {
 #pragma unroll
     for (int r = 0; r < kRows; ++r) {
         const int64_t i = rowBase + int64_t(r) * blockDim.x;
-        if (i < a.end) {
+        if (i >= a.end) continue;
+        if (partialForce) {
+            const int64_t slot = int64_t(blockIdx.y) * (a.end - a.begin) + (i - a.begin);
+            partialForce[slot] = force[r];
+            if (kEnergy) partialEnergy[slot] = energy[r];
+        } else {
             a.acceleration[i] = a.table.invMass[si[r]] * force[r] + a.gravity;
             if (kEnergy) a.pairEnergy[i] = energy[r];
         }
     }
+}
+
+// Adds the chunk partials of each row in chunk order and finishes the acceleration.
+template <class Real>
+__global__ void combineChunksKernel(ForceArgs<Real> a, int chunks, const Vec3<Real>* partialForce, const double* partialEnergy) {
+    const int64_t row = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    const int64_t rows = a.end - a.begin;
+    if (row >= rows) return;
+    Vec3<Real> force{0, 0, 0};
+    double energy = 0;
+    for (int c = 0; c < chunks; ++c) {
+        force += partialForce[int64_t(c) * rows + row];
+        if (partialEnergy) energy += partialEnergy[int64_t(c) * rows + row];
+    }
+    const int64_t i = a.begin + row;
+    a.acceleration[i] = a.table.invMass[a.species[i]] * force + a.gravity;
+    if (partialEnergy) a.pairEnergy[i] = energy;
 }
 
 template <class Real>
@@ -97,9 +131,38 @@ __global__ void gravityOnlyKernel(ForceArgs<Real> a) {
 }
 
 template <class Real, bool kEnergy, bool kSingle>
-void launchVariant(const ForceArgs<Real>& a, bool cutoff, unsigned blocks, size_t shared, cudaStream_t stream) {
-    if (cutoff) forceKernel<Real, kEnergy, kSingle, true><<<blocks, kBlock, shared, stream>>>(a);
-    else forceKernel<Real, kEnergy, kSingle, false><<<blocks, kBlock, shared, stream>>>(a);
+void launchVariant(const ForceArgs<Real>& a, bool cutoff, dim3 grid, size_t shared, int64_t chunkLength, Vec3<Real>* partialForce,
+                   double* partialEnergy, cudaStream_t stream) {
+    if (cutoff) forceKernel<Real, kEnergy, kSingle, true><<<grid, kBlock, shared, stream>>>(a, chunkLength, partialForce, partialEnergy);
+    else forceKernel<Real, kEnergy, kSingle, false><<<grid, kBlock, shared, stream>>>(a, chunkLength, partialForce, partialEnergy);
+}
+
+// Scratch for chunk partials, kept between launches (grown as needed, freed at exit).
+struct ChunkScratch {
+    void* data = nullptr;
+    size_t bytes = 0;
+    void* reserve(size_t needed) {
+        if (needed > bytes) {
+            if (data) cudaFree(data);
+            data = nullptr;
+            if (cudaMalloc(&data, needed) != cudaSuccess) throw std::runtime_error("cudaMalloc of force partials failed");
+            bytes = needed;
+        }
+        return data;
+    }
+    ~ChunkScratch() {
+        if (data) cudaFree(data);
+    }
+};
+
+int multiprocessorCount() {
+    static int count = [] {
+        int device = 0, sms = 0;
+        cudaGetDevice(&device);
+        cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device);
+        return sms > 0 ? sms : 1;
+    }();
+    return count;
 }
 
 }  // namespace
@@ -116,17 +179,38 @@ void launchForces(const ForceArgs<Real>& a, cudaStream_t stream) {
     const bool single = a.table.count == 1;
     const size_t shared = size_t(kBlock) * sizeof(TileEntry<Real>) +
                           (single ? 0 : size_t(a.table.count) * size_t(a.table.count) * sizeof(PairCoefficients<Real>));
-    const unsigned blocks = blocksFor(rows, kBlock * kRows);
+    const unsigned rowBlocks = blocksFor(rows, kBlock * kRows);
+    // Enough blocks for about eight per multiprocessor; chunks of whole tiles, at least four each.
+    const int64_t wanted = int64_t(8) * multiprocessorCount();
+    int64_t chunks = std::max<int64_t>(1, (wanted + rowBlocks - 1) / rowBlocks);
+    chunks = std::min<int64_t>(chunks, std::max<int64_t>(1, a.n / (4 * kBlock)));
+    const int64_t chunkLength = ((a.n + chunks - 1) / chunks + kBlock - 1) / kBlock * kBlock;
+    chunks = (a.n + chunkLength - 1) / chunkLength;
+    Vec3<Real>* partialForce = nullptr;
+    double* partialEnergy = nullptr;
+    static thread_local ChunkScratch scratch;
+    if (chunks > 1) {
+        const size_t forceBytes = size_t(chunks) * size_t(rows) * sizeof(Vec3<Real>);
+        const size_t energyBytes = a.pairEnergy ? size_t(chunks) * size_t(rows) * sizeof(double) : 0;
+        auto* base = static_cast<unsigned char*>(scratch.reserve(forceBytes + energyBytes + 16));
+        partialForce = reinterpret_cast<Vec3<Real>*>(base);
+        if (a.pairEnergy) partialEnergy = reinterpret_cast<double*>(base + (forceBytes + 15) / 16 * 16);
+    }
+    const dim3 grid(rowBlocks, unsigned(chunks));
     // The cutoff variant only where one is set; the shifts are all inside pairForceOverR.
     const bool cutoff = a.hasCutoff;
     if (a.pairEnergy) {
-        if (single) launchVariant<Real, true, true>(a, cutoff, blocks, shared, stream);
-        else launchVariant<Real, true, false>(a, cutoff, blocks, shared, stream);
+        if (single) launchVariant<Real, true, true>(a, cutoff, grid, shared, chunkLength, partialForce, partialEnergy, stream);
+        else launchVariant<Real, true, false>(a, cutoff, grid, shared, chunkLength, partialForce, partialEnergy, stream);
     } else {
-        if (single) launchVariant<Real, false, true>(a, cutoff, blocks, shared, stream);
-        else launchVariant<Real, false, false>(a, cutoff, blocks, shared, stream);
+        if (single) launchVariant<Real, false, true>(a, cutoff, grid, shared, chunkLength, partialForce, partialEnergy, stream);
+        else launchVariant<Real, false, false>(a, cutoff, grid, shared, chunkLength, partialForce, partialEnergy, stream);
     }
     checkLaunch("force kernel");
+    if (chunks > 1) {
+        combineChunksKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(a, int(chunks), partialForce, partialEnergy);
+        checkLaunch("force combine kernel");
+    }
 }
 
 template void launchForces<float>(const ForceArgs<float>&, cudaStream_t);

@@ -30,15 +30,16 @@ struct PairCoefficients {
 };
 
 // Unshifted LJ energy and scalar force / R at squared distance r2: F_vec = fOverR * r_vec.
-//   -dU/dR = (24 eps / R) [2 (s/R)^12 - x (s/R)^6], so F/R = (6 * eps4 / R^2) [2 s12 - x s6].
+//   -dU/dR = (24 eps / R) [2 (s/R)^12 - x (s/R)^6], so F/R = (6 eps4 / R^2) s6 (2 s6 - x),
+// written so the force costs one reciprocal and a handful of multiplies (the GPU inner loop).
+// R = 0 (a particle with itself) gives zero force and energy without a branch.
 template <class Real>
 COREBOX_HD inline Real ljForceOverR(Real sigma2, Real eps4, Real mixing, Real r2, Real* energy) {
-    const Real inv2 = realReciprocal(r2);
+    const Real inv2 = r2 > Real(0) ? realReciprocal(r2) : Real(0);
     const Real s2 = sigma2 * inv2;
     const Real s6 = s2 * s2 * s2;
-    const Real s12 = s6 * s6;
-    if (energy) *energy = eps4 * (s12 - mixing * s6);
-    return Real(6) * eps4 * inv2 * (Real(2) * s12 - mixing * s6);
+    if (energy) *energy = eps4 * s6 * (s6 - mixing);
+    return (Real(6) * eps4 * inv2) * (s6 * (Real(2) * s6 - mixing));
 }
 
 // Shifts for a pair table entry; computed in double on the host, then stored in Real.
