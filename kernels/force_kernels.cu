@@ -28,10 +28,34 @@ struct alignas(16) TileEntry {
     int32_t species;
 };
 
-template <class Real, bool kCutoff>
+template <class Real, bool kCutoff, bool kMayBeSelf>
 __device__ __forceinline__ Real pairForce(const PairCoefficients<Real>& p, Real r2, Real* energy) {
     if (kCutoff) return pairForceOverR(p, r2, energy);
-    return ljForceOverR(p.sigma2, p.eps4, p.mixing, r2, energy);
+    return ljForceOverR<Real, kMayBeSelf>(p.sigma2, p.eps4, p.mixing, r2, energy);
+}
+
+// Adds one staged tile to the thread's rows. kMayBeSelf: the tile holds some of these rows.
+template <class Real, bool kEnergy, bool kSingleSpecies, bool kCutoff, bool kMayBeSelf>
+__device__ __forceinline__ void accumulateTile(const TileEntry<Real>* tile, int count, const Vec3<Real> (&xi)[kRows],
+                                               const int (&si)[kRows], Vec3<Real> (&force)[kRows], double (&energy)[kRows],
+                                               const PairCoefficients<Real>& single, const PairCoefficients<Real>* pairs, int s) {
+#pragma unroll 4
+    for (int k = 0; k < count; ++k) {
+        const TileEntry<Real> e = tile[k];
+#pragma unroll
+        for (int r = 0; r < kRows; ++r) {
+            const Vec3<Real> d{xi[r].x - e.x, xi[r].y - e.y, xi[r].z - e.z};
+            const Real r2 = norm2(d);
+            // Itself (or a coincident centre: no direction): the cutoff path needs the test,
+            // ljForceOverR gives zero there by itself.
+            if (kCutoff && r2 == Real(0)) continue;
+            const PairCoefficients<Real>& p = kSingleSpecies ? single : pairs[si[r] * s + e.species];
+            Real u = 0;
+            const Real f = pairForce<Real, kCutoff, kMayBeSelf>(p, r2, kEnergy ? &u : nullptr);
+            force[r] += f * d;
+            if (kEnergy) energy[r] += double(u);
+        }
+    }
 }
 
 // Partial sums of chunk `blockIdx.y` over j in [jBegin, jEnd) for kRows rows per thread; chunk c
@@ -51,7 +75,9 @@ __global__ void __launch_bounds__(kBlock) forceKernel(ForceArgs<Real> a, int64_t
     Vec3<Real> xi[kRows], force[kRows];
     int si[kRows];
     double energy[kRows];
-    const int64_t rowBase = a.begin + int64_t(blockIdx.x) * blockDim.x * kRows + threadIdx.x;
+    const int64_t blockRowBegin = a.begin + int64_t(blockIdx.x) * blockDim.x * kRows;
+    const int64_t blockRowEnd = min(a.end, blockRowBegin + int64_t(blockDim.x) * kRows);
+    const int64_t rowBase = blockRowBegin + threadIdx.x;
 #pragma unroll
     for (int r = 0; r < kRows; ++r) {
         const int64_t i = rowBase + int64_t(r) * blockDim.x;
@@ -72,22 +98,10 @@ __global__ void __launch_bounds__(kBlock) forceKernel(ForceArgs<Real> a, int64_t
         }
         __syncthreads();
         const int count = int(min(int64_t(blockDim.x), jEnd - start));
-#pragma unroll 4
-        for (int k = 0; k < count; ++k) {
-            const TileEntry<Real> e = tile[k];
-#pragma unroll
-            for (int r = 0; r < kRows; ++r) {
-                const Vec3<Real> d{xi[r].x - e.x, xi[r].y - e.y, xi[r].z - e.z};
-                const Real r2 = norm2(d);
-                // Itself (or a coincident centre: no direction). Without a cutoff ljForceOverR
-                // already gives zero there, branch-free.
-                if (kCutoff && r2 == Real(0)) continue;
-                const PairCoefficients<Real>& p = kSingleSpecies ? single : pairs[si[r] * s + e.species];
-                Real u = 0;
-                const Real f = pairForce<Real, kCutoff>(p, r2, kEnergy ? &u : nullptr);
-                force[r] += f * d;
-                if (kEnergy) energy[r] += double(u);
-            }
+        if (start < blockRowEnd && start + count > blockRowBegin) {
+            accumulateTile<Real, kEnergy, kSingleSpecies, kCutoff, true>(tile, count, xi, si, force, energy, single, pairs, s);
+        } else {
+            accumulateTile<Real, kEnergy, kSingleSpecies, kCutoff, false>(tile, count, xi, si, force, energy, single, pairs, s);
         }
     }
 #pragma unroll

@@ -30,14 +30,16 @@ COREBOX_HD inline Real realAbs(Real x) {
 // of a double division, which would otherwise dominate the LJ inner loop).
 COREBOX_HD inline float realReciprocal(float x) {
 #if defined(__CUDA_ARCH__)
-    return __fdividef(1.0f, x);
+    float r;
+    asm("rcp.approx.ftz.f32 %0, %1;" : "=f"(r) : "f"(x));
+    return r;
 #else
     return 1.0f / x;
 #endif
 }
 COREBOX_HD inline double realReciprocal(double x) {
 #if defined(__CUDA_ARCH__)
-    double r = double(__fdividef(1.0f, float(x)));
+    double r = double(realReciprocal(float(x)));
     r = r * (2.0 - x * r);
     return r * (2.0 - x * r);
 #else

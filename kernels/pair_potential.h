@@ -32,10 +32,11 @@ struct PairCoefficients {
 // Unshifted LJ energy and scalar force / R at squared distance r2: F_vec = fOverR * r_vec.
 //   -dU/dR = (24 eps / R) [2 (s/R)^12 - x (s/R)^6], so F/R = (6 eps4 / R^2) s6 (2 s6 - x),
 // written so the force costs one reciprocal and a handful of multiplies (the GPU inner loop).
-// R = 0 (a particle with itself) gives zero force and energy without a branch.
-template <class Real>
+// R = 0 (a particle with itself) gives zero force and energy without a branch; loops that know
+// they never meet R = 0 (the GPU's off-diagonal tiles) skip even that select with kMayBeSelf.
+template <class Real, bool kMayBeSelf = true>
 COREBOX_HD inline Real ljForceOverR(Real sigma2, Real eps4, Real mixing, Real r2, Real* energy) {
-    const Real inv2 = r2 > Real(0) ? realReciprocal(r2) : Real(0);
+    const Real inv2 = kMayBeSelf ? (r2 > Real(0) ? realReciprocal(r2) : Real(0)) : realReciprocal(r2);
     const Real s2 = sigma2 * inv2;
     const Real s6 = s2 * s2 * s2;
     if (energy) *energy = eps4 * s6 * (s6 - mixing);
