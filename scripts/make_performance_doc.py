@@ -32,12 +32,74 @@ def force_table(data):
     return "\n".join(lines) + "\n"
 
 
+# Targets on one H200 (DESIGN.md sec. 6 and the CUDA backend's issue), checked against the records.
+TARGETS = [
+    ("force pass fp32, N >= 65536", lambda r: r["kind"] == "force_pass" and r["precision"] == "fp32" and r["n"] >= 65536,
+     "min", 1.5e12, "pair interactions/s"),
+    ("force pass fp64, N >= 65536", lambda r: r["kind"] == "force_pass" and r["precision"] == "fp64" and r["n"] >= 65536,
+     "min", 0.6e12, "pair interactions/s"),
+    ("RK4 full step with collisions, N = 65536, fp32",
+     lambda r: r["kind"] == "step" and r["precision"] == "fp32" and r["method"] == "rk4" and r["n"] == 65536, "max", 15.0, "ms"),
+    ("headless interop rendering, 10^6 particles at 1920x1080",
+     lambda r: r["kind"] == "frame" and r["method"] == "render" and r["n"] >= 1000000, "extra", 60.0, "frames/s"),
+]
+
+
+def targets(rows):
+    out = ["#### Targets", "", "| target | goal | measured | met |", "|---|---:|---:|---|"]
+    for name, select, how, goal, unit in TARGETS:
+        picked = [r for r in rows if select(r)]
+        if not picked:
+            continue
+        if how == "min":
+            value = min(r["value"] for r in picked)
+            ok = value >= goal
+            out.append(f"| {name} | >= {goal:.3g} {unit} | {value:.3g} (lowest over N) | {'yes' if ok else 'no'} |")
+        elif how == "max":
+            value = max(r["value"] for r in picked)
+            ok = value <= goal
+            out.append(f"| {name} | <= {goal:g} {unit} | {value:.2f} | {'yes' if ok else 'no'} |")
+        else:
+            value = min(r["extra"] for r in picked)
+            ok = value >= goal
+            out.append(f"| {name} | >= {goal:g} {unit} | {value:.1f} | {'yes' if ok else 'no'} |")
+    return out
+
+
+def throughput_tables(data):
+    head = [
+        f"### Throughput: {data['backend']} on {data['device']}",
+        "",
+        f"- model: {data['model']}",
+        f"- host: {data['host']['cpu']}, {data['host']['hardware_threads']} hardware threads",
+        f"- command: `{data['command']}`",
+        f"- measured: {data['timestamp']}",
+        "",
+    ]
+    rows = data["results"]
+    force = ["#### Force pass", "", "| precision | N | pair interactions / s |", "|---|---:|---:|"]
+    force += [f"| {r['precision']} | {r['n']} | {r['value']:.3e} |" for r in rows if r["kind"] == "force_pass"]
+    step = ["#### Full step (integrate + collide)", "", "| precision | method | N | ms / step | steps / s | collisions / step |",
+            "|---|---|---:|---:|---:|---:|"]
+    step += [f"| {r['precision']} | {r['method']} | {r['n']} | {r['value']:.2f} | {1e3 / r['value']:.1f} | {r['extra']:.0f} |"
+             for r in rows if r["kind"] == "step"]
+    frame = ["#### Frames (headless)", "", "| stage | N | ms / frame | frames / s |", "|---|---:|---:|---:|"]
+    frame += [f"| {r['method']} | {r['n']} | {r['value']:.2f} | {r['extra']:.1f} |" if r["extra"] else
+              f"| {r['method']} | {r['n']} | {r['value']:.2f} | |" for r in rows if r["kind"] == "frame"]
+    parts = head + force + [""] + step + [""] + targets(rows) + [""]
+    if len(frame) > 4:
+        parts += frame + [""]
+    return "\n".join(parts)
+
+
 def main():
     sections = []
     for path in sorted(RESULTS.glob("*.json")):
         data = json.loads(path.read_text())
         if data.get("benchmark") == "force_pass":
             sections.append(force_table(data) + f"\nSource: `docs/results/{path.name}`\n")
+        elif data.get("benchmark") == "throughput":
+            sections.append(throughput_tables(data) + f"\nSource: `docs/results/{path.name}`\n")
     if not sections:
         print("no results in docs/results; run a benchmark first", file=sys.stderr)
         return 1
