@@ -61,10 +61,11 @@ std::string FrameDumper::framePath(const std::string& dir, int64_t index) {
     return dir + "/" + name;
 }
 
-void FrameDumper::writeFrame(int64_t index, const RenderStyle& style) {
+void FrameDumper::writeFrame(int64_t index, const RenderStyle& style, const std::function<void(int, int)>& overlay) {
     Clock::time_point t = Clock::now();
     m_target->bind();
     m_renderer->render(m_camera, m_box, style, m_options.width, m_options.height);
+    if (overlay) overlay(m_options.width, m_options.height);
     glFinish();
     m_timings.render += since(t);
     t = Clock::now();

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -40,8 +41,10 @@ public:
     ParticleRenderer& renderer() { return *m_renderer; }
     OrbitCamera& camera() { return m_camera; }
 
-    // Renders what the renderer's buffer holds and writes frame number `index`.
-    void writeFrame(int64_t index, const RenderStyle& style);
+    // Renders what the renderer's buffer holds, then `overlay` (the HUD) when given, and writes
+    // frame number `index`.
+    void writeFrame(int64_t index, const RenderStyle& style, const std::function<void(int, int)>& overlay = {});
+    const Image& lastImage() const { return m_image; }
     // Closes the video (renaming it into place). Returns false when ffmpeg reported an error.
     bool finish();
     const FrameTimings& timings() const { return m_timings; }

@@ -6,6 +6,7 @@
 #include "errors.h"
 
 #include "force_benchmark.h"
+#include "glfw_window.h"
 #include "run_command.h"
 #include "throughput_benchmark.h"
 
@@ -13,7 +14,7 @@ int main(int argc, char** argv) {
     using namespace corebox;
     CLI::App app{"corebox: hard-core particles with Lennard-Jones forces in a rigid box"};
     app.set_version_flag("--version", std::string("corebox ") + COREBOX_VERSION);
-    app.require_subcommand(1);
+    app.require_subcommand(0, 1);
 
     RunOptions run;
     std::string precision, method;
@@ -45,6 +46,10 @@ int main(int argc, char** argv) {
     runCmd->add_option("--video", h.videoPath, "Also encode the frames into this video file (needs ffmpeg)");
     runCmd->add_option("--speed-max", h.speedMax, "Top of the speed colour bar (default: from the temperature)");
     runCmd->add_flag("--software-gl", h.softwareOnly, "Render on Mesa's software device even when a GPU is present");
+    runCmd->add_flag("--hud", h.hud, "Headless: draw the speed histogram, time plots and performance into the frames");
+    runCmd->add_option("--script", run.scriptPath, "Timed commands (set, pause, resume, reset, screenshot, quit), window or headless");
+    runCmd->add_option("--screenshot", run.screenshotPath, "Save the last frame (window or headless) as PNG");
+    runCmd->add_flag("--no-window", run.noWindow, "Batch run (observables only) even where there is a display");
 
     CLI::App* benchCmd = app.add_subcommand("bench", "Benchmarks that write CSV and JSON results");
     benchCmd->require_subcommand(1);
@@ -83,6 +88,15 @@ int main(int argc, char** argv) {
     if (*dtOpt) run.dt = dt;
     if (*seedOpt) run.seed = seed;
     if (*runCmd) return runCommand(run);
+    if (app.get_subcommands().empty()) {
+        // `corebox` alone: the default scene in a window.
+        if (!GlfwWindow::displayAvailable()) {
+            std::fprintf(stderr, "corebox: no display; try `corebox run SCENE --headless --frames N --out DIR`, see --help\n");
+            return kExitInput;
+        }
+        run.scenePath = COREBOX_DEFAULT_SCENE;
+        return runCommand(run);
+    }
     if (*throughputCmd) {
         throughput.precisions.clear();
         for (const std::string& p : throughputPrecisions) throughput.precisions.push_back(p == "fp32" ? Precision::Fp32 : Precision::Fp64);

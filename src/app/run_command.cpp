@@ -10,7 +10,9 @@
 #include "errors.h"
 #include "frame_dumper.h"
 #include "gl_program.h"
-#include "instance_feed.h"
+#include "glfw_window.h"
+#include "rendered_run.h"
+#include "script.h"
 #include "initial_conditions.h"
 #include "observables.h"
 #include "progress.h"
@@ -104,81 +106,25 @@ std::string lastGoodPath(const RunOptions& options) {
     return "corebox_last_good_state.csv";
 }
 
-void reportFrames(const RunOptions& options, FrameDumper& frames) {
-    const bool videoOk = frames.finish();
-    const FrameTimings& t = frames.timings();
-    const double total = t.render + t.readback + t.encode + t.write;
-    std::fprintf(stderr,
-                 "[corebox] %lld frames in %s/ (frame_000000.png ...): %.1f frames/s of rendering and output; per frame "
-                 "%.1f ms render, %.1f ms read-back, %.1f ms PNG encode, %.1f ms write\n",
-                 (long long)t.frames, options.headless.outDir.c_str(), total > 0 ? double(t.frames) / total : 0.0,
-                 1e3 * t.render / double(t.frames), 1e3 * t.readback / double(t.frames), 1e3 * t.encode / double(t.frames),
-                 1e3 * t.write / double(t.frames));
-    if (!options.headless.videoPath.empty()) {
-        if (videoOk) std::fprintf(stderr, "[corebox] video written to %s\n", options.headless.videoPath.c_str());
-        else throw std::runtime_error("ffmpeg failed to write " + options.headless.videoPath);
-    } else {
-        std::fprintf(stderr, "[corebox] make a video with: ffmpeg -framerate 30 -i %s/frame_%%06d.png -pix_fmt yuv420p %s/movie.mp4\n",
-                     options.headless.outDir.c_str(), options.headless.outDir.c_str());
-    }
-}
-
 }  // namespace
 
-int runCommand(const RunOptions& requested) {
-    RunOptions options = requested;
+// Without rendering: observables to a file or stdout, progress on stderr.
+static int runBatch(const RunOptions& options, const Scene& scene) {
     std::unique_ptr<Simulation> sim;
     std::unique_ptr<AtomicFile> observablesFile;
-    std::unique_ptr<FrameDumper> frames;
-    std::unique_ptr<InstanceFeed> feed;
-    const ColorMode colorMode = options.headless.colorBy == "speed" ? ColorMode::Speed : ColorMode::Species;
-    RenderStyle style;
     try {
-        prepareHeadless(options);
-        checkOptions(options);
-        Scene scene = loadScene(options.scenePath);
-        applyOverrides(options, scene);
         const ParticleState initial = makeInitialState(scene);
         BackendChoice choice = options.backend;
         choice.precision = scene.integrator.precision;
         std::unique_ptr<Backend> backend = makeBackend(choice);
-        std::fprintf(stderr, "[corebox] %s: %lld particles, %zu species, %s %s dt = %g, backend %s, %lld steps\n",
+        std::fprintf(stderr, "[corebox] %s: %lld particles, %zu species, %s %s dt = %g, backend %s (%s), %lld steps\n",
                      options.scenePath.c_str(), (long long)initial.size(), scene.species.size(), methodName(scene.integrator.method),
-                     precisionName(scene.integrator.precision), scene.integrator.dt, backend->name().c_str(), (long long)options.steps);
+                     precisionName(scene.integrator.precision), scene.integrator.dt, backend->name().c_str(),
+                     backend->deviceName().c_str(), (long long)options.steps);
         SimulationLimits limits;
         limits.maxEnergyDrift = options.maxEnergyDrift;
         sim = std::make_unique<Simulation>(scene, std::move(backend), initial, limits);
-        if (options.headless.enabled) {
-            const FrameSize size = parseSize(options.headless.size);
-            FrameDumpOptions dump;
-            dump.outDir = options.headless.outDir;
-            dump.width = size.width;
-            dump.height = size.height;
-            dump.videoPath = options.headless.videoPath;
-            dump.context.softwareOnly = options.headless.softwareOnly;
-            dump.context.cudaDevice = options.headless.softwareOnly ? -1 : interopDeviceFor(sim->backend());
-            const std::array<double, 3>& box = sim->scene().box.size;
-            const std::array<float, 3> boxSize{float(box[0]), float(box[1]), float(box[2])};
-            try {
-                frames = std::make_unique<FrameDumper>(dump, boxSize);
-            } catch (const PlatformError& e) {
-                if (dump.context.cudaDevice < 0) throw;
-                std::fprintf(stderr, "[corebox] warning: %s; rendering on another EGL device without interop\n", e.what());
-                dump.context.cudaDevice = -1;
-                frames = std::make_unique<FrameDumper>(dump, boxSize);
-            }
-            feed = std::make_unique<InstanceFeed>(*sim, frames->renderer(), colorMode);
-            style = renderStyleFor(sim->scene(), colorMode, options.headless.speedMax);
-            std::fprintf(stderr, "[corebox] headless rendering on %s; particles by %s\n", frames->contextDescription().c_str(),
-                         feed->description().c_str());
-        }
         if (!options.observablesPath.empty()) observablesFile = std::make_unique<AtomicFile>(options.observablesPath);
-    } catch (const PlatformError& e) {
-        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
-        return kExitDevice;
-    } catch (const RenderError& e) {
-        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
-        return kExitDevice;
     } catch (const InputError& e) {
         std::fprintf(stderr, "corebox: error: %s\n", e.what());
         return kExitInput;
@@ -195,17 +141,11 @@ int runCommand(const RunOptions& requested) {
     ProgressReporter progress(options.steps, !options.quiet);
     const double dof = 3.0 * double(std::max<int64_t>(sim->particleCount(), 1));
     int64_t capHitsReported = 0;
-    auto renderFrame = [&](int64_t index) {
-        feed->update();
-        frames->writeFrame(index, style);
-    };
     try {
         writeObservablesRow(out, sim->observe());
-        if (frames) renderFrame(0);
         for (int64_t s = 1; s <= options.steps; ++s) {
             sim->step();
             if (s % options.every == 0 || s == options.steps) writeObservablesRow(out, sim->observe());
-            if (frames && s % options.headless.stepsPerFrame == 0) renderFrame(s / options.headless.stepsPerFrame);
             if (sim->roundCapHits() > capHitsReported) {
                 std::fprintf(stderr, "[corebox] warning: step %lld: overlaps remained after %d collision rounds (%lld steps so far); "
                              "consider a smaller dt or a larger [interaction] max_collision_rounds\n",
@@ -217,7 +157,6 @@ int runCommand(const RunOptions& requested) {
         progress.finish(options.steps, sim->time(), 2.0 * sim->lastKineticEnergy() / dof);
         if (observablesFile) observablesFile->commit();
         if (!options.stateOutPath.empty()) writeStateCsv(options.stateOutPath, sim->state());
-        if (frames) reportFrames(options, *frames);
     } catch (const InstabilityError& e) {
         std::fprintf(stderr, "corebox: %s\n", e.what());
         try {
@@ -238,14 +177,47 @@ int runCommand(const RunOptions& requested) {
     } catch (const DeviceError& e) {
         std::fprintf(stderr, "corebox: device error: %s\n", e.what());
         return kExitDevice;
-    } catch (const RenderError& e) {
-        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
-        return kExitDevice;
-    } catch (const std::runtime_error& e) {  // frame or video output
+    }
+    return kExitOk;
+}
+
+void reportFrames(const RunOptions& options, FrameDumper& frames) {
+    const bool videoOk = frames.finish();
+    const FrameTimings& t = frames.timings();
+    const double total = t.render + t.readback + t.encode + t.write;
+    std::fprintf(stderr,
+                 "[corebox] %lld frames in %s/ (frame_000000.png ...): %.1f frames/s of rendering and output; per frame "
+                 "%.1f ms render, %.1f ms read-back, %.1f ms PNG encode, %.1f ms write\n",
+                 (long long)t.frames, options.headless.outDir.c_str(), total > 0 ? double(t.frames) / total : 0.0,
+                 1e3 * t.render / double(t.frames), 1e3 * t.readback / double(t.frames), 1e3 * t.encode / double(t.frames),
+                 1e3 * t.write / double(t.frames));
+    if (!options.headless.videoPath.empty()) {
+        if (videoOk) std::fprintf(stderr, "[corebox] video written to %s\n", options.headless.videoPath.c_str());
+        else throw std::runtime_error("ffmpeg failed to write " + options.headless.videoPath);
+    } else {
+        std::fprintf(stderr, "[corebox] make a video with: ffmpeg -framerate 30 -i %s/frame_%%06d.png -pix_fmt yuv420p %s/movie.mp4\n",
+                     options.headless.outDir.c_str(), options.headless.outDir.c_str());
+    }
+}
+
+
+int runCommand(const RunOptions& requested) {
+    RunOptions options = requested;
+    Scene scene;
+    try {
+        prepareHeadless(options);
+        checkOptions(options);
+        scene = loadScene(options.scenePath);
+        applyOverrides(options, scene);
+        if (!options.scriptPath.empty()) Script::load(options.scriptPath);  // errors before anything runs
+        if (!options.screenshotPath.empty()) checkWritable(options.screenshotPath, "--screenshot");
+    } catch (const InputError& e) {
         std::fprintf(stderr, "corebox: error: %s\n", e.what());
         return kExitInput;
     }
-    return kExitOk;
+    if (options.headless.enabled) return runHeadlessFrames(options, scene);
+    if (!options.noWindow && GlfwWindow::displayAvailable()) return runWindow(options, scene);
+    return runBatch(options, scene);
 }
 
 }  // namespace corebox

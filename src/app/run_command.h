@@ -21,6 +21,7 @@ struct HeadlessOptions {
     std::string videoPath;
     double speedMax = 0;          // colour bar top; 0: from the temperature
     bool softwareOnly = false;    // render on Mesa's software device even when a GPU is there
+    bool hud = false;             // draw the histogram and plots into the frames
 };
 
 struct RunOptions {
@@ -36,8 +37,15 @@ struct RunOptions {
     std::optional<int64_t> seed;           // overrides [init] seed
     double maxEnergyDrift = 0.5;
     bool quiet = false;                    // no progress lines
-    HeadlessOptions headless;
+    HeadlessOptions headless;              // frames also bounds a window run
+    std::string scriptPath;                // --script: timed commands (window and headless)
+    std::string screenshotPath;            // --screenshot: the last frame as PNG
+    bool noWindow = false;                 // batch run even where there is a display
 };
+
+class FrameDumper;
+// Frame timings and where the frames are (and the video, closed here), on stderr.
+void reportFrames(const RunOptions& options, FrameDumper& frames);
 
 enum ExitCode : int { kExitOk = 0, kExitInput = 2, kExitUnstable = 3, kExitDevice = 4 };
 

@@ -1,0 +1,98 @@
+#include "live_run.h"
+
+#include "observables.h"
+#include "view_data.h"
+
+namespace corebox {
+
+using Clock = std::chrono::steady_clock;
+
+LiveRun::LiveRun(const Scene& scene, const BackendChoice& backend, LiveRunOptions options, SimulationLimits limits)
+    : m_options(std::move(options)), m_session(scene, backend, limits), m_controls(m_session), m_rateStart(Clock::now()) {
+    if (!m_options.observablesPath.empty()) {
+        m_observables = std::make_unique<AtomicFile>(m_options.observablesPath);
+        m_observables->stream() << observablesHeader(scene) << '\n';
+    }
+    m_performance.backend = simulation().backend().name();
+    m_performance.device = simulation().backend().deviceName();
+    observe(0);
+    m_conserved0 = m_lastRow.conserved();
+    refreshSpeedView();
+}
+
+void LiveRun::observe(int64_t stepsSinceLast) {
+    const Clock::time_point t = Clock::now();
+    m_lastRow = simulation().observe();
+    m_observeSeconds += std::chrono::duration<double>(Clock::now() - t).count();
+    const Scene& s = simulation().scene();
+    m_history.push(m_lastRow, m_conserved0 != 0 ? m_conserved0 : m_lastRow.conserved(),
+                   s.thermostat.kind == ThermostatKind::None ? 0.0 : s.thermostat.temperature, stepsSinceLast);
+    if (m_observables) writeObservablesRow(m_observables->stream(), m_lastRow);
+    m_lastObservedStep = simulation().stepIndex();
+}
+
+ScriptEffects LiveRun::advance(int64_t steps) {
+    ScriptEffects effects;
+    auto runDue = [&]() {
+        if (!m_options.script) return;
+        for (const ScriptCommand& c : m_options.script->due(simulation().stepIndex())) {
+            const ScriptEffects e = runScriptCommand(c, m_options.script->path(), m_controls, m_view);
+            effects.quit = effects.quit || e.quit;
+            effects.reset = effects.reset || e.reset;
+            if (!e.screenshotPath.empty()) effects.screenshotPath = e.screenshotPath;
+        }
+    };
+    runDue();
+    for (int64_t k = 0; k < steps && !effects.quit && effects.screenshotPath.empty() && !effects.reset; ++k) {
+        const Clock::time_point t = Clock::now();
+        simulation().step();
+        m_stepSeconds += std::chrono::duration<double>(Clock::now() - t).count();
+        ++m_rateSteps;
+        const int64_t step = simulation().stepIndex();
+        if (step % m_options.observeEvery == 0) observe(step - m_lastObservedStep);
+        runDue();
+    }
+    return effects;
+}
+
+std::string LiveRun::reset() {
+    const std::string error = m_controls.reset();
+    if (!error.empty()) return error;
+    m_history.clear();
+    m_lastObservedStep = 0;
+    observe(0);
+    m_conserved0 = m_lastRow.conserved();
+    m_performance.backend = simulation().backend().name();
+    refreshSpeedView();
+    return "";
+}
+
+void LiveRun::refreshSpeedView() { fillSpeedView(simulation(), m_lastRow, m_speeds); }
+
+void LiveRun::recordFrame(double msInterop, double msRender) {
+    ++m_rateFrames;
+    const double elapsed = std::chrono::duration<double>(Clock::now() - m_rateStart).count();
+    m_performance.msInterop = msInterop;
+    m_performance.msRender = msRender;
+    m_performance.stepsPerFrame = m_view.stepsPerFrame;
+    if (elapsed < 0.5) return;
+    PerformanceView& p = m_performance;
+    p.stepsPerSecond = double(m_rateSteps) / elapsed;
+    p.framesPerSecond = double(m_rateFrames) / elapsed;
+    const double n = double(simulation().particleCount());
+    const Method m = simulation().scene().integrator.method;
+    const double passes = m == Method::Verlet ? 1.0 : double(tableauFor(m).solutionStages);
+    p.pairInteractionsPerSecond = p.stepsPerSecond * passes * n * (n - 1);
+    p.msStep = m_rateFrames > 0 ? 1e3 * m_stepSeconds / double(m_rateFrames) : 0.0;
+    p.msObserve = m_rateFrames > 0 ? 1e3 * m_observeSeconds / double(m_rateFrames) : 0.0;
+    m_rateStart = Clock::now();
+    m_rateSteps = m_rateFrames = 0;
+    m_stepSeconds = m_observeSeconds = 0;
+}
+
+void LiveRun::finish() {
+    if (m_observables) m_observables->commit();
+    m_observables.reset();
+}
+
+}  // namespace corebox

@@ -1,0 +1,72 @@
+// A run that is watched: the session, the panel's controls and view settings, the time series and
+// speed distributions the panels show, performance figures, an optional script and an optional
+// observables file. The window and the headless frame loop both drive one of these, so a script or
+// a panel edit behaves the same in either.
+#pragma once
+
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "atomic_file.h"
+#include "script.h"
+#include "script_runner.h"
+#include "session.h"
+#include "simulation_controls.h"
+#include "ui_views.h"
+
+namespace corebox {
+
+struct LiveRunOptions {
+    int64_t observeEvery = 10;     // observables row (and plot point) every K steps
+    std::string observablesPath;   // "" : none
+    std::optional<Script> script;
+};
+
+class LiveRun {
+public:
+    // Throws InputError / DeviceError.
+    LiveRun(const Scene& scene, const BackendChoice& backend, LiveRunOptions options, SimulationLimits limits = {});
+
+    Session& session() { return m_session; }
+    Simulation& simulation() { return m_session.simulation(); }
+    SimulationControls& controls() { return m_controls; }
+    ViewSettings& view() { return m_view; }
+
+    // Runs up to `steps` steps (stopping early for a script's quit/screenshot/reset), observing when
+    // due. Throws InstabilityError.
+    ScriptEffects advance(int64_t steps);
+    // Restart from the controls' pending scene; clears the plots.
+    std::string reset();
+    // Speed distributions and performance for the panels (the O(N) speed statistics: call a few
+    // times a second, not every frame).
+    void refreshSpeedView();
+    void recordFrame(double msInterop, double msRender);
+    void finish();  // commits the observables file
+
+    const ObservableHistory& history() const { return m_history; }
+    const SpeedView& speeds() const { return m_speeds; }
+    const PerformanceView& performance() const { return m_performance; }
+    std::string status;
+
+private:
+    void observe(int64_t stepsSinceLast);
+
+    LiveRunOptions m_options;
+    Session m_session;
+    SimulationControls m_controls;
+    ViewSettings m_view;
+    ObservableHistory m_history;
+    SpeedView m_speeds;
+    PerformanceView m_performance;
+    std::unique_ptr<AtomicFile> m_observables;
+    ObservablesRow m_lastRow;
+    int64_t m_lastObservedStep = 0;
+    double m_conserved0 = 0;
+    std::chrono::steady_clock::time_point m_rateStart;
+    int64_t m_rateSteps = 0, m_rateFrames = 0;
+    double m_stepSeconds = 0, m_observeSeconds = 0;
+};
+
+}  // namespace corebox

@@ -1,0 +1,36 @@
+// The running simulation behind the window, the headless HUD and scripts: the SimulationHost that
+// the panel's controls act on. Restarting or switching precision replaces the backend, so anything
+// that holds on to it (the interop feed) checks generation().
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "backend_factory.h"
+#include "simulation.h"
+#include "simulation_controls.h"
+
+namespace corebox {
+
+class Session final : public SimulationHost {
+public:
+    // Throws InputError (bad scene), DeviceError.
+    Session(const Scene& scene, const BackendChoice& backend, SimulationLimits limits = SimulationLimits{});
+
+    Simulation& simulation() { return *m_sim; }
+    uint64_t generation() const { return m_generation; }
+
+    const Scene& runningScene() const override { return m_sim->scene(); }
+    void applyStepParameters(const StepParameters& parameters) override { m_sim->setStepParameters(parameters); }
+    void applyThermostat(const ThermostatDef& thermostat) override { m_sim->setThermostat(thermostat); }
+    void switchPrecision(Precision precision) override;
+    void restart(const Scene& scene) override;
+
+private:
+    BackendChoice m_backend;
+    SimulationLimits m_limits;
+    std::unique_ptr<Simulation> m_sim;
+    uint64_t m_generation = 0;
+};
+
+}  // namespace corebox

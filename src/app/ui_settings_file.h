@@ -1,0 +1,25 @@
+// Where the window keeps its settings between runs: $XDG_CONFIG_HOME/corebox (or ~/.config/corebox):
+// imgui.ini for the panel layout (ImGui's own) and settings.ini for the view settings
+// (steps/frame, vsync, colour mode, panel shown), as key = value lines.
+#pragma once
+
+#include <string>
+
+#include "ui_views.h"
+
+namespace corebox {
+
+class UiSettingsFile {
+public:
+    static UiSettingsFile standard();
+    explicit UiSettingsFile(std::string directory);
+
+    std::string imguiIniPath() const;
+    void load(ViewSettings& view) const;  // missing or unreadable file: defaults stay
+    void save(const ViewSettings& view) const;
+
+private:
+    std::string m_directory;
+};
+
+}  // namespace corebox

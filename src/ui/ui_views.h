@@ -1,0 +1,73 @@
+// Read-only data the panels show, filled by the app from the simulation (the UI never asks a
+// backend itself): observable time series, speed distributions with their Maxwell-Boltzmann
+// references, and performance figures. Plus the view settings and the actions the panel requests.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <string>
+#include <vector>
+
+#include "observables.h"
+
+namespace corebox {
+
+class ObservableHistory {
+public:
+    explicit ObservableHistory(size_t capacity = 600) : m_capacity(capacity) {}
+    void push(const ObservablesRow& row, double conserved0, double targetTemperature, int64_t stepsSinceLast);
+    void clear();
+
+    std::vector<float> time, kinetic, potential, total, dissipated, drift, temperature, target, collisionsPerStep;
+
+private:
+    size_t m_capacity;
+};
+
+struct SpeedSeries {
+    std::string name;
+    std::array<float, 3> color{1, 1, 1};
+    double mass = 1;
+    // For all species together: the MB reference is the mixture sum_k weight_k f(v; m_k, T).
+    std::vector<std::array<double, 2>> mixture;  // (weight, mass)
+    int64_t count = 0;
+    std::vector<float> density;  // histogram normalised to a probability density over speed
+    double ksStatistic = 0, ksCritical = 0;
+    double temperatureEquipartition = 0;  // m <v^2> / 3, from the kinetic energy
+    double temperatureDistribution = 0;   // pi m <v>^2 / 8, from the mean speed of the histogram
+};
+
+struct SpeedView {
+    std::vector<SpeedSeries> species;  // one per species, then "all" last
+    double maxSpeed = 4;
+    double targetTemperature = 0;  // 0: no thermostat
+};
+
+struct PerformanceView {
+    std::string backend, device;
+    double stepsPerSecond = 0, framesPerSecond = 0, pairInteractionsPerSecond = 0;
+    double msStep = 0;  // simulation steps (forces, integration and collisions) per frame
+    double msObserve = 0, msInterop = 0, msRender = 0;
+    int stepsPerFrame = 1;
+};
+
+struct ViewSettings {
+    bool colorBySpeed = false;
+    int stepsPerFrame = 4;
+    bool vsync = true;
+    bool paused = false;
+    bool showPanel = true;
+    bool showHelp = false;
+};
+
+// What the panel asks the app to do this frame.
+struct PanelActions {
+    bool reset = false;
+    bool singleStep = false;
+    bool screenshot = false;
+    std::string loadPreset;      // path, or ""
+    std::string saveScenePath;   // path, or ""
+};
+
+}  // namespace corebox
