@@ -31,8 +31,9 @@ void LiveRun::observe(int64_t stepsSinceLast) {
     m_lastObservedStep = simulation().stepIndex();
 }
 
-ScriptEffects LiveRun::advance(int64_t steps) {
+ScriptEffects LiveRun::advance(int64_t steps, double budgetSeconds) {
     ScriptEffects effects;
+    const Clock::time_point start = Clock::now();
     auto runDue = [&]() {
         if (!m_options.script) return;
         for (const ScriptCommand& c : m_options.script->due(simulation().stepIndex())) {
@@ -51,6 +52,7 @@ ScriptEffects LiveRun::advance(int64_t steps) {
         const int64_t step = simulation().stepIndex();
         if (step % m_options.observeEvery == 0) observe(step - m_lastObservedStep);
         runDue();
+        if (budgetSeconds > 0 && std::chrono::duration<double>(Clock::now() - start).count() > budgetSeconds) break;
     }
     return effects;
 }
@@ -82,7 +84,9 @@ void LiveRun::recordFrame(double msInterop, double msRender) {
     const double n = double(simulation().particleCount());
     const Method m = simulation().scene().integrator.method;
     const double passes = m == Method::Verlet ? 1.0 : double(tableauFor(m).solutionStages);
-    p.pairInteractionsPerSecond = p.stepsPerSecond * passes * n * (n - 1);
+    bool pairForces = false;
+    for (const SpeciesDef& s : simulation().scene().species) pairForces = pairForces || s.epsilon > 0;
+    p.pairInteractionsPerSecond = pairForces ? p.stepsPerSecond * passes * n * (n - 1) : 0.0;  // hard spheres: no force pass
     p.msStep = m_rateFrames > 0 ? 1e3 * m_stepSeconds / double(m_rateFrames) : 0.0;
     p.msObserve = m_rateFrames > 0 ? 1e3 * m_observeSeconds / double(m_rateFrames) : 0.0;
     m_rateStart = Clock::now();

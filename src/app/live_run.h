@@ -34,9 +34,10 @@ public:
     SimulationControls& controls() { return m_controls; }
     ViewSettings& view() { return m_view; }
 
-    // Runs up to `steps` steps (stopping early for a script's quit/screenshot/reset), observing when
-    // due. Throws InstabilityError.
-    ScriptEffects advance(int64_t steps);
+    // Runs up to `steps` steps (stopping early for a script's quit/screenshot/reset, or once
+    // `budgetSeconds` > 0 of stepping has passed, so a window stays responsive whatever steps/frame
+    // asks), observing when due. Throws InstabilityError.
+    ScriptEffects advance(int64_t steps, double budgetSeconds = 0);
     // Restart from the controls' pending scene; clears the plots.
     std::string reset();
     // Speed distributions and performance for the panels (the O(N) speed statistics: call a few

@@ -267,7 +267,9 @@ int runWindow(const RunOptions& options, const Scene& scene) {
             lastY = y;
 
             // Simulation: the frame's steps, and the script.
-            ScriptEffects effects = live->advance(view.paused ? 0 : view.stepsPerFrame);
+            // At most ~40 ms of stepping per frame: the panel stays responsive at any steps/frame
+            // (a script's timing is by step number, so it is unaffected).
+            ScriptEffects effects = live->advance(view.paused ? 0 : view.stepsPerFrame, 0.04);
             if (Clock::now() - lastSpeeds > std::chrono::milliseconds(250)) {
                 live->refreshSpeedView();
                 lastSpeeds = Clock::now();

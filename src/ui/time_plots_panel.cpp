@@ -35,7 +35,10 @@ void drawTimePlots(const ObservableHistory& h, bool place) {
     plot("dissipated", h.dissipated, 40);
     plot("conserved drift (rel.)", h.drift, 40);
     plot("temperature", h.temperature, 40);
-    if (!h.target.empty()) ImGui::Text("target T %.4g", double(h.target.back()));
+    if (!h.target.empty()) {
+        if (h.target.back() > 0) ImGui::Text("target T %.4g", double(h.target.back()));
+        else ImGui::TextDisabled("no thermostat");
+    }
     plot("collisions / step", h.collisionsPerStep, 40);
     ImGui::End();
 }
@@ -45,7 +48,8 @@ void drawPerformance(const PerformanceView& p, bool place) {
     ImGui::Begin("Performance", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
     ImGui::Text("%s: %s", p.backend.c_str(), p.device.c_str());
     ImGui::Text("%.1f steps/s   %.1f frames/s   %d steps/frame", p.stepsPerSecond, p.framesPerSecond, p.stepsPerFrame);
-    ImGui::Text("pair interactions/s: %.3g", p.pairInteractionsPerSecond);
+    if (p.pairInteractionsPerSecond > 0) ImGui::Text("pair interactions/s: %.3g", p.pairInteractionsPerSecond);
+    else ImGui::TextDisabled("no pair forces (hard spheres)");
     ImGui::Text("ms per frame: steps (forces, integration, collisions) %.2f", p.msStep);
     ImGui::Text("observe %.2f  particles->GL %.2f  render %.2f", p.msObserve, p.msInterop, p.msRender);
     ImGui::End();
