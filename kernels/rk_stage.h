@@ -29,6 +29,15 @@ COREBOX_HD inline double scaledErrorSquared(Real error, Real y0, Real y1, double
     return e * e;
 }
 
+// Step-size controller of the embedded pair (Hairer, Norsett & Wanner I, II.4, eq. 4.13): the next
+// step is dt * 0.9 * err^(-1/(q+1)), limited to [0.2, 5] times the current one; a non-finite error
+// shrinks by the lower limit.
+COREBOX_HD inline double adaptiveStepFactor(double error, int embeddedOrder) {
+    if (!(error == error) || error > 1e300) return 0.2;
+    const double factor = 0.9 * pow(error > 1e-10 ? error : 1e-10, -1.0 / double(embeddedOrder + 1));
+    return factor < 0.2 ? 0.2 : (factor > 5.0 ? 5.0 : factor);
+}
+
 // Velocity Verlet (kick-drift-kick): v += a dt/2; x += v dt; a = F(x)/m; v += a dt/2.
 template <class Real>
 COREBOX_HD inline void verletKick(Vec3<Real>& v, Vec3<Real> a, Real halfDt) { v += halfDt * a; }

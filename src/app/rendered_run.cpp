@@ -84,6 +84,35 @@ void reportInstability(const InstabilityError& e, LiveRun& live, const RunOption
     }
 }
 
+// Runs a frame loop and turns its errors into exit codes (DESIGN.md sec. 3); after a blow-up the
+// observables so far are kept and the last good state is written.
+template <class Body>
+int guardedRun(const RunOptions& options, std::unique_ptr<LiveRun>& live, Body&& body) {
+    try {
+        body();
+    } catch (const InstabilityError& e) {
+        if (live) reportInstability(e, *live, options);
+        else std::fprintf(stderr, "corebox: %s\n", e.what());
+        return kExitUnstable;
+    } catch (const InputError& e) {
+        std::fprintf(stderr, "corebox: error: %s\n", e.what());
+        return kExitInput;
+    } catch (const PlatformError& e) {
+        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
+        return kExitDevice;
+    } catch (const RenderError& e) {
+        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
+        return kExitDevice;
+    } catch (const DeviceError& e) {
+        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
+        return kExitDevice;
+    } catch (const std::runtime_error& e) {  // frame, screenshot or video output
+        std::fprintf(stderr, "corebox: error: %s\n", e.what());
+        return kExitInput;
+    }
+    return kExitOk;
+}
+
 RenderStyle styleOf(LiveRun& live) {
     return renderStyleFor(live.simulation().scene(), live.view().colorBySpeed ? ColorMode::Speed : ColorMode::Species);
 }
@@ -107,9 +136,11 @@ struct Feed {
 
 int runHeadlessFrames(const RunOptions& options, const Scene& scene) {
     const HeadlessOptions& h = options.headless;
-    try {
-        LiveRun live(scene, BackendChoice{options.backend.name, scene.integrator.precision, options.backend.threads, 0},
-                     liveOptions(options, h.stepsPerFrame));
+    std::unique_ptr<LiveRun> livePtr;
+    return guardedRun(options, livePtr, [&] {
+        livePtr = std::make_unique<LiveRun>(scene, BackendChoice{options.backend.name, scene.integrator.precision, options.backend.threads, 0},
+                                            liveOptions(options, h.stepsPerFrame));
+        LiveRun& live = *livePtr;
         live.view().colorBySpeed = h.colorBy == "speed";
         live.view().stepsPerFrame = int(h.stepsPerFrame);
         int width = 0, height = 0;
@@ -166,26 +197,7 @@ int runHeadlessFrames(const RunOptions& options, const Scene& scene) {
         live.finish();
         if (!options.stateOutPath.empty()) writeStateCsv(options.stateOutPath, live.simulation().state());
         reportFrames(options, *frames);
-    } catch (const InstabilityError& e) {
-        std::fprintf(stderr, "corebox: %s\n", e.what());
-        return kExitUnstable;
-    } catch (const InputError& e) {
-        std::fprintf(stderr, "corebox: error: %s\n", e.what());
-        return kExitInput;
-    } catch (const PlatformError& e) {
-        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
-        return kExitDevice;
-    } catch (const RenderError& e) {
-        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
-        return kExitDevice;
-    } catch (const DeviceError& e) {
-        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
-        return kExitDevice;
-    } catch (const std::runtime_error& e) {
-        std::fprintf(stderr, "corebox: error: %s\n", e.what());
-        return kExitInput;
-    }
-    return kExitOk;
+    });
 }
 
 namespace {
@@ -211,7 +223,7 @@ struct Keys {
 
 int runWindow(const RunOptions& options, const Scene& scene) {
     std::unique_ptr<LiveRun> live;
-    try {
+    return guardedRun(options, live, [&] {
         GlfwWindow window(1600, 900, "corebox");
         glfwSetScrollCallback(window.handle(), onScroll);  // before ImGui, which chains to it
         const UiSettingsFile settingsFile = UiSettingsFile::standard();
@@ -339,26 +351,7 @@ int runWindow(const RunOptions& options, const Scene& scene) {
         settingsFile.save(live->view());
         live->finish();
         if (!options.stateOutPath.empty()) writeStateCsv(options.stateOutPath, live->simulation().state());
-    } catch (const InstabilityError& e) {
-        if (live) reportInstability(e, *live, options);
-        return kExitUnstable;
-    } catch (const InputError& e) {
-        std::fprintf(stderr, "corebox: error: %s\n", e.what());
-        return kExitInput;
-    } catch (const PlatformError& e) {
-        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
-        return kExitDevice;
-    } catch (const RenderError& e) {
-        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
-        return kExitDevice;
-    } catch (const DeviceError& e) {
-        std::fprintf(stderr, "corebox: device error: %s\n", e.what());
-        return kExitDevice;
-    } catch (const std::runtime_error& e) {
-        std::fprintf(stderr, "corebox: error: %s\n", e.what());
-        return kExitInput;
-    }
-    return kExitOk;
+    });
 }
 
 }  // namespace corebox

@@ -261,7 +261,6 @@ private:
     void adaptiveRkStep(StepReport& report) {
         const size_t n = m_x.size();
         const double tol = m_params.integrator.tolerance;
-        const double exponent = -1.0 / double(m_tableau.embeddedOrder + 1);
         double dt = m_dtNext;
         for (int attempt = 0;; ++attempt) {
             rkStep(Real(dt), m_tableau.stages);
@@ -278,7 +277,7 @@ private:
                 return e;
             });
             const double error = std::sqrt(errorSum / double(6 * std::max<size_t>(n, 1)));
-            const double factor = std::isfinite(error) ? std::clamp(0.9 * std::pow(std::max(error, 1e-10), exponent), 0.2, 5.0) : 0.2;
+            const double factor = adaptiveStepFactor(error, m_tableau.embeddedOrder);
             if (error <= 1.0) {
                 report.dt = dt;
                 report.rejectedSteps = attempt;

@@ -10,6 +10,7 @@
 #include "device_partition.h"
 #include "gpu_launch.h"
 #include "pair_table.h"
+#include "rk_stage.h"
 
 namespace corebox {
 
@@ -290,7 +291,6 @@ private:
 
     void adaptiveRkStep(StepReport& report) {
         const double tol = m_params.integrator.tolerance;
-        const double exponent = -1.0 / double(m_tableau.embeddedOrder + 1);
         double dt = m_dtNext;
         for (int attempt = 0;; ++attempt) {
             rkStep(Real(dt), m_tableau.stages);
@@ -298,7 +298,7 @@ private:
             gpu::StageArgs<Real> a{m_x.data(), m_v.data(), m_kx.data(), m_kv.data(), m_xStage.data(), m_vStage.data(), m_n, -1, m_tableau.stages, Real(dt)};
             gpu::launchErrorNorm(a, tol, m_rows.data(), stream());
             const double error = std::sqrt(sumRows(1)[0] / double(6 * std::max<int64_t>(m_n, 1)));
-            const double factor = std::isfinite(error) ? std::clamp(0.9 * std::pow(std::max(error, 1e-10), exponent), 0.2, 5.0) : 0.2;
+            const double factor = adaptiveStepFactor(error, m_tableau.embeddedOrder);
             if (error <= 1.0) {
                 report.dt = dt;
                 report.rejectedSteps = attempt;
