@@ -46,8 +46,11 @@ ScriptEffects LiveRun::advance(int64_t steps, double budgetSeconds) {
     runDue();
     for (int64_t k = 0; k < steps && !effects.quit && effects.screenshotPath.empty() && !effects.reset; ++k) {
         const Clock::time_point t = Clock::now();
-        simulation().step();
+        const StepReport r = simulation().step();
         m_stepSeconds += std::chrono::duration<double>(Clock::now() - t).count();
+        m_forceSeconds += r.secondsForces;
+        m_integrateSeconds += r.secondsIntegrate;
+        m_collideSeconds += r.secondsCollide;
         ++m_rateSteps;
         const int64_t step = simulation().stepIndex();
         if (step % m_options.observeEvery == 0) observe(step - m_lastObservedStep);
@@ -87,11 +90,15 @@ void LiveRun::recordFrame(double msInterop, double msRender) {
     bool pairForces = false;
     for (const SpeciesDef& s : simulation().scene().species) pairForces = pairForces || s.epsilon > 0;
     p.pairInteractionsPerSecond = pairForces ? p.stepsPerSecond * passes * n * (n - 1) : 0.0;  // hard spheres: no force pass
-    p.msStep = m_rateFrames > 0 ? 1e3 * m_stepSeconds / double(m_rateFrames) : 0.0;
-    p.msObserve = m_rateFrames > 0 ? 1e3 * m_observeSeconds / double(m_rateFrames) : 0.0;
+    const double perFrame = m_rateFrames > 0 ? 1e3 / double(m_rateFrames) : 0.0;
+    p.msStep = perFrame * m_stepSeconds;
+    p.msForce = perFrame * m_forceSeconds;
+    p.msIntegrate = perFrame * m_integrateSeconds;
+    p.msCollide = perFrame * m_collideSeconds;
+    p.msObserve = perFrame * m_observeSeconds;
     m_rateStart = Clock::now();
     m_rateSteps = m_rateFrames = 0;
-    m_stepSeconds = m_observeSeconds = 0;
+    m_stepSeconds = m_observeSeconds = m_forceSeconds = m_integrateSeconds = m_collideSeconds = 0;
 }
 
 void LiveRun::finish() {

@@ -67,7 +67,7 @@ private:
     double m_conserved0 = 0;
     std::chrono::steady_clock::time_point m_rateStart;
     int64_t m_rateSteps = 0, m_rateFrames = 0;
-    double m_stepSeconds = 0, m_observeSeconds = 0;
+    double m_stepSeconds = 0, m_observeSeconds = 0, m_forceSeconds = 0, m_integrateSeconds = 0, m_collideSeconds = 0;
 };
 
 }  // namespace corebox

@@ -27,6 +27,8 @@ struct StepReport {
     double dissipated = 0;         // kinetic energy lost in inelastic collisions this step [eps]
     int rounds = 0;                // parallel resolution rounds used
     bool roundCapHit = false;      // overlaps remained after InteractionDef::maxCollisionRounds
+    // Where the step's time went [s]: force passes, the rest of the integration, collisions.
+    double secondsForces = 0, secondsIntegrate = 0, secondsCollide = 0;
 };
 
 struct EnergySums {

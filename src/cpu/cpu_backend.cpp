@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <chrono>
 #include <fstream>
 #include <string>
 #include <cmath>
@@ -81,6 +82,9 @@ public:
 
     StepReport step() override {
         StepReport report;
+        using Clock = std::chrono::steady_clock;
+        m_forceSeconds = 0;
+        const Clock::time_point start = Clock::now();
         if (m_params.integrator.method == Method::Verlet) {
             report.dt = m_params.integrator.dt;
             verletStep(Real(report.dt));
@@ -92,7 +96,11 @@ public:
             std::swap(m_x, m_xStage);
             std::swap(m_v, m_vStage);
         }
+        const Clock::time_point integrated = Clock::now();
         resolveCollisions(report);
+        report.secondsForces = m_forceSeconds;
+        report.secondsIntegrate = std::chrono::duration<double>(integrated - start).count() - m_forceSeconds;
+        report.secondsCollide = std::chrono::duration<double>(Clock::now() - integrated).count();
         // Collisions move particles and change velocities: the cached Verlet acceleration is only
         // reusable when nothing was touched.
         if (report.pairCollisions + report.wallCollisions + report.positionalFixes > 0) m_accelerationValid = false;
@@ -229,10 +237,12 @@ private:
     }
 
     void accelerations(const std::vector<Vec3<Real>>& x, std::vector<Vec3<Real>>& out, double* pairEnergy) {
+        const auto start = std::chrono::steady_clock::now();
         out.resize(x.size());
         parallelFor(m_threads, int64_t(x.size()), [&](int64_t i) {
             out[size_t(i)] = accelerationOf(i, x, pairEnergy ? &pairEnergy[i] : nullptr);
         });
+        m_forceSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
 
     // Runs `stages` RK stages from (m_x, m_v) and leaves the solution in (m_xStage, m_vStage).
@@ -417,6 +427,7 @@ private:
     Vec3<Real> m_gravity{0, 0, 0};
     Vec3<Real> m_boxLength{0, 0, 0};
     double m_dtNext = 0;
+    double m_forceSeconds = 0;  // force passes of the current step
 
     std::vector<Vec3<Real>> m_x, m_v;
     std::vector<int32_t> m_species;

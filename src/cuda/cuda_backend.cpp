@@ -43,10 +43,16 @@ public:
             throw DeviceError("CUDA device " + std::to_string(options.device) + " is not available (" +
                               std::to_string(cudaDeviceCount()) + " found)");
         }
+        for (cudaEvent_t& e : m_phase) cudaCheck(cudaEventCreate(&e), "cudaEventCreate");
         m_counters.resize(2);
         m_kindCounts.resize(3);
         m_healthCounts.resize(3);
         m_healthExamples.resize(5);
+    }
+
+    ~CudaBackendImpl() override {
+        for (cudaEvent_t e : m_phase) cudaEventDestroy(e);
+        for (cudaEvent_t e : m_timingEvents) cudaEventDestroy(e);
     }
 
     std::string name() const override { return "cuda"; }
@@ -104,6 +110,8 @@ public:
 
     StepReport step() override {
         StepReport report;
+        m_forceEvents = 0;
+        cudaCheck(cudaEventRecord(m_phase[0], stream()), "event");
         if (m_params.integrator.method == Method::Verlet) {
             report.dt = m_params.integrator.dt;
             verletStep(Real(report.dt));
@@ -115,7 +123,10 @@ public:
             std::swap(m_x, m_xStage);
             std::swap(m_v, m_vStage);
         }
+        cudaCheck(cudaEventRecord(m_phase[1], stream()), "event");
         resolveCollisions(report);
+        cudaCheck(cudaEventRecord(m_phase[2], stream()), "event");
+        timePhases(report);
         if (report.pairCollisions + report.wallCollisions + report.positionalFixes > 0) m_accelerationValid = false;
         return report;
     }
@@ -229,6 +240,36 @@ public:
 
 private:
     cudaStream_t stream() const { return m_partition.primary().stream; }
+
+    // Force launches bracketed by events, read once the step has finished (no extra syncs).
+    void launchTimedForces(const gpu::ForceArgs<Real>& args) {
+        if (m_forceEvents + 2 > m_timingEvents.size()) {
+            cudaEvent_t e[2];
+            for (cudaEvent_t& ev : e) cudaCheck(cudaEventCreate(&ev), "cudaEventCreate");
+            m_timingEvents.push_back(e[0]);
+            m_timingEvents.push_back(e[1]);
+        }
+        cudaCheck(cudaEventRecord(m_timingEvents[m_forceEvents], stream()), "event");
+        gpu::launchForces(args, stream());
+        cudaCheck(cudaEventRecord(m_timingEvents[m_forceEvents + 1], stream()), "event");
+        m_forceEvents += 2;
+    }
+
+    void timePhases(StepReport& report) {
+        cudaCheck(cudaEventSynchronize(m_phase[2]), "event");
+        float ms = 0;
+        double forces = 0;
+        for (size_t k = 0; k < m_forceEvents; k += 2) {
+            cudaEventElapsedTime(&ms, m_timingEvents[k], m_timingEvents[k + 1]);
+            forces += ms;
+        }
+        float integrate = 0, collide = 0;
+        cudaEventElapsedTime(&integrate, m_phase[0], m_phase[1]);
+        cudaEventElapsedTime(&collide, m_phase[1], m_phase[2]);
+        report.secondsForces = 1e-3 * forces;
+        report.secondsIntegrate = 1e-3 * (double(integrate) - forces);
+        report.secondsCollide = 1e-3 * double(collide);
+    }
     void sync() const { m_partition.synchronize(); }
 
     gpu::ParticleArrays<Real> arrays() { return {m_x.data(), m_v.data(), m_species.data(), m_n}; }
@@ -282,7 +323,7 @@ private:
             a.stage = s;
             a.count = s;
             gpu::launchStage(a, stream());
-            gpu::launchForces(forceArgs(m_xStage.data(), m_kv.data() + size_t(s) * n), stream());
+            launchTimedForces(forceArgs(m_xStage.data(), m_kv.data() + size_t(s) * n));
         }
         a.stage = -1;
         a.count = stages;
@@ -316,9 +357,9 @@ private:
     }
 
     void verletStep(Real dt) {
-        if (!m_accelerationValid) gpu::launchForces(forceArgs(m_x.data(), m_acceleration.data()), stream());
+        if (!m_accelerationValid) launchTimedForces(forceArgs(m_x.data(), m_acceleration.data()));
         gpu::launchVerletKickDrift(m_x.data(), m_v.data(), m_acceleration.data(), m_n, dt, stream());
-        gpu::launchForces(forceArgs(m_x.data(), m_acceleration.data()), stream());
+        launchTimedForces(forceArgs(m_x.data(), m_acceleration.data()));
         gpu::launchVerletKick(m_v.data(), m_acceleration.data(), m_n, dt, stream());
         m_accelerationValid = true;
     }
@@ -435,6 +476,9 @@ private:
     int64_t m_n = 0;
     bool m_accelerationValid = false;
     std::vector<int32_t> m_hostSpecies;
+    cudaEvent_t m_phase[3] = {};  // step start, integrated, collided
+    std::vector<cudaEvent_t> m_timingEvents;
+    size_t m_forceEvents = 0;
 
     DeviceBuffer<PairCoefficients<Real>> m_pairs;
     DeviceBuffer<Real> m_mass, m_invMass, m_radius;

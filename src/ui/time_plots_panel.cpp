@@ -50,7 +50,8 @@ void drawPerformance(const PerformanceView& p, bool place) {
     ImGui::Text("%.1f steps/s   %.1f frames/s   %d steps/frame", p.stepsPerSecond, p.framesPerSecond, p.stepsPerFrame);
     if (p.pairInteractionsPerSecond > 0) ImGui::Text("pair interactions/s: %.3g", p.pairInteractionsPerSecond);
     else ImGui::TextDisabled("no pair forces (hard spheres)");
-    ImGui::Text("ms per frame: steps (forces, integration, collisions) %.2f", p.msStep);
+    ImGui::Text("ms per frame: steps %.2f = force %.2f + integrate %.2f + collide %.2f", p.msStep, p.msForce, p.msIntegrate,
+                p.msCollide);
     ImGui::Text("observe %.2f  particles->GL %.2f  render %.2f", p.msObserve, p.msInterop, p.msRender);
     ImGui::End();
 }

@@ -47,7 +47,8 @@ struct SpeedView {
 struct PerformanceView {
     std::string backend, device;
     double stepsPerSecond = 0, framesPerSecond = 0, pairInteractionsPerSecond = 0;
-    double msStep = 0;  // simulation steps (forces, integration and collisions) per frame
+    double msStep = 0;  // simulation steps per frame (wall clock), split into:
+    double msForce = 0, msIntegrate = 0, msCollide = 0;
     double msObserve = 0, msInterop = 0, msRender = 0;
     int stepsPerFrame = 1;
 };
