@@ -24,6 +24,17 @@ COREBOX_HD inline Real realAbs(Real x) {
     return std::fabs(x);
 }
 
+// a * b + c as one fused operation on the device (one instruction in the force loop); the host
+// keeps the plain expression, since std::fma is a slow library call without hardware FMA flags.
+template <class Real>
+COREBOX_HD inline Real realFma(Real a, Real b, Real c) {
+#if defined(__CUDA_ARCH__)
+    return fma(a, b, c);
+#else
+    return a * b + c;
+#endif
+}
+
 // 1/x for x > 0: the host divides; the device uses the hardware reciprocal estimate in float (one
 // instruction, within an ulp: the float force loop tolerates that, see the fp32 conformance test)
 // and, in double, two Newton steps from it (within an ulp or two of 1/x at a fraction of the cost

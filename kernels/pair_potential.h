@@ -40,7 +40,7 @@ COREBOX_HD inline Real ljForceOverR(Real sigma2, Real eps4, Real mixing, Real r2
     const Real s2 = sigma2 * inv2;
     const Real s6 = s2 * s2 * s2;
     if (energy) *energy = eps4 * s6 * (s6 - mixing);
-    return (Real(6) * eps4 * inv2) * (s6 * (Real(2) * s6 - mixing));
+    return (Real(6) * eps4 * inv2) * (s6 * realFma(Real(2), s6, -mixing));
 }
 
 // Shifts for a pair table entry; computed in double on the host, then stored in Real.
