@@ -2,7 +2,10 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <memory>
+#include <thread>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -33,6 +36,7 @@ FrameDumper::FrameDumper(const FrameDumpOptions& options, const std::array<float
     m_camera.frameBox({boxSize[0], boxSize[1], boxSize[2]}, float(options.width) / float(options.height));
     m_image.width = options.width;
     m_image.height = options.height;
+    m_timings.encoders = std::max(1, int(std::thread::hardware_concurrency()));
     if (!options.videoPath.empty()) {
         requireFfmpeg();
         // ffmpeg picks the container from the extension, so the temporary keeps it.
@@ -49,6 +53,12 @@ FrameDumper::FrameDumper(const FrameDumpOptions& options, const std::array<float
 }
 
 FrameDumper::~FrameDumper() {
+    for (std::future<void>& f : m_encoding) {
+        try {
+            f.get();
+        } catch (const std::exception&) {  // already failing: the first error was reported
+        }
+    }
     if (m_video) {
         ::pclose(m_video);
         std::remove(m_videoTemp.c_str());
@@ -71,19 +81,31 @@ void FrameDumper::writeFrame(int64_t index, const RenderStyle& style, const std:
     t = Clock::now();
     m_target->readPixels(m_image.rgba);
     m_timings.readback += since(t);
-    t = Clock::now();
-    const std::vector<uint8_t> png = encodePng(m_image);
-    m_timings.encode += since(t);
-    t = Clock::now();
-    writeFileAtomic(framePath(m_options.outDir, index), png);
+    if (m_timings.frames == 0) m_firstFrame = Clock::now();
     if (m_video && std::fwrite(m_image.rgba.data(), 1, m_image.rgba.size(), m_video) != m_image.rgba.size()) {
         throw std::runtime_error("ffmpeg stopped accepting frames for " + m_options.videoPath);
     }
-    m_timings.write += since(t);
+    // Encode and write in the background; wait only when every encoder is busy.
+    t = Clock::now();
+    while (m_encoding.size() >= size_t(m_timings.encoders)) {
+        m_encoding.front().get();
+        m_encoding.pop_front();
+    }
+    m_timings.encodeWait += since(t);
+    auto image = std::make_shared<const Image>(m_image);
+    const std::string path = framePath(m_options.outDir, index);
+    m_encoding.push_back(std::async(std::launch::async, [image, path] { writeFileAtomic(path, encodePng(*image)); }));
     ++m_timings.frames;
 }
 
 bool FrameDumper::finish() {
+    const Clock::time_point t = Clock::now();
+    while (!m_encoding.empty()) {
+        m_encoding.front().get();
+        m_encoding.pop_front();
+    }
+    m_timings.encodeWait += since(t);
+    if (m_timings.frames > 0) m_timings.wall = since(m_firstFrame);
     if (!m_video) return true;
     const int status = ::pclose(m_video);
     m_video = nullptr;

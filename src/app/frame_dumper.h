@@ -1,10 +1,15 @@
 // Headless frames: an EGL context, the renderer and an offscreen target; each frame becomes
 // DIR/frame_NNNNNN.png (written whole, then renamed) and, optionally, a video through ffmpeg.
-// Timing of render, read-back and PNG encoding is kept for the progress line and the benchmark.
+// PNG encoding, the slowest part of a frame on the CPU, runs on background threads (one per
+// hardware thread, a bounded number of frames in flight) while the next frames are simulated and
+// drawn. Timing of render, read-back and the wait for the encoders is kept for the report.
 #pragma once
 
 #include <cstdint>
+#include <chrono>
 #include <cstdio>
+#include <deque>
+#include <future>
 #include <functional>
 #include <memory>
 #include <string>
@@ -27,8 +32,11 @@ struct FrameDumpOptions {
 };
 
 struct FrameTimings {
-    double render = 0, readback = 0, encode = 0, write = 0;  // seconds, summed over frames
+    double render = 0, readback = 0;  // seconds, summed over frames
+    double encodeWait = 0;            // seconds spent waiting for the PNG encoders to catch up
+    double wall = 0;                  // from the first frame to the last file written
     int64_t frames = 0;
+    int encoders = 1;
 };
 
 class FrameDumper {
@@ -45,7 +53,8 @@ public:
     // frame number `index`.
     void writeFrame(int64_t index, const RenderStyle& style, const std::function<void(int, int)>& overlay = {});
     const Image& lastImage() const { return m_image; }
-    // Closes the video (renaming it into place). Returns false when ffmpeg reported an error.
+    // Waits for every PNG to be written (rethrowing a write error) and closes the video (renaming
+    // it into place). Returns false when ffmpeg reported an error.
     bool finish();
     const FrameTimings& timings() const { return m_timings; }
 
@@ -62,6 +71,8 @@ private:
     std::FILE* m_video = nullptr;
     std::string m_videoTemp;
     FrameTimings m_timings;
+    std::deque<std::future<void>> m_encoding;
+    std::chrono::steady_clock::time_point m_firstFrame;
 };
 
 // Throws std::runtime_error with advice when ffmpeg is not on PATH.

@@ -294,7 +294,9 @@ int runWindow(const RunOptions& options, const Scene& scene) {
             t = Clock::now();
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
             glEnable(GL_MULTISAMPLE);
-            renderer.render(camera, box, styleOf(*live), width, height);
+            RenderStyle style = styleOf(*live);
+            style.showLegend = !view.showPanel;  // the panel lists the species and their colours itself
+            renderer.render(camera, box, style, width, height);
             const double msRender = msSince(t);
             ui.beginFrame(width, height, 0);
             if (view.showPanel) {

@@ -184,13 +184,12 @@ static int runBatch(const RunOptions& options, const Scene& scene) {
 void reportFrames(const RunOptions& options, FrameDumper& frames) {
     const bool videoOk = frames.finish();
     const FrameTimings& t = frames.timings();
-    const double total = t.render + t.readback + t.encode + t.write;
+    const double n = double(std::max<int64_t>(t.frames, 1));
     std::fprintf(stderr,
-                 "[corebox] %lld frames in %s/ (frame_000000.png ...): %.1f frames/s of rendering and output; per frame "
-                 "%.1f ms render, %.1f ms read-back, %.1f ms PNG encode, %.1f ms write\n",
-                 (long long)t.frames, options.headless.outDir.c_str(), total > 0 ? double(t.frames) / total : 0.0,
-                 1e3 * t.render / double(t.frames), 1e3 * t.readback / double(t.frames), 1e3 * t.encode / double(t.frames),
-                 1e3 * t.write / double(t.frames));
+                 "[corebox] %lld frames in %s/ (frame_000000.png ...): %.1f frames/s including simulation and output; per frame "
+                 "%.1f ms render, %.1f ms read-back, %.1f ms waiting for PNG encoding (%d encoder threads)\n",
+                 (long long)t.frames, options.headless.outDir.c_str(), t.wall > 0 ? double(t.frames) / t.wall : 0.0, 1e3 * t.render / n,
+                 1e3 * t.readback / n, 1e3 * t.encodeWait / n, t.encoders);
     if (!options.headless.videoPath.empty()) {
         if (videoOk) std::fprintf(stderr, "[corebox] video written to %s\n", options.headless.videoPath.c_str());
         else throw std::runtime_error("ffmpeg failed to write " + options.headless.videoPath);

@@ -22,8 +22,10 @@ void appendBytes(void* context, void* data, int size) {
 
 std::vector<uint8_t> encodePng(const Image& image) {
     // Level 2 of zlib's 0..9: frames are mostly flat background, so it compresses nearly as well as
-    // the default 8 at a fraction of the time (PNG encoding dominates headless frame time).
-    stbi_write_png_compression_level = 2;
+    // the default 8 at a fraction of the time (PNG encoding dominates headless frame time). Set
+    // once, thread-safely: frames are encoded on several threads.
+    static const bool configured = (stbi_write_png_compression_level = 2, true);
+    (void)configured;
     std::vector<uint8_t> png;
     if (!stbi_write_png_to_func(appendBytes, &png, image.width, image.height, 4, image.rgba.data(), image.width * 4)) {
         throw std::runtime_error("PNG encoding failed");
