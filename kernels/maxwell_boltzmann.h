@@ -22,4 +22,10 @@ COREBOX_HD inline double maxwellBoltzmannCdf(double speed, double mass, double t
     return erf(u / 1.41421356237309504880) - 0.79788456080286535588 * u * exp(-0.5 * u * u);
 }
 
+// Temperature that gives a sample's mean speed: <v> = sqrt(8 kT / (pi m)), so kT = pi m <v>^2 / 8.
+// With several species (fractions w_k, masses m_k): <v> = sqrt(kT) sum_k w_k sqrt(8 / (pi m_k)).
+COREBOX_HD inline double temperatureFromMeanSpeed(double meanSpeed, double mass) {
+    return 3.14159265358979323846 * mass * meanSpeed * meanSpeed / 8.0;
+}
+
 }  // namespace corebox

@@ -5,6 +5,7 @@
 
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
+#include "energy_terms.h"
 #include "maxwell_boltzmann.h"
 
 namespace corebox::gpu {
@@ -42,9 +43,9 @@ __global__ void energyRowsKernel(EnergyArgs<Real> a) {
     const Vec3<double> v = vec3Cast<double>(a.p.v[i]);
     const Vec3<double> x = vec3Cast<double>(a.p.x[i]);
     const int species = a.table.count;
-    for (int k = 0; k < species; ++k) a.rows[size_t(k) * size_t(n) + size_t(i)] = k == s ? 0.5 * m * norm2(v) : 0.0;
+    for (int k = 0; k < species; ++k) a.rows[size_t(k) * size_t(n) + size_t(i)] = k == s ? kineticEnergyOf(m, v) : 0.0;
     const double pair = a.pairEnergy ? 0.5 * a.pairEnergy[i] : 0.0;  // each pair counted from both sides
-    a.rows[size_t(species) * size_t(n) + size_t(i)] = pair - m * dot(vec3Cast<double>(a.gravity), x);
+    a.rows[size_t(species) * size_t(n) + size_t(i)] = pair + gravityPotentialOf(m, vec3Cast<double>(a.gravity), x);
     a.rows[size_t(species + 1) * size_t(n) + size_t(i)] = m * v.x;
     a.rows[size_t(species + 2) * size_t(n) + size_t(i)] = m * v.y;
     a.rows[size_t(species + 3) * size_t(n) + size_t(i)] = m * v.z;
@@ -54,7 +55,7 @@ template <class Real>
 __global__ void kineticRowKernel(ParticleArrays<Real> p, SpeciesTable<Real> table, double* row) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= p.n) return;
-    row[i] = 0.5 * double(table.mass[p.species[i]]) * double(norm2(p.v[i]));
+    row[i] = kineticEnergyOf(double(table.mass[p.species[i]]), vec3Cast<double>(p.v[i]));
 }
 
 template <class Real>

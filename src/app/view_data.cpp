@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "maxwell_boltzmann.h"
 #include "speed_statistics.h"
 
 namespace corebox {
@@ -39,7 +40,7 @@ void fillSpeedView(Simulation& sim, const ObservablesRow& row, SpeedView& view, 
             meanSpeed += (b + 0.5) * width * double(st.histogram[size_t(b)]);
         }
         if (st.count > 0) meanSpeed /= double(st.count);
-        out.temperatureDistribution = M_PI * mass * meanSpeed * meanSpeed / 8.0;
+        out.temperatureDistribution = temperatureFromMeanSpeed(meanSpeed, mass);
         return out;
     };
     int64_t total = 0;

@@ -14,6 +14,7 @@
 #include "collision_resolution.h"
 #include "contact_grid.h"
 #include "cpu_parallel.h"
+#include "energy_terms.h"
 #include "errors.h"
 #include "maxwell_boltzmann.h"
 #include "pair_table.h"
@@ -109,7 +110,7 @@ public:
 
     double kineticEnergy() override {
         return deterministicSum<double>(m_threads, int64_t(m_x.size()), [&](int64_t i) {
-            return 0.5 * double(m_mass[m_species[i]]) * double(norm2(m_v[i]));
+            return kineticEnergyOf(double(m_mass[m_species[i]]), vec3Cast<double>(m_v[i]));
         });
     }
 
@@ -143,10 +144,10 @@ public:
             const Vec3<double> v = vec3Cast<double>(m_v[i]);
             const Vec3<double> x = vec3Cast<double>(m_x[i]);
             // Each pair was counted from both sides; gravity: U = -m g.x.
-            p.potential = 0.5 * pairEnergy[size_t(i)] - m * dot(vec3Cast<double>(m_gravity), x);
+            p.potential = 0.5 * pairEnergy[size_t(i)] + gravityPotentialOf(m, vec3Cast<double>(m_gravity), x);
             p.momentum = m * v;
             p.kinetic.assign(s, 0.0);
-            p.kinetic[size_t(sp)] = 0.5 * m * norm2(v);
+            p.kinetic[size_t(sp)] = kineticEnergyOf(m, v);
             return p;
         });
         sums.potential = total.potential;
