@@ -20,6 +20,7 @@
 #include "pair_table.h"
 #include "rk_stage.h"
 #include "speed_statistics.h"
+#include "step_driver.h"
 
 namespace corebox {
 namespace {
@@ -86,17 +87,7 @@ public:
         using Clock = std::chrono::steady_clock;
         m_forceSeconds = 0;
         const Clock::time_point start = Clock::now();
-        if (m_params.integrator.method == Method::Verlet) {
-            report.dt = m_params.integrator.dt;
-            verletStep(Real(report.dt));
-        } else if (m_params.integrator.adaptive && m_tableau.embeddedOrder > 0) {
-            adaptiveRkStep(report);
-        } else {
-            report.dt = m_params.integrator.dt;
-            rkStep(Real(report.dt), m_tableau.solutionStages);
-            std::swap(m_x, m_xStage);
-            std::swap(m_v, m_vStage);
-        }
+        integrateStep(*this, m_params.integrator, m_tableau, m_dtNext, report);
         const Clock::time_point integrated = Clock::now();
         resolveCollisions(report);
         report.secondsForces = m_forceSeconds;
@@ -246,8 +237,12 @@ private:
         m_forceSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
 
+public:
+    // ---- hooks of integrateStep (src/core/step_driver.h) ----
+
     // Runs `stages` RK stages from (m_x, m_v) and leaves the solution in (m_xStage, m_vStage).
-    void rkStep(Real dt, int stages) {
+    void rkStep(double dtStep, int stages) {
+        const Real dt = Real(dtStep);
         const size_t n = m_x.size();
         m_kx.resize(size_t(m_tableau.stages) * n);
         m_kv.resize(size_t(m_tableau.stages) * n);
@@ -268,45 +263,29 @@ private:
         });
     }
 
-    // Embedded-pair step with the standard controller (Hairer, Norsett & Wanner I, II.4).
-    void adaptiveRkStep(StepReport& report) {
-        const size_t n = m_x.size();
-        const double tol = m_params.integrator.tolerance;
-        double dt = m_dtNext;
-        for (int attempt = 0;; ++attempt) {
-            rkStep(Real(dt), m_tableau.stages);
-            const double errorSum = deterministicSum<double>(m_threads, int64_t(n), [&](int64_t i) {
-                const Vec3<Real> ex = rkCombine(m_tableau.bError, m_tableau.stages, Real(dt), Vec3<Real>{0, 0, 0},
-                                                m_kx.data(), n, size_t(i));
-                const Vec3<Real> ev = rkCombine(m_tableau.bError, m_tableau.stages, Real(dt), Vec3<Real>{0, 0, 0},
-                                                m_kv.data(), n, size_t(i));
-                double e = 0;
-                for (int a = 0; a < 3; ++a) {
-                    e += scaledErrorSquared(ex[a], m_x[size_t(i)][a], m_xStage[size_t(i)][a], tol);
-                    e += scaledErrorSquared(ev[a], m_v[size_t(i)][a], m_vStage[size_t(i)][a], tol);
-                }
-                return e;
-            });
-            const double error = std::sqrt(errorSum / double(6 * std::max<size_t>(n, 1)));
-            const double factor = adaptiveStepFactor(error, m_tableau.embeddedOrder);
-            if (error <= 1.0) {
-                report.dt = dt;
-                report.rejectedSteps = attempt;
-                m_dtNext = dt * factor;
-                std::swap(m_x, m_xStage);
-                std::swap(m_v, m_vStage);
-                return;
-            }
-            dt *= factor;
-            if (attempt >= 60 || dt < 1e-12 * m_params.integrator.dt) {
-                throw InstabilityError("adaptive dp5 could not meet tolerance " + std::to_string(tol) +
-                                       ": step size fell to " + std::to_string(dt) + " after " +
-                                       std::to_string(attempt + 1) + " rejected attempts");
-            }
-        }
+    void acceptStage() {
+        std::swap(m_x, m_xStage);
+        std::swap(m_v, m_vStage);
     }
 
-    void verletStep(Real dt) {
+    // RMS over all components of the embedded error scaled by the tolerance.
+    double embeddedError(double dt, double tolerance) {
+        const size_t n = m_x.size();
+        const double errorSum = deterministicSum<double>(m_threads, int64_t(n), [&](int64_t i) {
+            const Vec3<Real> ex = rkCombine(m_tableau.bError, m_tableau.stages, Real(dt), Vec3<Real>{0, 0, 0}, m_kx.data(), n, size_t(i));
+            const Vec3<Real> ev = rkCombine(m_tableau.bError, m_tableau.stages, Real(dt), Vec3<Real>{0, 0, 0}, m_kv.data(), n, size_t(i));
+            double e = 0;
+            for (int a = 0; a < 3; ++a) {
+                e += scaledErrorSquared(ex[a], m_x[size_t(i)][a], m_xStage[size_t(i)][a], tolerance);
+                e += scaledErrorSquared(ev[a], m_v[size_t(i)][a], m_vStage[size_t(i)][a], tolerance);
+            }
+            return e;
+        });
+        return std::sqrt(errorSum / double(6 * std::max<size_t>(n, 1)));
+    }
+
+    void verletStep(double dtStep) {
+        const Real dt = Real(dtStep);
         const int64_t n = int64_t(m_x.size());
         if (!m_accelerationValid) accelerations(m_x, m_acceleration, nullptr);
         const Real half = Real(0.5) * dt;
@@ -319,6 +298,7 @@ private:
         m_accelerationValid = true;
     }
 
+private:
     // ---- a posteriori collision resolution in parallel rounds (DESIGN.md sec. 2) ----
 
     // Earliest event of particle i against its grid neighbours; `checkAll` false restricts the pair

@@ -11,6 +11,7 @@
 #include "gpu_launch.h"
 #include "pair_table.h"
 #include "rk_stage.h"
+#include "step_driver.h"
 
 namespace corebox {
 
@@ -112,17 +113,7 @@ public:
         StepReport report;
         m_forceEvents = 0;
         cudaCheck(cudaEventRecord(m_phase[0], stream()), "event");
-        if (m_params.integrator.method == Method::Verlet) {
-            report.dt = m_params.integrator.dt;
-            verletStep(Real(report.dt));
-        } else if (m_params.integrator.adaptive && m_tableau.embeddedOrder > 0) {
-            adaptiveRkStep(report);
-        } else {
-            report.dt = m_params.integrator.dt;
-            rkStep(Real(report.dt), m_tableau.solutionStages);
-            std::swap(m_x, m_xStage);
-            std::swap(m_v, m_vStage);
-        }
+        integrateStep(*this, m_params.integrator, m_tableau, m_dtNext, report);
         cudaCheck(cudaEventRecord(m_phase[1], stream()), "event");
         resolveCollisions(report);
         cudaCheck(cudaEventRecord(m_phase[2], stream()), "event");
@@ -314,7 +305,10 @@ private:
         return sums;
     }
 
-    void rkStep(Real dt, int stages) {
+public:
+    // ---- hooks of integrateStep (src/core/step_driver.h) ----
+    void rkStep(double dtStep, int stages) {
+        const Real dt = Real(dtStep);
         const size_t n = size_t(m_n);
         m_kx.resize(size_t(m_tableau.stages) * n);
         m_kv.resize(size_t(m_tableau.stages) * n);
@@ -330,33 +324,21 @@ private:
         gpu::launchStage(a, stream());
     }
 
-    void adaptiveRkStep(StepReport& report) {
-        const double tol = m_params.integrator.tolerance;
-        double dt = m_dtNext;
-        for (int attempt = 0;; ++attempt) {
-            rkStep(Real(dt), m_tableau.stages);
-            m_rows.resize(size_t(m_n));
-            gpu::StageArgs<Real> a{m_x.data(), m_v.data(), m_kx.data(), m_kv.data(), m_xStage.data(), m_vStage.data(), m_n, -1, m_tableau.stages, Real(dt)};
-            gpu::launchErrorNorm(a, tol, m_rows.data(), stream());
-            const double error = std::sqrt(sumRows(1)[0] / double(6 * std::max<int64_t>(m_n, 1)));
-            const double factor = adaptiveStepFactor(error, m_tableau.embeddedOrder);
-            if (error <= 1.0) {
-                report.dt = dt;
-                report.rejectedSteps = attempt;
-                m_dtNext = dt * factor;
-                std::swap(m_x, m_xStage);
-                std::swap(m_v, m_vStage);
-                return;
-            }
-            dt *= factor;
-            if (attempt >= 60 || dt < 1e-12 * m_params.integrator.dt) {
-                throw InstabilityError("adaptive dp5 could not meet tolerance " + std::to_string(tol) + ": step size fell to " +
-                                       std::to_string(dt));
-            }
-        }
+    double embeddedError(double dt, double tolerance) {
+        m_rows.resize(size_t(m_n));
+        const gpu::StageArgs<Real> a{m_x.data(), m_v.data(), m_kx.data(), m_kv.data(), m_xStage.data(), m_vStage.data(), m_n, -1,
+                                     m_tableau.stages, Real(dt)};
+        gpu::launchErrorNorm(a, tolerance, m_rows.data(), stream());
+        return std::sqrt(sumRows(1)[0] / double(6 * std::max<int64_t>(m_n, 1)));
     }
 
-    void verletStep(Real dt) {
+    void acceptStage() {
+        std::swap(m_x, m_xStage);
+        std::swap(m_v, m_vStage);
+    }
+
+    void verletStep(double dtStep) {
+        const Real dt = Real(dtStep);
         if (!m_accelerationValid) launchTimedForces(forceArgs(m_x.data(), m_acceleration.data()));
         gpu::launchVerletKickDrift(m_x.data(), m_v.data(), m_acceleration.data(), m_n, dt, stream());
         launchTimedForces(forceArgs(m_x.data(), m_acceleration.data()));
@@ -364,6 +346,7 @@ private:
         m_accelerationValid = true;
     }
 
+private:
     gpu::GridArgs<Real> grid() {
         gpu::GridArgs<Real> g{};
         g.x = m_x.data();
