@@ -7,26 +7,12 @@
 #include <nlohmann/json.hpp>
 
 #include "atomic_file.h"
+#include "bench_scenes.h"
 #include "hardware_info.h"
 #include "initial_conditions.h"
 
 namespace corebox {
 namespace {
-
-// N LJ particles on a lattice at number density 0.5 (a dense gas): only positions matter here.
-Scene benchmarkScene(int64_t n) {
-    Scene scene;
-    SpeciesDef s;
-    s.name = "LJ";
-    s.count = n;
-    s.radius = 0.4;
-    scene.species = {s};
-    const double box = std::cbrt(double(n) / 0.5);
-    scene.box.size = {box, box, box};
-    scene.interaction.cutoff = 0;  // all pairs, as in the report
-    scene.thermostat.kind = ThermostatKind::None;
-    return scene;
-}
 
 void writeResults(const ForceBenchmarkOptions& options, const std::vector<ForceBenchmarkResult>& results,
                   const std::string& deviceName) {
@@ -70,8 +56,7 @@ std::vector<ForceBenchmarkResult> runForceBenchmark(const ForceBenchmarkOptions&
     std::string deviceName;
     for (Precision precision : options.precisions) {
         for (int64_t n : options.sizes) {
-            Scene scene = benchmarkScene(n);
-            scene.integrator.precision = precision;
+            const Scene scene = throughputScene(n, 0.5, precision, Method::Rk4);
             std::unique_ptr<Backend> backend = makeBackend(BackendChoice{options.backend, precision, options.threads});
             if (deviceName.empty()) deviceName = backend->deviceName();
             backend->setParameters(stepParametersOf(scene));
