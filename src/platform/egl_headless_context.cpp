@@ -166,7 +166,10 @@ EglHeadlessContext::EglHeadlessContext(const HeadlessContextOptions& options) : 
         }
     }
     throw PlatformError("no usable EGL device for headless OpenGL 4.5" + (why.empty() ? std::string() : ": " + why) +
-                        (attempts.empty() ? std::string() : "; tried:" + attempts));
+                        (attempts.empty() ? std::string() : "; tried:" + attempts) +
+                        "\n  check that an EGL vendor is installed: with NVIDIA, the driver's EGL vendor file (10_nvidia.json, "
+                        "named by __EGL_VENDOR_LIBRARY_FILENAMES if it is not in /usr/share/glvnd/egl_vendor.d); without a GPU, "
+                        "Mesa's libegl-mesa0 and libgl1-mesa-dri");
 }
 
 EglHeadlessContext::~EglHeadlessContext() {

@@ -69,5 +69,11 @@ bad "bad colour mode" "--color-by" --frames 2 --color-by mass --out "$work/out"
 touch "$work/plainfile"
 bad "unwritable directory" "--out: cannot create directory" --frames 2 --out "$work/plainfile/sub"
 
+# No EGL vendor at all: exit 4 with a message that says what to install or set.
+err=$(__EGL_VENDOR_LIBRARY_FILENAMES="$work/none.json" "$COREBOX" run "$scene" --headless --frames 2 --out "$work/novendor" 2>&1 >/dev/null)
+rc=$?
+{ [ $rc -eq 4 ] && grep -q "EGL vendor" <<<"$err"; } && pass || fail "no EGL vendor: exit $rc: $err"
+[ -z "$(ls -A "$work/novendor" 2>/dev/null)" ] && pass || fail "files left after the EGL failure"
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
