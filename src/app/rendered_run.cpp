@@ -5,6 +5,7 @@
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -40,13 +41,20 @@ LiveRunOptions liveOptions(const RunOptions& options, int64_t observeEvery) {
     return live;
 }
 
+// The presets shipped in assets/ and the scenes beside the one running.
 std::vector<std::string> presetPaths(const std::string& sceneDir) {
     std::vector<std::string> out;
-    glob_t g{};
-    if (glob((sceneDir + "/*.toml").c_str(), 0, nullptr, &g) == 0) {
-        for (size_t k = 0; k < g.gl_pathc; ++k) out.push_back(g.gl_pathv[k]);
+    const std::string assets = std::filesystem::path(COREBOX_DEFAULT_SCENE).parent_path().string();
+    for (const std::string& dir : {assets, sceneDir}) {
+        glob_t g{};
+        if (glob((dir + "/*.toml").c_str(), 0, nullptr, &g) == 0) {
+            for (size_t k = 0; k < g.gl_pathc; ++k) {
+                const std::string path = std::filesystem::weakly_canonical(g.gl_pathv[k]).string();
+                if (std::find(out.begin(), out.end(), path) == out.end()) out.push_back(path);
+            }
+        }
+        globfree(&g);
     }
-    globfree(&g);
     return out;
 }
 
@@ -56,12 +64,7 @@ Image readDefaultFramebuffer(int width, int height) {
     glReadBuffer(GL_BACK);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
-    const size_t row = size_t(width) * 4;
-    std::vector<uint8_t> swap(row);
-    for (int y = 0; y < height / 2; ++y) {
-        std::swap_ranges(img.rgba.begin() + long(size_t(y) * row), img.rgba.begin() + long(size_t(y + 1) * row),
-                         img.rgba.begin() + long(size_t(height - 1 - y) * row));
-    }
+    flipRows(img.rgba, width, height);
     return img;
 }
 

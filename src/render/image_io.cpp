@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -45,6 +46,14 @@ void writeFileAtomic(const std::string& path, const std::vector<uint8_t>& png) {
         const std::string reason = std::strerror(errno);
         std::remove(temp.c_str());
         throw std::runtime_error("cannot write '" + path + "': " + reason);
+    }
+}
+
+void flipRows(std::vector<uint8_t>& rgba, int width, int height) {
+    const size_t row = size_t(width) * 4;
+    for (int y = 0; y < height / 2; ++y) {
+        std::swap_ranges(rgba.begin() + long(size_t(y) * row), rgba.begin() + long(size_t(y + 1) * row),
+                         rgba.begin() + long(size_t(height - 1 - y) * row));
     }
 }
 

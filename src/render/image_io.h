@@ -20,5 +20,7 @@ void writeFileAtomic(const std::string& path, const std::vector<uint8_t>& bytes)
 // PNG encoded in memory (for the video pipe's timing and for tests).
 std::vector<uint8_t> encodePng(const Image& image);
 Image readPng(const std::string& path);
+// GL reads rows bottom-up; images are top-down.
+void flipRows(std::vector<uint8_t>& rgba, int width, int height);
 
 }  // namespace corebox

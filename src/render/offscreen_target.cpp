@@ -5,6 +5,7 @@
 #include <string>
 
 #include "gl_program.h"
+#include "image_io.h"
 
 namespace corebox {
 namespace {
@@ -56,15 +57,7 @@ void OffscreenTarget::readPixels(std::vector<uint8_t>& rgba) const {
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, m_width, m_height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
     glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-    // GL's rows start at the bottom; images start at the top.
-    std::vector<uint8_t> swap(row);
-    for (int y = 0; y < m_height / 2; ++y) {
-        uint8_t* a = rgba.data() + size_t(y) * row;
-        uint8_t* b = rgba.data() + size_t(m_height - 1 - y) * row;
-        std::memcpy(swap.data(), a, row);
-        std::memcpy(a, b, row);
-        std::memcpy(b, swap.data(), row);
-    }
+    flipRows(rgba, m_width, m_height);
 }
 
 }  // namespace corebox
