@@ -57,7 +57,9 @@ void drawSpeedHistogram(const SpeedView& speeds, bool place) {
         ImGui::SetNextWindowSize(ImVec2(410, 520), ImGuiCond_FirstUseEver);
     }
     ImGui::Begin("Speed distribution vs Maxwell-Boltzmann");
-    ImGui::TextDisabled("bars: measured; white: MB at measured T; orange dashed: MB at target");
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("bars: measured; white: MB at the measured T; orange dashed: MB at the target T");
+    ImGui::PopStyleColor();
     const float width = ImGui::GetContentRegionAvail().x;
     for (const SpeedSeries& s : speeds.species) {
         if (s.count == 0 || s.density.empty()) continue;
