@@ -151,24 +151,6 @@ void launchVariant(const ForceArgs<Real>& a, bool cutoff, dim3 grid, size_t shar
     else forceKernel<Real, kEnergy, kSingle, false><<<grid, kBlock, shared, stream>>>(a, chunkLength, partialForce, partialEnergy);
 }
 
-// Scratch for chunk partials, kept between launches (grown as needed, freed at exit).
-struct ChunkScratch {
-    void* data = nullptr;
-    size_t bytes = 0;
-    void* reserve(size_t needed) {
-        if (needed > bytes) {
-            if (data) cudaFree(data);
-            data = nullptr;
-            if (cudaMalloc(&data, needed) != cudaSuccess) throw std::runtime_error("cudaMalloc of force partials failed");
-            bytes = needed;
-        }
-        return data;
-    }
-    ~ChunkScratch() {
-        if (data) cudaFree(data);
-    }
-};
-
 int multiprocessorCount() {
     static int count = [] {
         int device = 0, sms = 0;
@@ -179,7 +161,34 @@ int multiprocessorCount() {
     return count;
 }
 
+// How the j range is split: enough blocks for about eight per multiprocessor, chunks of whole
+// tiles, at least four tiles each.
+struct ChunkPlan {
+    int64_t chunks, chunkLength;
+};
+
+ChunkPlan planChunks(int64_t rows, int64_t n) {
+    const int64_t rowBlocks = int64_t(blocksFor(rows, kBlock * kRows));
+    const int64_t wanted = int64_t(8) * multiprocessorCount();
+    int64_t chunks = std::max<int64_t>(1, (wanted + rowBlocks - 1) / rowBlocks);
+    chunks = std::min<int64_t>(chunks, std::max<int64_t>(1, n / (4 * kBlock)));
+    const int64_t chunkLength = ((n + chunks - 1) / chunks + kBlock - 1) / kBlock * kBlock;
+    return {(n + chunkLength - 1) / chunkLength, chunkLength};
+}
+
+template <class Real>
+size_t partialForceBytes(int64_t chunks, int64_t rows) {
+    return (size_t(chunks) * size_t(rows) * sizeof(Vec3<Real>) + 15) / 16 * 16;
+}
+
 }  // namespace
+
+template <class Real>
+size_t forceScratchBytes(int64_t rows, int64_t n) {
+    const ChunkPlan plan = planChunks(rows, n);
+    if (plan.chunks <= 1) return 0;
+    return partialForceBytes<Real>(plan.chunks, rows) + size_t(plan.chunks) * size_t(rows) * sizeof(double);
+}
 
 template <class Real>
 void launchForces(const ForceArgs<Real>& a, cudaStream_t stream) {
@@ -194,21 +203,15 @@ void launchForces(const ForceArgs<Real>& a, cudaStream_t stream) {
     const size_t shared = size_t(kBlock) * sizeof(TileEntry<Real>) +
                           (single ? 0 : size_t(a.table.count) * size_t(a.table.count) * sizeof(PairCoefficients<Real>));
     const unsigned rowBlocks = blocksFor(rows, kBlock * kRows);
-    // Enough blocks for about eight per multiprocessor; chunks of whole tiles, at least four each.
-    const int64_t wanted = int64_t(8) * multiprocessorCount();
-    int64_t chunks = std::max<int64_t>(1, (wanted + rowBlocks - 1) / rowBlocks);
-    chunks = std::min<int64_t>(chunks, std::max<int64_t>(1, a.n / (4 * kBlock)));
-    const int64_t chunkLength = ((a.n + chunks - 1) / chunks + kBlock - 1) / kBlock * kBlock;
-    chunks = (a.n + chunkLength - 1) / chunkLength;
+    const ChunkPlan plan = planChunks(rows, a.n);
+    const int64_t chunks = plan.chunks, chunkLength = plan.chunkLength;
     Vec3<Real>* partialForce = nullptr;
     double* partialEnergy = nullptr;
-    static thread_local ChunkScratch scratch;
     if (chunks > 1) {
-        const size_t forceBytes = size_t(chunks) * size_t(rows) * sizeof(Vec3<Real>);
-        const size_t energyBytes = a.pairEnergy ? size_t(chunks) * size_t(rows) * sizeof(double) : 0;
-        auto* base = static_cast<unsigned char*>(scratch.reserve(forceBytes + energyBytes + 16));
+        if (a.scratchBytes < forceScratchBytes<Real>(rows, a.n)) throw std::runtime_error("force pass: scratch buffer too small");
+        auto* base = static_cast<unsigned char*>(a.scratch);
         partialForce = reinterpret_cast<Vec3<Real>*>(base);
-        if (a.pairEnergy) partialEnergy = reinterpret_cast<double*>(base + (forceBytes + 15) / 16 * 16);
+        if (a.pairEnergy) partialEnergy = reinterpret_cast<double*>(base + partialForceBytes<Real>(chunks, rows));
     }
     const dim3 grid(rowBlocks, unsigned(chunks));
     // The cutoff variant only where one is set; the shifts are all inside pairForceOverR.
@@ -229,5 +232,7 @@ void launchForces(const ForceArgs<Real>& a, cudaStream_t stream) {
 
 template void launchForces<float>(const ForceArgs<float>&, cudaStream_t);
 template void launchForces<double>(const ForceArgs<double>&, cudaStream_t);
+template size_t forceScratchBytes<float>(int64_t, int64_t);
+template size_t forceScratchBytes<double>(int64_t, int64_t);
 
 }  // namespace corebox::gpu

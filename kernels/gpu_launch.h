@@ -44,13 +44,16 @@ struct ForceArgs {
     bool hasCutoff;
     Vec3<Real>* acceleration;  // out, indexed by particle
     double* pairEnergy;        // out when not null: sum_j U_ij per particle
+    void* scratch;             // per-chunk partial sums, forceScratchBytes large (owned by the caller)
+    size_t scratchBytes;
 };
 template <class Real>
 void launchForces(const ForceArgs<Real>& args, cudaStream_t stream);
+// Scratch the force pass needs for rows [begin, end) of n particles (0 when it does not split j).
+template <class Real>
+size_t forceScratchBytes(int64_t rows, int64_t n);
 
 // ---- integration (integrate_kernels.cu) ----
-void uploadTableau(const ButcherTableau& tableau);  // to constant memory, once per method change
-
 template <class Real>
 struct StageArgs {
     const Vec3<Real>* x0;
@@ -63,6 +66,7 @@ struct StageArgs {
     int stage;  // stage index, or -1 for the final combination with b
     int count;  // weights used
     Real dt;
+    const ButcherTableau* tableau;  // device copy owned by the backend (read-only, the same for every thread)
 };
 // Stage state Y_s = y0 + dt sum_{j<s} a_sj K_j into (xOut, vOut) and kx[s] = vOut; or, with
 // stage = -1, the solution y0 + dt sum b_j K_j.

@@ -1,5 +1,5 @@
-// Integrator stages on the GPU: the same per-particle arithmetic as the CPU (rk_stage.h), with the
-// Butcher table in constant memory.
+// Integrator stages on the GPU: the same per-particle arithmetic as the CPU (rk_stage.h). The Butcher
+// table is a device copy owned by each backend, so backends with different methods can coexist.
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
 #include "rk_stage.h"
@@ -7,13 +7,11 @@
 namespace corebox::gpu {
 namespace {
 
-__constant__ ButcherTableau c_tableau;
-
 template <class Real>
 __global__ void stageKernel(StageArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.n) return;
-    const double* weights = a.stage >= 0 ? c_tableau.a[a.stage] : c_tableau.b;
+    const double* weights = a.stage >= 0 ? a.tableau->a[a.stage] : a.tableau->b;
     const Vec3<Real> x = rkCombine(weights, a.count, a.dt, a.x0[i], a.kx, size_t(a.n), size_t(i));
     const Vec3<Real> v = rkCombine(weights, a.count, a.dt, a.v0[i], a.kv, size_t(a.n), size_t(i));
     a.xOut[i] = x;
@@ -26,8 +24,8 @@ __global__ void errorKernel(StageArgs<Real> a, double tolerance, double* out) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.n) return;
     const Vec3<Real> zero{0, 0, 0};
-    const Vec3<Real> ex = rkCombine(c_tableau.bError, a.count, a.dt, zero, a.kx, size_t(a.n), size_t(i));
-    const Vec3<Real> ev = rkCombine(c_tableau.bError, a.count, a.dt, zero, a.kv, size_t(a.n), size_t(i));
+    const Vec3<Real> ex = rkCombine(a.tableau->bError, a.count, a.dt, zero, a.kx, size_t(a.n), size_t(i));
+    const Vec3<Real> ev = rkCombine(a.tableau->bError, a.count, a.dt, zero, a.kv, size_t(a.n), size_t(i));
     double e = 0;
     for (int k = 0; k < 3; ++k) {
         e += scaledErrorSquared(ex[k], a.x0[i][k], a.xOut[i][k], tolerance);
@@ -64,11 +62,6 @@ __global__ void scaleKernel(Vec3<Real>* v, int64_t n, Real alpha) {
 }
 
 }  // namespace
-
-void uploadTableau(const ButcherTableau& tableau) {
-    const cudaError_t e = cudaMemcpyToSymbol(c_tableau, &tableau, sizeof(ButcherTableau));
-    if (e != cudaSuccess) throw std::runtime_error(std::string("uploading the Butcher table: ") + cudaGetErrorString(e));
-}
 
 template <class Real>
 void launchStage(const StageArgs<Real>& a, cudaStream_t stream) {

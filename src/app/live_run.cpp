@@ -87,9 +87,9 @@ void LiveRun::recordFrame(double msInterop, double msRender) {
     const double n = double(simulation().particleCount());
     const Method m = simulation().scene().integrator.method;
     const double passes = m == Method::Verlet ? 1.0 : double(tableauFor(m).solutionStages);
-    bool pairForces = false;
-    for (const SpeciesDef& s : simulation().scene().species) pairForces = pairForces || s.epsilon > 0;
-    p.pairInteractionsPerSecond = pairForces ? p.stepsPerSecond * passes * n * (n - 1) : 0.0;  // hard spheres: no force pass
+    p.pairForces = false;
+    for (const SpeciesDef& s : simulation().scene().species) p.pairForces = p.pairForces || s.epsilon > 0;
+    p.pairInteractionsPerSecond = p.pairForces ? p.stepsPerSecond * passes * n * (n - 1) : 0.0;
     const double perFrame = m_rateFrames > 0 ? 1e3 / double(m_rateFrames) : 0.0;
     p.msStep = perFrame * m_stepSeconds;
     p.msForce = perFrame * m_forceSeconds;

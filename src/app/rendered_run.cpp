@@ -79,7 +79,7 @@ void reportInstability(const InstabilityError& e, LiveRun& live, const RunOption
     std::fprintf(stderr, "corebox: %s\n", e.what());
     try {
         live.finish();
-        const std::string path = options.stateOutPath.empty() ? "corebox_last_good_state.csv" : options.stateOutPath + ".last_good.csv";
+        const std::string path = lastGoodPath(options);
         writeStateCsv(path, live.simulation().lastGoodState());
         std::fprintf(stderr, "corebox: last good state written to %s\n", path.c_str());
     } catch (const std::exception& w) {

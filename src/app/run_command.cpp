@@ -91,6 +91,8 @@ void checkOptions(const RunOptions& options) {
     if (!options.stateOutPath.empty()) checkWritable(options.stateOutPath, "--state-out");
 }
 
+}  // namespace
+
 std::string lastGoodPath(const RunOptions& options) {
     if (!options.stateOutPath.empty()) {
         std::string base = options.stateOutPath;
@@ -103,8 +105,6 @@ std::string lastGoodPath(const RunOptions& options) {
     }
     return "corebox_last_good_state.csv";
 }
-
-}  // namespace
 
 // Without rendering: observables to a file or stdout, progress on stderr.
 static int runBatch(const RunOptions& options, const Scene& scene) {

@@ -43,6 +43,10 @@ struct RunOptions {
     bool noWindow = false;                 // batch run even where there is a display
 };
 
+// Where a run that blew up writes its last good state: beside --state-out (NAME.last_good.csv),
+// else beside --observables (last_good_state.csv), else corebox_last_good_state.csv.
+std::string lastGoodPath(const RunOptions& options);
+
 class FrameDumper;
 // Frame timings and where the frames are (and the video, closed here), on stderr.
 void reportFrames(const RunOptions& options, FrameDumper& frames);

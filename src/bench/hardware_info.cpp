@@ -1,9 +1,10 @@
 #include "hardware_info.h"
 
+#include "host_info.h"
+
 #include <unistd.h>
 
 #include <ctime>
-#include <fstream>
 #include <thread>
 
 namespace corebox {
@@ -11,15 +12,7 @@ namespace corebox {
 HardwareInfo hostHardware() {
     HardwareInfo info;
     info.hardwareThreads = int(std::thread::hardware_concurrency());
-    std::ifstream cpuinfo("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(cpuinfo, line)) {
-        if (line.rfind("model name", 0) == 0) {
-            const size_t colon = line.find(':');
-            if (colon != std::string::npos) info.cpuModel = line.substr(colon + 2);
-            break;
-        }
-    }
+    info.cpuModel = cpuModelName();
     char host[256] = {};
     if (::gethostname(host, sizeof host - 1) == 0) info.hostName = host;
     return info;

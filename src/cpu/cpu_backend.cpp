@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <fstream>
-#include <string>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -16,6 +14,7 @@
 #include "cpu_parallel.h"
 #include "energy_terms.h"
 #include "errors.h"
+#include "host_info.h"
 #include "maxwell_boltzmann.h"
 #include "pair_table.h"
 #include "rk_stage.h"
@@ -24,15 +23,6 @@
 
 namespace corebox {
 namespace {
-
-std::string cpuModelName() {
-    std::ifstream cpuinfo("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(cpuinfo, line)) {
-        if (line.rfind("model name", 0) == 0 && line.find(':') != std::string::npos) return line.substr(line.find(':') + 2);
-    }
-    return "CPU";
-}
 
 template <class Real>
 class CpuBackendImpl final : public Backend {

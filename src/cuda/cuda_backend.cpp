@@ -66,7 +66,7 @@ public:
         m_params = parameters;
         if (parameters.integrator.method != Method::Verlet) {
             m_tableau = tableauFor(parameters.integrator.method);
-            gpu::uploadTableau(m_tableau);
+            m_deviceTableau.upload(&m_tableau, 1);
         }
         const std::vector<PairCoefficients<Real>> pairs = convertPairTable<Real>(buildPairTable(parameters));
         m_anyPairForce = std::any_of(pairs.begin(), pairs.end(), [](const PairCoefficients<Real>& p) { return p.eps4 != Real(0); });
@@ -104,6 +104,7 @@ public:
         m_species.upload(state.species.data(), state.species.size());
         m_hostSpecies = state.species;
         for (auto* b : {&m_acceleration, &m_xStage, &m_vStage, &m_contactAcceleration, &m_snapshotX, &m_snapshotV}) b->resize(size_t(m_n));
+        m_forceScratch.resize(gpu::forceScratchBytes<Real>(m_partition.primary().size(), m_n));
         m_accelerationValid = false;
     }
 
@@ -267,9 +268,10 @@ private:
     gpu::SpeciesTable<Real> table() const {
         return {m_pairs.data(), m_mass.data(), m_invMass.data(), m_radius.data(), int(m_params.species.size())};
     }
-    gpu::ForceArgs<Real> forceArgs(const Vec3<Real>* x, Vec3<Real>* out) const {
+    gpu::ForceArgs<Real> forceArgs(const Vec3<Real>* x, Vec3<Real>* out) {
         const DeviceSlice& slice = m_partition.primary();
-        return {x, m_species.data(), m_n, slice.begin, slice.end, table(), m_gravity, m_anyPairForce, m_params.interaction.cutoff > 0, out, nullptr};
+        return {x,   m_species.data(), m_n,     slice.begin, slice.end, table(), m_gravity, m_anyPairForce, m_params.interaction.cutoff > 0,
+                out, nullptr, m_forceScratch.data(), m_forceScratch.size()};
     }
     Vec3<Real>* scratchAcceleration() {
         m_scratch.resize(size_t(m_n));
@@ -312,7 +314,8 @@ public:
         const size_t n = size_t(m_n);
         m_kx.resize(size_t(m_tableau.stages) * n);
         m_kv.resize(size_t(m_tableau.stages) * n);
-        gpu::StageArgs<Real> a{m_x.data(), m_v.data(), m_kx.data(), m_kv.data(), m_xStage.data(), m_vStage.data(), m_n, 0, 0, dt};
+        gpu::StageArgs<Real> a{m_x.data(), m_v.data(), m_kx.data(), m_kv.data(), m_xStage.data(), m_vStage.data(), m_n, 0, 0, dt,
+                               m_deviceTableau.data()};
         for (int s = 0; s < stages; ++s) {
             a.stage = s;
             a.count = s;
@@ -327,7 +330,7 @@ public:
     double embeddedError(double dt, double tolerance) {
         m_rows.resize(size_t(m_n));
         const gpu::StageArgs<Real> a{m_x.data(), m_v.data(), m_kx.data(), m_kv.data(), m_xStage.data(), m_vStage.data(), m_n, -1,
-                                     m_tableau.stages, Real(dt)};
+                                     m_tableau.stages, Real(dt), m_deviceTableau.data()};
         gpu::launchErrorNorm(a, tolerance, m_rows.data(), stream());
         return std::sqrt(sumRows(1)[0] / double(6 * std::max<int64_t>(m_n, 1)));
     }
@@ -464,11 +467,12 @@ private:
     size_t m_forceEvents = 0;
 
     DeviceBuffer<PairCoefficients<Real>> m_pairs;
+    DeviceBuffer<ButcherTableau> m_deviceTableau;
     DeviceBuffer<Real> m_mass, m_invMass, m_radius;
     DeviceBuffer<Vec3<Real>> m_x, m_v, m_acceleration, m_scratch, m_xStage, m_vStage, m_kx, m_kv, m_contactAcceleration;
     DeviceBuffer<Vec3<Real>> m_snapshotX, m_snapshotV;
     DeviceBuffer<int32_t> m_species, m_cellOf, m_sorted, m_cellStart, m_cellFill, m_needList;
-    DeviceBuffer<unsigned char> m_scanScratch, m_sortScratch;
+    DeviceBuffer<unsigned char> m_scanScratch, m_sortScratch, m_forceScratch;
     DeviceBuffer<CollisionEvent> m_events;
     DeviceBuffer<char> m_active, m_hasContactAcceleration;
     DeviceBuffer<unsigned int> m_counters;

@@ -48,7 +48,7 @@ void drawPerformance(const PerformanceView& p, bool place) {
     ImGui::Begin("Performance", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
     ImGui::Text("%s: %s", p.backend.c_str(), p.device.c_str());
     ImGui::Text("%.1f steps/s   %.1f frames/s   %d steps/frame", p.stepsPerSecond, p.framesPerSecond, p.stepsPerFrame);
-    if (p.pairInteractionsPerSecond > 0) ImGui::Text("pair interactions/s: %.3g", p.pairInteractionsPerSecond);
+    if (p.pairForces) ImGui::Text("pair interactions/s: %.3g", p.pairInteractionsPerSecond);
     else ImGui::TextDisabled("no pair forces (hard spheres)");
     ImGui::Text("ms per frame: steps %.2f = force %.2f + integrate %.2f + collide %.2f", p.msStep, p.msForce, p.msIntegrate,
                 p.msCollide);

@@ -47,6 +47,7 @@ struct SpeedView {
 struct PerformanceView {
     std::string backend, device;
     double stepsPerSecond = 0, framesPerSecond = 0, pairInteractionsPerSecond = 0;
+    bool pairForces = true;  // false for pure hard spheres: no force pass to rate
     double msStep = 0;  // simulation steps per frame (wall clock), split into:
     double msForce = 0, msIntegrate = 0, msCollide = 0;
     double msObserve = 0, msInterop = 0, msRender = 0;
