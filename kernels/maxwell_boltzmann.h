@@ -22,6 +22,16 @@ COREBOX_HD inline double maxwellBoltzmannCdf(double speed, double mass, double t
     return erf(u / 1.41421356237309504880) - 0.79788456080286535588 * u * exp(-0.5 * u * u);
 }
 
+// Several species at one temperature: F(v) = sum_k w_k F(v; m_k, T), weights w_k summing to one.
+COREBOX_HD inline double maxwellBoltzmannMixtureCdf(double speed, const double* weights, const double* masses, int count,
+                                                    double temperature) {
+    double f = 0;
+    for (int k = 0; k < count; ++k) {
+        if (weights[k] > 0) f += weights[k] * maxwellBoltzmannCdf(speed, masses[k], temperature);
+    }
+    return f;
+}
+
 // Temperature that gives a sample's mean speed: <v> = sqrt(8 kT / (pi m)), so kT = pi m <v>^2 / 8.
 // With several species (fractions w_k, masses m_k): <v> = sqrt(kT) sum_k w_k sqrt(8 / (pi m_k)).
 COREBOX_HD inline double temperatureFromMeanSpeed(double meanSpeed, double mass) {

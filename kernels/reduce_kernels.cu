@@ -95,8 +95,7 @@ __global__ void ksKernel(const double* sorted, int64_t n, MixtureArgs mix, doubl
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     double d = 0;
     if (i < n) {
-        double f = 0;
-        for (int s = 0; s < mix.count; ++s) f += mix.weight[s] * maxwellBoltzmannCdf(sorted[i], mix.mass[s], mix.temperature);
+        const double f = maxwellBoltzmannMixtureCdf(sorted[i], mix.weight, mix.mass, mix.count, mix.temperature);
         d = fmax(f - double(i) / double(n), double(i + 1) / double(n) - f);
     }
     cache[threadIdx.x] = d;

@@ -22,13 +22,9 @@ SpeedStatistics computeSpeedStatistics(std::vector<double> speeds, const std::ve
     if (speeds.empty() || request.temperature <= 0) return out;
     std::sort(speeds.begin(), speeds.end());
     const double n = double(speeds.size());
-    auto cdf = [&](double v) {
-        double f = 0;
-        for (size_t s = 0; s < masses.size(); ++s) {
-            if (countsPerSpecies[s] > 0) f += double(countsPerSpecies[s]) / n * maxwellBoltzmannCdf(v, masses[s], request.temperature);
-        }
-        return f;
-    };
+    std::vector<double> weights(masses.size());
+    for (size_t s = 0; s < masses.size(); ++s) weights[s] = double(countsPerSpecies[s]) / n;
+    auto cdf = [&](double v) { return maxwellBoltzmannMixtureCdf(v, weights.data(), masses.data(), int(masses.size()), request.temperature); };
     double d = 0;
     for (size_t i = 0; i < speeds.size(); ++i) {
         const double f = cdf(speeds[i]);
