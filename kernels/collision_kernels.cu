@@ -71,8 +71,10 @@ __global__ void findEventsKernel(CollisionArgs<Real> a) {
     });
     considerWalls(xi, vi, ri, a.box, best);
     a.events[i] = best;
-    if (isValid(best) && !a.hasContactAcceleration[i]) {
-        const unsigned slot = atomicAdd(&a.counters[0], 1u);
+    if (!isValid(best)) return;
+    atomicAdd(&a.counters[1], 1u);  // a count: the same whatever the order
+    if (!a.hasContactAcceleration[i]) {
+        const unsigned slot = atomicAdd(&a.counters[0], 1u);  // list order varies, each entry's work does not
         a.needList[slot] = int32_t(i);
     }
 }
@@ -148,9 +150,7 @@ template <class Real>
 __global__ void updateActiveKernel(CollisionArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.p.n) return;
-    const bool valid = isValid(a.events[i]);
-    a.active[i] = valid;
-    if (valid) a.counters[1] = 1u;
+    a.active[i] = isValid(a.events[i]);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "butcher_tableau.h"
 #include "collision_resolution.h"
 #include "pair_potential.h"
+#include "particle_instance.h"
 #include "vec3.h"
 
 namespace corebox::gpu {
@@ -76,10 +77,11 @@ void launchStage(const StageArgs<Real>& args, cudaStream_t stream);
 template <class Real>
 void launchErrorNorm(const StageArgs<Real>& args, double tolerance, double* errorOut, cudaStream_t stream);
 
+// Velocity Verlet's halves: v += h a, and x += dt v.
 template <class Real>
-void launchVerletKickDrift(Vec3<Real>* x, Vec3<Real>* v, const Vec3<Real>* a, int64_t n, Real dt, cudaStream_t stream);
+void launchVerletKick(Vec3<Real>* v, const Vec3<Real>* a, int64_t n, Real h, cudaStream_t stream);
 template <class Real>
-void launchVerletKick(Vec3<Real>* v, const Vec3<Real>* a, int64_t n, Real dt, cudaStream_t stream);
+void launchVerletDrift(Vec3<Real>* x, const Vec3<Real>* v, int64_t n, Real dt, cudaStream_t stream);
 template <class Real>
 void launchScale(Vec3<Real>* v, int64_t n, Real alpha, cudaStream_t stream);
 
@@ -113,13 +115,14 @@ struct CollisionArgs {
     Vec3<Real>* contactAcceleration;
     char* hasContactAcceleration;
     int32_t* needList;         // particles needing an acceleration this round
-    unsigned int* counters;    // [0] need count, [1] any event
+    unsigned int* counters;    // [0] particles listed in needList, [1] particles with an event
     unsigned long long* kindCounts;  // pair, wall, fix
     double* loss;              // per particle
     Real restitution, wallRestitution, elasticBelow;
 };
 // Each particle's earliest event (all neighbours when active, else only active ones); counts the
-// particles that need a contact acceleration into counters[0] and lists them.
+// particles with an event into counters[1], and lists those that still need a contact acceleration
+// (counted in counters[0]).
 template <class Real>
 void launchFindEvents(const CollisionArgs<Real>& args, cudaStream_t stream);
 // End-of-step accelerations of the listed particles, one warp each (all-pairs sum).
@@ -128,11 +131,11 @@ void launchContactAccelerations(const CollisionArgs<Real>& args, const ForceArgs
 // Resolves the matching of mutual-earliest events and adds to the kind counts and losses.
 template <class Real>
 void launchResolve(const CollisionArgs<Real>& args, cudaStream_t stream);
-// active[i] = particle i had an event this round; counters[1] = 1 when any particle had one.
+// active[i] = particle i had an event this round.
 template <class Real>
 void launchUpdateActive(const CollisionArgs<Real>& args, cudaStream_t stream);
 
-// ---- reductions and statistics (reduce_kernels.cu) ----
+// ---- reductions (reduce_kernels.cu) ----
 // Sums of per-particle quantities: rows of `values` (row-major, rows x n) reduced into per-block
 // partials (rows x blocks); returns the number of blocks.
 int launchBlockSums(const double* values, int rows, int64_t n, double* partials, cudaStream_t stream);
@@ -161,30 +164,10 @@ struct HealthArgs {
 template <class Real>
 void launchHealth(const HealthArgs<Real>& args, cudaStream_t stream);
 
-template <class Real>
-struct SpeedArgs {
-    ParticleArrays<Real> p;
-    int species;            // -1: all
-    double* speeds;         // out, compacted
-    unsigned int* count;    // out
-};
-template <class Real>
-void launchCollectSpeeds(const SpeedArgs<Real>& args, cudaStream_t stream);
-size_t sortScratchBytes(int64_t n);
-void sortDoubles(const double* in, double* out, int64_t n, void* scratch, size_t scratchBytes, cudaStream_t stream);
-void launchHistogram(const double* speeds, int64_t n, double binWidth, int bins, unsigned long long* histogram, cudaStream_t stream);
-// Per-block maxima of the KS distance of the sorted sample against the MB mixture (weights sum to 1).
-struct MixtureArgs {
-    double weight[32];
-    double mass[32];
-    int count;
-    double temperature;
-};
-int launchKsPartials(const double* sorted, int64_t n, const MixtureArgs& mixture, double* partials, cudaStream_t stream);
-
 // ---- interop (interop_kernels.cu) ----
-// Writes the renderer's instance layout (x, y, z, radius, colour key: species or speed) as floats.
+// Writes the renderer's instances (particle_instance.h) into device memory: a mapped GL buffer or a
+// staging buffer.
 template <class Real>
-void launchFillInstances(const ParticleArrays<Real>& p, const Real* radius, bool keyIsSpeed, float* out, cudaStream_t stream);
+void launchFillInstances(const ParticleArrays<Real>& p, const Real* radius, InstanceKey key, ParticleInstance* out, cudaStream_t stream);
 
 }  // namespace corebox::gpu

@@ -35,24 +35,21 @@ __global__ void errorKernel(StageArgs<Real> a, double tolerance, double* out) {
 }
 
 template <class Real>
-__global__ void kickDriftKernel(Vec3<Real>* x, Vec3<Real>* v, const Vec3<Real>* acc, int64_t n, Real dt) {
+__global__ void kickKernel(Vec3<Real>* v, const Vec3<Real>* acc, int64_t n, Real h) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= n) return;
     Vec3<Real> vi = v[i];
-    verletKick(vi, acc[i], Real(0.5) * dt);
-    Vec3<Real> xi = x[i];
-    verletDrift(xi, vi, dt);
+    verletKick(vi, acc[i], h);
     v[i] = vi;
-    x[i] = xi;
 }
 
 template <class Real>
-__global__ void kickKernel(Vec3<Real>* v, const Vec3<Real>* acc, int64_t n, Real dt) {
+__global__ void driftKernel(Vec3<Real>* x, const Vec3<Real>* v, int64_t n, Real dt) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= n) return;
-    Vec3<Real> vi = v[i];
-    verletKick(vi, acc[i], Real(0.5) * dt);
-    v[i] = vi;
+    Vec3<Real> xi = x[i];
+    verletDrift(xi, v[i], dt);
+    x[i] = xi;
 }
 
 template <class Real>
@@ -76,15 +73,15 @@ void launchErrorNorm(const StageArgs<Real>& a, double tolerance, double* out, cu
 }
 
 template <class Real>
-void launchVerletKickDrift(Vec3<Real>* x, Vec3<Real>* v, const Vec3<Real>* a, int64_t n, Real dt, cudaStream_t stream) {
-    kickDriftKernel<Real><<<blocksFor(n), kBlock, 0, stream>>>(x, v, a, n, dt);
-    checkLaunch("verlet kick-drift kernel");
+void launchVerletKick(Vec3<Real>* v, const Vec3<Real>* a, int64_t n, Real h, cudaStream_t stream) {
+    kickKernel<Real><<<blocksFor(n), kBlock, 0, stream>>>(v, a, n, h);
+    checkLaunch("verlet kick kernel");
 }
 
 template <class Real>
-void launchVerletKick(Vec3<Real>* v, const Vec3<Real>* a, int64_t n, Real dt, cudaStream_t stream) {
-    kickKernel<Real><<<blocksFor(n), kBlock, 0, stream>>>(v, a, n, dt);
-    checkLaunch("verlet kick kernel");
+void launchVerletDrift(Vec3<Real>* x, const Vec3<Real>* v, int64_t n, Real dt, cudaStream_t stream) {
+    driftKernel<Real><<<blocksFor(n), kBlock, 0, stream>>>(x, v, n, dt);
+    checkLaunch("verlet drift kernel");
 }
 
 template <class Real>
@@ -96,8 +93,8 @@ void launchScale(Vec3<Real>* v, int64_t n, Real alpha, cudaStream_t stream) {
 #define COREBOX_INSTANTIATE(Real)                                                                              \
     template void launchStage<Real>(const StageArgs<Real>&, cudaStream_t);                                     \
     template void launchErrorNorm<Real>(const StageArgs<Real>&, double, double*, cudaStream_t);                \
-    template void launchVerletKickDrift<Real>(Vec3<Real>*, Vec3<Real>*, const Vec3<Real>*, int64_t, Real, cudaStream_t); \
     template void launchVerletKick<Real>(Vec3<Real>*, const Vec3<Real>*, int64_t, Real, cudaStream_t);         \
+    template void launchVerletDrift<Real>(Vec3<Real>*, const Vec3<Real>*, int64_t, Real, cudaStream_t);        \
     template void launchScale<Real>(Vec3<Real>*, int64_t, Real, cudaStream_t);
 COREBOX_INSTANTIATE(float)
 COREBOX_INSTANTIATE(double)

@@ -1,12 +1,9 @@
-// Reductions and statistics on the GPU; only small results go to the host. Sums are made per block
+// Reductions on the GPU (energies, health); only small results go to the host. Sums are made per block
 // in a fixed tree and the block partials are added on the host in block order, so they do not
 // depend on scheduling.
-#include <cub/device/device_radix_sort.cuh>
-
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
 #include "energy_terms.h"
-#include "maxwell_boltzmann.h"
 
 namespace corebox::gpu {
 namespace {
@@ -74,39 +71,6 @@ __global__ void healthKernel(HealthArgs<Real> a) {
     if (slot < 5) a.examples[slot] = i;
 }
 
-template <class Real>
-__global__ void collectSpeedsKernel(SpeedArgs<Real> a) {
-    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i >= a.p.n) return;
-    if (a.species >= 0 && a.p.species[i] != a.species) return;
-    const unsigned slot = atomicAdd(a.count, 1u);
-    a.speeds[slot] = sqrt(double(norm2(a.p.v[i])));
-}
-
-__global__ void histogramKernel(const double* speeds, int64_t n, double binWidth, int bins, unsigned long long* histogram) {
-    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i >= n) return;
-    const int64_t bin = int64_t(speeds[i] / binWidth);
-    if (bin >= 0 && bin < bins) atomicAdd(&histogram[bin], 1ull);
-}
-
-__global__ void ksKernel(const double* sorted, int64_t n, MixtureArgs mix, double* partials) {
-    __shared__ double cache[kBlock];
-    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    double d = 0;
-    if (i < n) {
-        const double f = maxwellBoltzmannMixtureCdf(sorted[i], mix.weight, mix.mass, mix.count, mix.temperature);
-        d = fmax(f - double(i) / double(n), double(i + 1) / double(n) - f);
-    }
-    cache[threadIdx.x] = d;
-    __syncthreads();
-    for (int stride = kBlock / 2; stride > 0; stride /= 2) {
-        if (threadIdx.x < stride) cache[threadIdx.x] = fmax(cache[threadIdx.x], cache[threadIdx.x + stride]);
-        __syncthreads();
-    }
-    if (threadIdx.x == 0) partials[blockIdx.x] = cache[0];
-}
-
 }  // namespace
 
 int blockSumBlocks(int64_t n) { return int((n + int64_t(kReduceBlock) * kItemsPerThread - 1) / (int64_t(kReduceBlock) * kItemsPerThread)); }
@@ -136,41 +100,10 @@ void launchHealth(const HealthArgs<Real>& a, cudaStream_t stream) {
     checkLaunch("health kernel");
 }
 
-template <class Real>
-void launchCollectSpeeds(const SpeedArgs<Real>& a, cudaStream_t stream) {
-    collectSpeedsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
-    checkLaunch("speed kernel");
-}
-
-size_t sortScratchBytes(int64_t n) {
-    size_t bytes = 0;
-    cub::DeviceRadixSort::SortKeys(nullptr, bytes, static_cast<const double*>(nullptr), static_cast<double*>(nullptr), int(n));
-    return bytes;
-}
-
-void sortDoubles(const double* in, double* out, int64_t n, void* scratch, size_t scratchBytes, cudaStream_t stream) {
-    cub::DeviceRadixSort::SortKeys(scratch, scratchBytes, in, out, int(n), 0, int(sizeof(double) * 8), stream);
-    checkLaunch("radix sort");
-}
-
-void launchHistogram(const double* speeds, int64_t n, double binWidth, int bins, unsigned long long* histogram, cudaStream_t stream) {
-    if (n <= 0) return;
-    histogramKernel<<<blocksFor(n), kBlock, 0, stream>>>(speeds, n, binWidth, bins, histogram);
-    checkLaunch("histogram kernel");
-}
-
-int launchKsPartials(const double* sorted, int64_t n, const MixtureArgs& mixture, double* partials, cudaStream_t stream) {
-    const int blocks = int(blocksFor(n));
-    if (blocks > 0) ksKernel<<<unsigned(blocks), kBlock, 0, stream>>>(sorted, n, mixture, partials);
-    checkLaunch("KS kernel");
-    return blocks;
-}
-
 #define COREBOX_INSTANTIATE(Real)                                                                      \
     template void launchEnergyRows<Real>(const EnergyArgs<Real>&, cudaStream_t);                       \
     template void launchKineticRow<Real>(const ParticleArrays<Real>&, SpeciesTable<Real>, double*, cudaStream_t); \
-    template void launchHealth<Real>(const HealthArgs<Real>&, cudaStream_t);                           \
-    template void launchCollectSpeeds<Real>(const SpeedArgs<Real>&, cudaStream_t);
+    template void launchHealth<Real>(const HealthArgs<Real>&, cudaStream_t);
 COREBOX_INSTANTIATE(float)
 COREBOX_INSTANTIATE(double)
 #undef COREBOX_INSTANTIATE

@@ -23,7 +23,7 @@
 #include "panels.h"
 #include "progress.h"
 #include "scene_io.h"
-#include "scene_view.h"
+#include "scene_drawing.h"
 #include "state_csv.h"
 #include "ui_settings_file.h"
 
@@ -154,7 +154,7 @@ int runHeadlessFrames(const RunOptions& options, const Scene& scene) {
         dump.height = height;
         dump.videoPath = h.videoPath;
         dump.context.softwareOnly = h.softwareOnly;
-        dump.context.cudaDevice = h.softwareOnly ? -1 : interopDeviceFor(live.simulation().backend());
+        dump.context.cudaDevice = h.softwareOnly ? -1 : live.simulation().backend().interopDevice();
         const std::array<float, 3> box{float(scene.box.size[0]), float(scene.box.size[1]), float(scene.box.size[2])};
         std::unique_ptr<FrameDumper> frames;
         try {

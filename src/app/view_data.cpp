@@ -18,13 +18,14 @@ void fillSpeedView(Simulation& sim, const ObservablesRow& row, SpeedView& view, 
     view.maxSpeed = 3.5 * std::sqrt(std::max(hottest, row.temperature) / std::max(lightest, 1e-12));
     view.targetTemperature = scene.thermostat.kind == ThermostatKind::None ? 0.0 : scene.thermostat.temperature;
     view.species.clear();
+    const ParticleState state = sim.state();  // one download for every series
     auto series = [&](int species, const std::string& name, std::array<float, 3> color, double mass, double temperature) {
         SpeedRequest request;
         request.species = species;
         request.bins = bins;
         request.maxSpeed = view.maxSpeed;
         request.temperature = temperature;
-        const SpeedStatistics st = sim.backend().speedStatistics(request);
+        const SpeedStatistics st = speedStatisticsOf(state, scene.species, request);
         SpeedSeries out;
         out.name = name;
         out.color = color;

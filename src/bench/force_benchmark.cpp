@@ -8,6 +8,7 @@
 
 #include "atomic_file.h"
 #include "bench_scenes.h"
+#include "force_pass.h"
 #include "hardware_info.h"
 #include "initial_conditions.h"
 
@@ -57,17 +58,15 @@ std::vector<ForceBenchmarkResult> runForceBenchmark(const ForceBenchmarkOptions&
     for (Precision precision : options.precisions) {
         for (int64_t n : options.sizes) {
             const Scene scene = throughputScene(n, 0.5, precision, Method::Rk4);
-            std::unique_ptr<Backend> backend = makeBackend(BackendChoice{options.backend, precision, options.threads});
+            const std::unique_ptr<Backend> backend = forcePassBackend(BackendChoice{options.backend, precision, options.threads}, scene);
             if (deviceName.empty()) deviceName = backend->deviceName();
-            backend->setParameters(stepParametersOf(scene));
-            backend->setState(makeInitialState(scene));
-            backend->computeForcesOnly();  // warm-up: page in buffers, spin up threads
+            runForcePass(*backend, n);  // warm-up: page in buffers, spin up threads
             using Clock = std::chrono::steady_clock;
             const Clock::time_point start = Clock::now();
             int64_t passes = 0, pairs = 0;
             double seconds = 0;
             do {
-                pairs += backend->computeForcesOnly();
+                pairs += runForcePass(*backend, n);
                 ++passes;
                 seconds = std::chrono::duration<double>(Clock::now() - start).count();
             } while (seconds < options.minSeconds);

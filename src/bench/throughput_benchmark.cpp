@@ -12,12 +12,13 @@
 #include "atomic_file.h"
 #include "backend_factory.h"
 #include "egl_headless_context.h"
+#include "force_pass.h"
 #include "hardware_info.h"
 #include "initial_conditions.h"
 #include "instance_feed.h"
 #include "offscreen_target.h"
 #include "particle_renderer.h"
-#include "scene_view.h"
+#include "scene_drawing.h"
 #include "simulation.h"
 
 namespace corebox {
@@ -38,15 +39,13 @@ struct Record {
 
 void forcePass(const ThroughputOptions& o, Precision p, int64_t n, std::vector<Record>& out) {
     const Scene scene = throughputScene(n, 0.5, p, Method::Rk4);
-    std::unique_ptr<Backend> backend = makeBackend(BackendChoice{o.backend, p, 0, 0});
-    backend->setParameters(stepParametersOf(scene));
-    backend->setState(makeInitialState(scene));
-    backend->computeForcesOnly();
+    const std::unique_ptr<Backend> backend = forcePassBackend(BackendChoice{o.backend, p, 0, 0}, scene);
+    runForcePass(*backend, n);  // warm-up
     const Clock::time_point start = Clock::now();
     int64_t pairs = 0;
     double t = 0;
     do {
-        pairs += backend->computeForcesOnly();
+        pairs += runForcePass(*backend, n);
         t = seconds(start);
     } while (t < o.minSeconds);
     out.push_back({"force_pass", precisionName(p), "", n, double(pairs) / t, "pair_interactions_per_second", 0, ""});
@@ -78,7 +77,7 @@ void frames(const ThroughputOptions& o, std::vector<Record>& out) {
     Scene scene = throughputScene(o.frameN, 0.1, Precision::Fp32, Method::Verlet);
     scene.species[0].epsilon = 0;  // hard spheres: the frame, not the force pass, is measured here
     Simulation sim(scene, makeBackend(BackendChoice{o.backend, Precision::Fp32, 0, 0}), makeInitialState(scene));
-    EglHeadlessContext context(HeadlessContextOptions{interopDeviceFor(sim.backend()), false});
+    EglHeadlessContext context(HeadlessContextOptions{sim.backend().interopDevice(), false});
     ParticleRenderer renderer;
     OffscreenTarget target(o.frameWidth, o.frameHeight);
     InstanceFeed feed(sim, renderer, ColorMode::Speed);

@@ -1,35 +1,38 @@
-// The backend interface: what the simulation core asks of a compute device. The CPU backend
-// (src/cpu) is the reference; the CUDA backend (src/cuda) implements the same contract and is
-// tested against it. The core never sees how or where the work runs.
+// The device interface: the few operations the core's step orchestration asks of a compute device
+// (DESIGN.md sec. 1). The orchestration itself (integration driver, collision rounds, thermostat,
+// health policy: src/core/integration_driver.*, collision_rounds.*, simulation.*) is written once
+// against this interface; the CPU backend (src/cpu) implements it as the reference and the CUDA
+// backend (src/cuda) on a GPU. A backend spanning several devices implements the same calls over its
+// partition (each call may fan out to every device and gather what the next call needs); the
+// orchestration never learns how many devices there are.
 //
-// One step = integrate the equations of motion by dt (forces + RK stages or Verlet), then resolve
-// hard-core and wall collisions a posteriori (DESIGN.md sec. 2). Thermostat and blow-up policy live
-// in the core (src/core/simulation.*); a backend only scales velocities and reports sums, so only
-// small results cross from a device to the host.
+// What a backend holds, by role (names used in the comments below):
+//   X, V       the state: positions and velocities, one row per particle, in the backend's precision;
+//   A          cached accelerations a(X) (velocity Verlet);
+//   Xs, Vs     stage state of a Runge-Kutta step (and its solution before acceptance);
+//   Kx_s, Kv_s stage derivatives (velocity and acceleration of stage s), as many as the tableau has;
+//   snapshot   a copy of (X, V) kept beside the state so the last good state survives a blow-up;
+//   events     each particle's earliest collision event of the current round, its active flag, the
+//              accumulated collision counts and dissipated energy of the step.
+// Calls are ordered: a backend may queue work asynchronously, but every call that returns a value to
+// the host (findEvents, the reductions, state downloads) sees the effects of every earlier call.
+// Only small results cross from a device to the host, except state() and snapshot().
+//
+// Not here on purpose: benchmarks (they time computeAccelerations + finish), speed histograms and
+// Kolmogorov-Smirnov statistics (computed by the core from state(), see speed_statistics.h).
 #pragma once
 
 #include <cstdint>
-#include <memory>
 #include <string>
 #include <vector>
 
+#include "butcher_tableau.h"
+#include "device_model.h"
+#include "particle_instance.h"
 #include "particle_state.h"
 #include "scene.h"
 
 namespace corebox {
-
-struct StepReport {
-    double dt = 0;                 // the step actually taken (adaptive dp5 may shrink it)
-    int rejectedSteps = 0;         // adaptive attempts rejected before this one
-    int64_t pairCollisions = 0;    // particle-particle impulses applied
-    int64_t wallCollisions = 0;    // wall reflections applied
-    int64_t positionalFixes = 0;   // overlaps separated without an impulse (not approaching)
-    double dissipated = 0;         // kinetic energy lost in inelastic collisions this step [eps]
-    int rounds = 0;                // parallel resolution rounds used
-    bool roundCapHit = false;      // overlaps remained after InteractionDef::maxCollisionRounds
-    // Where the step's time went [s]: force passes, the rest of the integration, collisions.
-    double secondsForces = 0, secondsIntegrate = 0, secondsCollide = 0;
-};
 
 struct EnergySums {
     double kinetic = 0;
@@ -46,48 +49,91 @@ struct HealthReport {
     bool ok() const { return nonFinite == 0 && outsideBox == 0; }
 };
 
-struct SpeedStatistics {
-    int species = -1;                // -1: all particles
-    int64_t count = 0;
-    std::vector<int64_t> histogram;  // counts per bin over [0, maxSpeed)
-    double maxSpeed = 0;
-    double ksStatistic = 0;          // Kolmogorov-Smirnov D against MB at the given temperature
+// What the collision rounds of one step did, summed over particles.
+struct CollisionTally {
+    int64_t pairCollisions = 0;   // particle-particle impulses applied
+    int64_t wallCollisions = 0;   // wall reflections applied
+    int64_t positionalFixes = 0;  // overlaps separated without an impulse (not approaching)
+    double dissipated = 0;        // kinetic energy lost in inelastic collisions [eps]
+    int64_t total() const { return pairCollisions + wallCollisions + positionalFixes; }
 };
 
-struct SpeedRequest {
-    int species = -1;
-    int bins = 40;
-    double maxSpeed = 4.0;
-    double temperature = 1.0;  // MB reference temperature; the masses come from the species table
+// Which particles look for events in a round: the active ones (those with an event in the previous
+// round, plus every particle in the first round) against all neighbours, the others only against
+// active neighbours; or every particle against every neighbour (the final check after the cap).
+enum class EventScope { Active, All };
+
+// Phases of a step, marked by the orchestration so that a backend can time them its own way (host
+// clock on the CPU, stream events on a GPU) without a host wait inside the step.
+enum class StepPhase { Integrate, Collide, Done };
+struct PhaseSeconds {
+    double forces = 0;     // force passes of the integration
+    double integrate = 0;  // the rest of the integration
+    double collide = 0;    // collision rounds
+};
+
+// Where writeInstances puts the renderer's instances: host memory, or device memory of the backend's
+// interopDevice() (a mapped GL buffer). n = the particle count entries.
+struct InstanceTarget {
+    enum class Memory { Host, Device };
+    Memory memory = Memory::Host;
+    ParticleInstance* instances = nullptr;
+    InstanceKey key = InstanceKey::Species;
 };
 
 class Backend {
 public:
     virtual ~Backend() = default;
 
-    virtual std::string name() const = 0;
+    // ---- identity ----
+    virtual std::string name() const = 0;        // "cpu", "cuda"
     virtual std::string deviceName() const = 0;  // "NVIDIA H200 (...)", the CPU model, for records
     virtual Precision precision() const = 0;
+    // The CUDA device whose memory writeInstances can fill directly (interop), or -1: host only.
+    virtual int interopDevice() const { return -1; }
 
-    virtual void setParameters(const StepParameters& parameters) = 0;
+    // ---- model and state ----
+    virtual void setModel(const DeviceModel& model) = 0;         // per-species tables, box, gravity, restitution
+    virtual void setTableau(const ButcherTableau& tableau) = 0;  // weights for rkStage / rkSolution / rkErrorNorm
     virtual void setState(const ParticleState& state) = 0;
     virtual ParticleState state() const = 0;
-
-    virtual StepReport step() = 0;
-
-    virtual double kineticEnergy() = 0;            // O(N)
-    virtual void scaleVelocities(double alpha) = 0;
-    virtual EnergySums energies() = 0;             // includes the O(N^2) potential
-    virtual HealthReport health() = 0;             // O(N)
-    virtual SpeedStatistics speedStatistics(const SpeedRequest& request) = 0;
-
-    // Snapshot of the current state kept beside the live one (on the device for GPU backends), so
-    // the last good state survives a blow-up without a download every step.
-    virtual void keepSnapshot() = 0;
+    virtual void keepSnapshot() = 0;  // snapshot = (X, V), on the device
     virtual ParticleState snapshot() const = 0;
 
-    // Force pass alone, for benchmarks: returns the pair interactions evaluated.
-    virtual int64_t computeForcesOnly() = 0;
+    // ---- integration ----
+    virtual void computeAccelerations() = 0;  // A = a(X)
+    virtual void kick(double h) = 0;          // V += h A
+    virtual void drift(double dt) = 0;        // X += dt V
+    // Stage s of an explicit RK step from (X, V): (Xs, Vs) = y0 + dt sum_{j<s} a_sj K_j, Kx_s = Vs.
+    virtual void rkStage(int stage, double dt) = 0;
+    virtual void stageForces(int stage) = 0;  // Kv_s = a(Xs)
+    // (Xs, Vs) = y0 + dt sum_{j<stages} b_j K_j: the step's solution, not yet accepted.
+    virtual void rkSolution(int stages, double dt) = 0;
+    // Root mean square over the 6N components of the scaled error of the embedded pair after
+    // rkSolution (rk_stage.h: scaledErrorSquared); <= 1 means within tolerance.
+    virtual double rkErrorNorm(double dt, double tolerance) = 0;
+    virtual void acceptStage() = 0;  // (X, V) = (Xs, Vs)
+
+    // ---- a posteriori collision rounds (DESIGN.md sec. 2) ----
+    virtual void beginCollisions() = 0;  // every particle active; counts and losses zeroed
+    // Each particle's earliest event (collision_resolution.h); returns how many particles have one.
+    virtual int64_t findEvents(EventScope scope) = 0;
+    // Resolves every event that is the earliest of each particle it touches (a matching, so no two
+    // resolutions write one particle), then marks the particles that had an event as active.
+    virtual void applyEvents() = 0;
+    virtual CollisionTally collisionTally() = 0;  // since beginCollisions
+
+    // ---- reductions ----
+    virtual double kineticEnergy() = 0;  // O(N)
+    virtual void scaleVelocities(double alpha) = 0;
+    virtual EnergySums energies() = 0;  // includes the pair potential (a force pass)
+    virtual HealthReport health() = 0;  // non-finite values, particles outside the box
+
+    // ---- timing and output ----
+    virtual void markPhase(StepPhase phase) = 0;
+    virtual PhaseSeconds phaseSeconds() = 0;  // of the step between the last Integrate and Done marks
+    virtual void writeInstances(const InstanceTarget& target) = 0;
+    virtual void finish() = 0;  // returns when all queued work is done (benchmarks, interop)
 };
 
 }  // namespace corebox

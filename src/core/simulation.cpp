@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "collision_rounds.h"
+#include "device_model.h"
 #include "errors.h"
 #include "thermostat.h"
 
@@ -14,8 +16,8 @@ Simulation::Simulation(Scene scene, std::unique_ptr<Backend> backend, const Part
     m_particleCount = int64_t(initial.size());
     m_countPerSpecies.assign(m_scene.species.size(), 0);
     for (int32_t s : initial.species) ++m_countPerSpecies[size_t(s)];
-    m_backend->setParameters(stepParametersOf(m_scene));
     m_backend->setState(initial);
+    applyParameters();
     m_backend->keepSnapshot();
     const EnergySums e = m_backend->energies();
     double thermalT = m_scene.init.temperature;
@@ -25,9 +27,27 @@ Simulation::Simulation(Scene scene, std::unique_ptr<Backend> backend, const Part
     m_lastKinetic = e.kinetic;
 }
 
+void Simulation::applyParameters() {
+    m_backend->setModel(deviceModelOf(stepParametersOf(m_scene)));
+    m_driver.configure(*m_backend, m_scene.integrator);
+}
+
 StepReport Simulation::step() {
-    m_backend->keepSnapshot();
-    const StepReport report = m_backend->step();
+    Backend& backend = *m_backend;
+    backend.keepSnapshot();
+    StepReport report;
+    backend.markPhase(StepPhase::Integrate);
+    m_driver.integrate(backend, report);
+    backend.markPhase(StepPhase::Collide);
+    resolveCollisions(backend, m_scene.interaction.maxCollisionRounds, report);
+    backend.markPhase(StepPhase::Done);
+    // Collisions moved particles and changed velocities: Verlet's cached accelerations are stale.
+    if (report.pairCollisions + report.wallCollisions + report.positionalFixes > 0) m_driver.invalidateAccelerations();
+    const PhaseSeconds seconds = backend.phaseSeconds();
+    report.secondsForces = seconds.forces;
+    report.secondsIntegrate = seconds.integrate;
+    report.secondsCollide = seconds.collide;
+
     ++m_step;
     m_time += report.dt;
     m_dissipated += report.dissipated;
@@ -95,17 +115,21 @@ void Simulation::setStepParameters(const StepParameters& parameters) {
     m_scene.integrator = parameters.integrator;
     m_scene.interaction = parameters.interaction;
     m_scene.box.wallRestitution = parameters.box.wallRestitution;
-    m_backend->setParameters(stepParametersOf(m_scene));
+    applyParameters();
 }
 
 void Simulation::setThermostat(const ThermostatDef& thermostat) { m_scene.thermostat = thermostat; }
 
 void Simulation::replaceBackend(std::unique_ptr<Backend> backend) {
     const ParticleState current = m_backend->state();
-    backend->setParameters(stepParametersOf(m_scene));
-    backend->setState(current);
-    backend->keepSnapshot();
     m_backend = std::move(backend);
+    m_backend->setState(current);
+    applyParameters();
+    m_backend->keepSnapshot();
+}
+
+SpeedStatistics Simulation::speedStatistics(const SpeedRequest& request) const {
+    return speedStatisticsOf(m_backend->state(), m_scene.species, request);
 }
 
 std::string Simulation::likelyCause() const {

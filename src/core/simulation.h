@@ -3,6 +3,10 @@
 // drive it with step() and observe(); live parameter edits go through setStepParameters() and
 // setThermostat().
 //
+// step() is the one orchestration of a step for every backend: integrate (IntegrationDriver), resolve
+// collisions in rounds (collision_rounds.h), thermostat, health check, each through the device
+// interface of backend.h.
+//
 // Blow-up policy (exit code 3 at the command line): after every step the backend reports non-finite
 // values and particles outside the box, and the kinetic energy is compared with a generous runaway
 // bound; at every observation the conserved sum is compared with its initial value. A failure
@@ -15,9 +19,12 @@
 #include <string>
 
 #include "backend.h"
+#include "integration_driver.h"
 #include "observables.h"
 #include "particle_state.h"
 #include "scene.h"
+#include "speed_statistics.h"
+#include "step_report.h"
 
 namespace corebox {
 
@@ -57,13 +64,17 @@ public:
     double lastKineticEnergy() const { return m_lastKinetic; }
     ParticleState state() const { return m_backend->state(); }
     ParticleState lastGoodState() const { return m_backend->snapshot(); }
+    // The speed distribution of the current state (downloads the state).
+    SpeedStatistics speedStatistics(const SpeedRequest& request) const;
 
 private:
+    void applyParameters();
     [[noreturn]] void fail(const std::string& what, const std::string& detail) const;
     std::string likelyCause() const;
 
     Scene m_scene;
     std::unique_ptr<Backend> m_backend;
+    IntegrationDriver m_driver;
     SimulationLimits m_limits;
     int64_t m_particleCount = 0;
     int64_t m_step = 0;

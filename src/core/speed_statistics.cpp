@@ -34,6 +34,19 @@ SpeedStatistics computeSpeedStatistics(std::vector<double> speeds, const std::ve
     return out;
 }
 
+SpeedStatistics speedStatisticsOf(const ParticleState& state, const std::vector<SpeciesDef>& species, const SpeedRequest& request) {
+    std::vector<double> speeds;
+    std::vector<int64_t> perSpecies(species.size(), 0);
+    for (size_t i = 0; i < state.size(); ++i) {
+        if (request.species >= 0 && state.species[i] != request.species) continue;
+        speeds.push_back(std::sqrt(norm2(state.velocity[i])));
+        ++perSpecies[size_t(state.species[i])];
+    }
+    std::vector<double> masses;
+    for (const SpeciesDef& s : species) masses.push_back(s.mass);
+    return computeSpeedStatistics(std::move(speeds), perSpecies, masses, request);
+}
+
 double ksCriticalValue(int64_t n, double alpha) {
     const double sn = std::sqrt(double(n));
     return std::sqrt(-0.5 * std::log(alpha / 2.0)) / (sn + 0.12 + 0.11 / sn);

@@ -1,7 +1,8 @@
-// CUDA backend on one GPU: the Backend contract of src/core/backend.h with every model feature of
+// CUDA backend on one GPU: the device interface of src/core/backend.h with every model feature of
 // the CPU reference, in fp32 or fp64. Kernels (kernels/*.cu) call the same __host__ __device__
 // physics as the CPU backend. Particle rows are owned through a DevicePartition (one slice here).
-// Only small results (sums, counts, a histogram) cross to the host, except state() and snapshot().
+// This library does not link GL: CUDA-GL interop lives in gl_buffer_interop.* (its own library),
+// which hands writeInstances a mapped device pointer.
 #pragma once
 
 #include <memory>
@@ -23,14 +24,5 @@ std::string cudaDeviceDescription(int device);
 
 // Throws DeviceError when the device cannot be used.
 std::unique_ptr<Backend> makeCudaBackend(const CudaBackendOptions& options);
-
-// Extra abilities of the CUDA backend for the app: interop writes straight into a mapped GL
-// buffer of ParticleInstance (5 floats per particle).
-class CudaParticleSource {
-public:
-    virtual ~CudaParticleSource() = default;
-    virtual int device() const = 0;
-    virtual void writeInstances(float* deviceInstances, bool keyIsSpeed) = 0;
-};
 
 }  // namespace corebox

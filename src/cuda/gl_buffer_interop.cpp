@@ -5,7 +5,8 @@
 #include <cuda_gl_interop.h>
 // clang-format on
 
-#include "cuda_backend.h"
+#include <exception>
+
 #include "cuda_check.h"
 
 namespace corebox {
@@ -38,15 +39,24 @@ CudaGlInterop::~CudaGlInterop() {
     if (m_resource) cudaGraphicsUnregisterResource(static_cast<cudaGraphicsResource_t>(m_resource));
 }
 
-void CudaGlInterop::fill(CudaParticleSource& source, bool keyIsSpeed) {
-    auto resource = static_cast<cudaGraphicsResource_t>(m_resource);
+CudaGlInterop::Mapping::Mapping(CudaGlInterop& interop) : m_interop(interop) {
+    auto resource = static_cast<cudaGraphicsResource_t>(interop.m_resource);
     cudaCheck(cudaGraphicsMapResources(1, &resource, nullptr), "cudaGraphicsMapResources");
     void* pointer = nullptr;
     size_t bytes = 0;
     const cudaError_t mapped = cudaGraphicsResourceGetMappedPointer(&pointer, &bytes, resource);
-    if (mapped == cudaSuccess) source.writeInstances(static_cast<float*>(pointer), keyIsSpeed);
-    cudaCheck(cudaGraphicsUnmapResources(1, &resource, nullptr), "cudaGraphicsUnmapResources");
-    cudaCheck(mapped, "cudaGraphicsResourceGetMappedPointer");
+    if (mapped != cudaSuccess) {
+        cudaGraphicsUnmapResources(1, &resource, nullptr);
+        cudaCheck(mapped, "cudaGraphicsResourceGetMappedPointer");
+    }
+    m_instances = static_cast<ParticleInstance*>(pointer);
+}
+
+// Unmapping fails only with a broken context; report it unless an exception is already on its way.
+CudaGlInterop::Mapping::~Mapping() noexcept(false) {
+    auto resource = static_cast<cudaGraphicsResource_t>(m_interop.m_resource);
+    const cudaError_t status = cudaGraphicsUnmapResources(1, &resource, nullptr);
+    if (std::uncaught_exceptions() == 0) cudaCheck(status, "cudaGraphicsUnmapResources");
 }
 
 }  // namespace corebox

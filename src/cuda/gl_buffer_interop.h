@@ -1,13 +1,12 @@
-// CUDA-GL interop for the renderer's particle buffer: the only code that sees both GL and CUDA.
-// The buffer is registered once (write-discard) and mapped once per frame; a kernel writes the
-// instances straight from simulation memory, so no particle data crosses PCIe to be drawn.
+// CUDA-GL interop for the renderer's particle buffer: the only code that sees both GL and CUDA (its
+// own library, so the CUDA backend does not link GL). The buffer is registered once (write-discard)
+// and mapped once per frame; while mapped, a backend writes instances into it with
+// writeInstances(InstanceTarget::Memory::Device), so no particle data crosses PCIe to be drawn.
 #pragma once
 
-#include <string>
+#include "particle_instance.h"
 
 namespace corebox {
-
-class CudaParticleSource;
 
 class CudaGlInterop {
 public:
@@ -19,8 +18,21 @@ public:
     CudaGlInterop& operator=(const CudaGlInterop&) = delete;
 
     unsigned int buffer() const { return m_buffer; }
-    // Map, let `source` write n instances, unmap.
-    void fill(CudaParticleSource& source, bool keyIsSpeed);
+
+    // The buffer mapped for the lifetime of the object: instances() is a device pointer on the
+    // interop device, valid until destruction, which unmaps.
+    class Mapping {
+    public:
+        explicit Mapping(CudaGlInterop& interop);
+        ~Mapping() noexcept(false);
+        Mapping(const Mapping&) = delete;
+        Mapping& operator=(const Mapping&) = delete;
+        ParticleInstance* instances() const { return m_instances; }
+
+    private:
+        CudaGlInterop& m_interop;
+        ParticleInstance* m_instances = nullptr;
+    };
 
 private:
     unsigned int m_buffer;

@@ -12,7 +12,7 @@
 #include <cstdint>
 
 #include "orbit_camera.h"
-#include "particle_view.h"
+#include "render_style.h"
 
 namespace corebox {
 

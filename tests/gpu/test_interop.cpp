@@ -10,7 +10,8 @@
 #include "offscreen_target.h"
 #include "particle_renderer.h"
 #include "scene_io.h"
-#include "scene_view.h"
+#include "scene_drawing.h"
+#include "simulation.h"
 
 using namespace corebox;
 
@@ -39,19 +40,20 @@ TEST(CudaInterop, InteropFrameEqualsTheCpuUploadFrame) {
         FAIL() << "a GPU is present but no EGL device drives it: " << e.what();
     }
     const Scene scene = loadScene(std::string(COREBOX_SOURCE_DIR) + "/assets/polydisperse.toml");
-    auto backend = makeCudaBackend(CudaBackendOptions{Precision::Fp64, 0});
-    backend->setParameters(stepParametersOf(scene));
-    backend->setState(makeInitialState(scene));
-    for (int s = 0; s < 10; ++s) backend->step();
+    Simulation sim(scene, makeCudaBackend(CudaBackendOptions{Precision::Fp64, 0}), makeInitialState(scene));
+    for (int s = 0; s < 10; ++s) sim.step();
     for (ColorMode mode : {ColorMode::Species, ColorMode::Speed}) {
         ParticleRenderer renderer;
         renderer.reserve(size_t(scene.particleCount()));
         CudaGlInterop interop(renderer.instanceBuffer(), 0);
-        interop.fill(dynamic_cast<CudaParticleSource&>(*backend), mode == ColorMode::Speed);
+        {
+            const CudaGlInterop::Mapping mapping(interop);
+            sim.backend().writeInstances(InstanceTarget{InstanceTarget::Memory::Device, mapping.instances(), mode});
+        }
         renderer.setInstanceCount(size_t(scene.particleCount()));
         const Image viaInterop = drawFrame(renderer, scene, mode);
         std::vector<ParticleInstance> instances;
-        buildInstances(backend->state(), scene, mode, instances);
+        buildInstances(sim.state(), scene, mode, instances);
         renderer.upload(instances.data(), instances.size());
         const Image viaUpload = drawFrame(renderer, scene, mode);
         size_t differing = 0;

@@ -12,7 +12,7 @@
 #include "particle_renderer.h"
 #include "render_fixture.h"
 #include "scene_io.h"
-#include "scene_view.h"
+#include "scene_drawing.h"
 
 using namespace corebox;
 using namespace corebox::testing;

@@ -1,13 +1,14 @@
-// Fills the renderer's particle buffer from the simulation each frame: through CUDA-GL interop when
-// the CUDA backend and the GL context share a GPU (no copy through the host), else by downloading
-// the state and uploading it (the copy path, used by the CPU backend and as the fallback).
+// Fills the renderer's particle buffer from the simulation each frame through the backend's
+// writeInstances: straight into the mapped GL buffer (CUDA-GL interop) when the backend's
+// interopDevice() is the GPU the GL context runs on, else into host memory that is then uploaded
+// (the copy path: the CPU backend, another GPU, or a context without CUDA).
 #pragma once
 
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "particle_view.h"
+#include "render_style.h"
 #include "simulation.h"
 
 namespace corebox {
@@ -15,12 +16,10 @@ namespace corebox {
 class ParticleRenderer;
 class CudaGlInterop;
 
-// The CUDA device the GL context should run on for interop with this backend, or -1.
-int interopDeviceFor(Backend& backend);
-
 class InstanceFeed {
 public:
-    // Tries interop when the backend is CUDA; on a device mismatch logs why and uses the copy path.
+    // Tries interop when the backend has an interop device; on a device mismatch logs why and uses
+    // the copy path.
     InstanceFeed(Simulation& sim, ParticleRenderer& renderer, ColorMode mode);
     ~InstanceFeed();
 

@@ -1,23 +1,20 @@
-// What the renderer knows of particles: a position, a radius and a colour key per instance. It
-// knows nothing else of the simulation. The key is a palette index (colour by species) or a value
-// mapped through the colormap (colour by speed). The layout is the GL instance buffer's, and the
-// CUDA interop kernel writes exactly this struct.
+// How particles are drawn: the style (palette or colormap, legend, box, background). What the
+// renderer knows of particles is the instance layout of kernels/particle_instance.h (a position, a
+// radius and a colour key each), which backends write directly; it knows nothing else of the
+// simulation. The key is a palette index (colour by species) or a value mapped through the colormap
+// (colour by speed).
 #pragma once
 
 #include <array>
 #include <string>
 #include <vector>
 
+#include "particle_instance.h"
+
 namespace corebox {
 
-struct ParticleInstance {
-    float x, y, z;
-    float radius;
-    float colorKey;
-};
-static_assert(sizeof(ParticleInstance) == 5 * sizeof(float), "tightly packed: shared with GL and CUDA");
-
-enum class ColorMode { Species, Speed };
+// What the colour key holds decides how it is coloured: one enum for both sides.
+using ColorMode = InstanceKey;
 
 struct LegendEntry {
     std::string label;

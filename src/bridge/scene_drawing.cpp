@@ -1,4 +1,4 @@
-#include "scene_view.h"
+#include "scene_drawing.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,10 +8,8 @@ namespace corebox {
 void buildInstances(const ParticleState& state, const Scene& scene, ColorMode mode, std::vector<ParticleInstance>& out) {
     out.resize(state.size());
     for (size_t i = 0; i < state.size(); ++i) {
-        const Vec3<double>& x = state.position[i];
         const int32_t s = state.species[i];
-        const float key = mode == ColorMode::Species ? float(s) : float(std::sqrt(norm2(state.velocity[i])));
-        out[i] = ParticleInstance{float(x.x), float(x.y), float(x.z), float(scene.species[size_t(s)].radius), key};
+        out[i] = particleInstanceOf(state.position[i], state.velocity[i], s, scene.species[size_t(s)].radius, mode);
     }
 }
 

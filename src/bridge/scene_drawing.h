@@ -1,11 +1,13 @@
-// The bridge from simulation to renderer (only the app sees both): particle instances (position,
-// hard-core radius, colour key) and the render style (palette, legend, speed range) of a scene.
+// How a scene is drawn (the bridge from simulation to renderer; only the app and the benchmarks see
+// both): the render style of a scene (palette, legend, speed range), and instances made from a host
+// state with the backends' own formula (particleInstanceOf) for tests and tools that hold a state
+// rather than a running backend.
 #pragma once
 
 #include <vector>
 
 #include "particle_state.h"
-#include "particle_view.h"
+#include "render_style.h"
 #include "scene.h"
 
 namespace corebox {

@@ -4,9 +4,7 @@
 
 #include "errors.h"
 #include "particle_renderer.h"
-#include "scene_view.h"
 #if COREBOX_WITH_CUDA
-#include "cuda_backend.h"
 #include "gl_buffer_interop.h"
 #endif
 
@@ -16,21 +14,15 @@ namespace corebox {
 class CudaGlInterop {};
 #endif
 
-int interopDeviceFor([[maybe_unused]] Backend& backend) {
-#if COREBOX_WITH_CUDA
-    if (auto* source = dynamic_cast<CudaParticleSource*>(&backend)) return source->device();
-#endif
-    return -1;
-}
-
 InstanceFeed::InstanceFeed(Simulation& sim, ParticleRenderer& renderer, ColorMode mode)
-    : m_sim(sim), m_renderer(renderer), m_mode(mode), m_description("copy path (state uploaded each frame)") {
+    : m_sim(sim), m_renderer(renderer), m_mode(mode), m_description("copy path (instances uploaded each frame)") {
 #if COREBOX_WITH_CUDA
-    if (auto* source = dynamic_cast<CudaParticleSource*>(&sim.backend())) {
+    const int device = sim.backend().interopDevice();
+    if (device >= 0) {
         m_renderer.reserve(size_t(sim.particleCount()));
         try {
-            m_interop = std::make_unique<CudaGlInterop>(m_renderer.instanceBuffer(), source->device());
-            m_description = "CUDA-GL interop on CUDA device " + std::to_string(source->device());
+            m_interop = std::make_unique<CudaGlInterop>(m_renderer.instanceBuffer(), device);
+            m_description = "CUDA-GL interop on CUDA device " + std::to_string(device);
         } catch (const DeviceError& e) {
             std::fprintf(stderr, "[corebox] warning: no CUDA-GL interop: %s; falling back to the copy path\n", e.what());
         }
@@ -41,15 +33,21 @@ InstanceFeed::InstanceFeed(Simulation& sim, ParticleRenderer& renderer, ColorMod
 InstanceFeed::~InstanceFeed() = default;
 
 void InstanceFeed::update() {
+    InstanceTarget target;
+    target.key = m_mode;
 #if COREBOX_WITH_CUDA
     if (m_interop) {
-        auto* source = dynamic_cast<CudaParticleSource*>(&m_sim.backend());
-        m_interop->fill(*source, m_mode == ColorMode::Speed);
+        const CudaGlInterop::Mapping mapping(*m_interop);
+        target.memory = InstanceTarget::Memory::Device;
+        target.instances = mapping.instances();
+        m_sim.backend().writeInstances(target);
         m_renderer.setInstanceCount(size_t(m_sim.particleCount()));
         return;
     }
 #endif
-    buildInstances(m_sim.state(), m_sim.scene(), m_mode, m_instances);
+    m_instances.resize(size_t(m_sim.particleCount()));
+    target.instances = m_instances.data();
+    m_sim.backend().writeInstances(target);
     m_renderer.upload(m_instances.data(), m_instances.size());
 }
 

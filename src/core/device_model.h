@@ -1,0 +1,33 @@
+// The constants a backend needs to run the model, derived once on the host from the scene's step
+// parameters (DESIGN.md sec. 2): the species-pair coefficient table, per-species masses and radii,
+// the box, gravity and the collision settings. Backends convert them to their precision; none of
+// them derives anything from a Scene itself, so every backend runs exactly the same model.
+#pragma once
+
+#include <vector>
+
+#include "pair_potential.h"
+#include "scene.h"
+#include "vec3.h"
+
+namespace corebox {
+
+struct DeviceModel {
+    std::vector<PairCoefficients<double>> pairs;  // S x S, row-major (pair_table.h)
+    std::vector<double> mass;                     // per species [m]
+    std::vector<double> radius;                   // hard-core radius per species [sigma]
+    Vec3<double> box{1, 1, 1};                    // edge lengths [sigma]; walls at 0 and L
+    Vec3<double> gravity{0, 0, 0};                // uniform acceleration [sigma / tau^2]
+    double restitution = 1.0;                     // particle-particle e
+    double wallRestitution = 1.0;                 // e_w
+    double elasticBelowSpeed = 1e-3;              // contacts slower than this are elastic [sigma / tau]
+    bool anyPairForce = true;                     // false: pure hard spheres, no force pass needed
+    bool hasCutoff = false;                       // pairs beyond r_c contribute nothing
+
+    int speciesCount() const { return int(mass.size()); }
+    double maxRadius() const;
+};
+
+DeviceModel deviceModelOf(const StepParameters& parameters);
+
+}  // namespace corebox

@@ -1,0 +1,75 @@
+#include "integration_driver.h"
+
+#include <string>
+
+#include "errors.h"
+#include "rk_stage.h"
+
+namespace corebox {
+
+void IntegrationDriver::configure(Backend& backend, const IntegratorDef& integrator) {
+    if (!m_configured || integrator.dt != m_integrator.dt || m_dtNext <= 0) m_dtNext = integrator.dt;
+    m_integrator = integrator;
+    m_configured = true;
+    if (integrator.method != Method::Verlet) {
+        m_tableau = tableauFor(integrator.method);
+        backend.setTableau(m_tableau);
+    }
+    m_accelerationsValid = false;
+}
+
+void IntegrationDriver::integrate(Backend& backend, StepReport& report) {
+    if (m_integrator.method == Method::Verlet) {
+        report.dt = m_integrator.dt;
+        verletStep(backend, m_integrator.dt);
+    } else if (!m_integrator.adaptive || m_tableau.embeddedOrder == 0) {
+        report.dt = m_integrator.dt;
+        rkStep(backend, m_integrator.dt, m_tableau.solutionStages);
+        backend.acceptStage();
+    } else {
+        adaptiveStep(backend, report);
+    }
+}
+
+// Kick-drift-kick. The accelerations of the step's end are those of the next step's start, so one
+// force pass per step unless something moved the particles in between.
+void IntegrationDriver::verletStep(Backend& backend, double dt) {
+    if (!m_accelerationsValid) backend.computeAccelerations();
+    backend.kick(0.5 * dt);
+    backend.drift(dt);
+    backend.computeAccelerations();
+    backend.kick(0.5 * dt);
+    m_accelerationsValid = true;
+}
+
+void IntegrationDriver::rkStep(Backend& backend, double dt, int stages) {
+    for (int s = 0; s < stages; ++s) {
+        backend.rkStage(s, dt);
+        backend.stageForces(s);
+    }
+    backend.rkSolution(stages, dt);
+}
+
+void IntegrationDriver::adaptiveStep(Backend& backend, StepReport& report) {
+    double dt = m_dtNext;
+    for (int attempt = 0;; ++attempt) {
+        rkStep(backend, dt, m_tableau.stages);
+        const double error = backend.rkErrorNorm(dt, m_integrator.tolerance);
+        const double factor = adaptiveStepFactor(error, m_tableau.embeddedOrder);
+        if (error <= 1.0) {
+            report.dt = dt;
+            report.rejectedSteps = attempt;
+            m_dtNext = dt * factor;
+            backend.acceptStage();
+            return;
+        }
+        dt *= factor;
+        if (attempt >= 60 || dt < 1e-12 * m_integrator.dt) {
+            throw InstabilityError("adaptive dp5 could not meet tolerance " + std::to_string(m_integrator.tolerance) +
+                                   ": step size fell to " + std::to_string(dt) + " after " + std::to_string(attempt + 1) +
+                                   " rejected attempts");
+        }
+    }
+}
+
+}  // namespace corebox

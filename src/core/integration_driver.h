@@ -1,0 +1,40 @@
+// The integration part of a step, written once for every backend: velocity Verlet with its cached
+// accelerations, a fixed-step explicit Runge-Kutta method, or Dormand-Prince with its step-size
+// controller (reject and retry until the embedded error estimate is within tolerance). The driver
+// owns what outlives a step: the Butcher table (sent to the backend when the method changes), the
+// next adaptive step size and whether the backend's cached accelerations still match its positions.
+#pragma once
+
+#include "backend.h"
+#include "butcher_tableau.h"
+#include "scene.h"
+#include "step_report.h"
+
+namespace corebox {
+
+class IntegrationDriver {
+public:
+    // Applies an integrator setting (at creation and on every live edit); a new dt restarts the
+    // adaptive controller from it.
+    void configure(Backend& backend, const IntegratorDef& integrator);
+    // The backend's state changed behind the driver's back (new state, collisions, a new model):
+    // Verlet's cached accelerations must be recomputed before they are used again.
+    void invalidateAccelerations() { m_accelerationsValid = false; }
+
+    // Advances the backend's state by one step; fills report.dt and report.rejectedSteps. Throws
+    // InstabilityError when the adaptive controller cannot meet its tolerance.
+    void integrate(Backend& backend, StepReport& report);
+
+private:
+    void verletStep(Backend& backend, double dt);
+    void rkStep(Backend& backend, double dt, int stages);
+    void adaptiveStep(Backend& backend, StepReport& report);
+
+    IntegratorDef m_integrator;
+    ButcherTableau m_tableau{};
+    bool m_configured = false;
+    double m_dtNext = 0;
+    bool m_accelerationsValid = false;
+};
+
+}  // namespace corebox
