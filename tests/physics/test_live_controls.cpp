@@ -1,13 +1,26 @@
-// The panel's logic without ImGui: every control's edit reaches the simulation parameter it names;
-// live ones at once, restart-needed ones only on Reset. Switching method or precision mid-run keeps
-// the state (positions continuous across the switch).
+// The panel's logic without ImGui: every control's edit reaches what the running simulation computes
+// with; live ones at once, restart-needed ones only on Reset. Switching method or precision mid-run
+// keeps the state (positions continuous across the switch).
+//
+// The live edits are checked by behaviour that only holds if the backend uses the new values, never
+// by reading back the scene copy the controls keep (that copy is read only for the controls' own
+// bookkeeping: symmetric mixing, like/unlike, what a reset applies): gravity changes the momentum of
+// a free system by M g dt per step; restitution turns exactly-zero dissipation into positive; mixing
+// changes the potential energy by the amount the pair potential gives for the new x_ij; and after all
+// edits at once the run steps exactly like a simulation created with those values. Every test runs on
+// each backend present (cpu, cuda).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "physics_fixtures.h"
 #include "session.h"
 #include "simulation_controls.h"
+#include "thermostat_formulas.h"
 
 using namespace corebox;
 using namespace corebox::testing;
@@ -33,12 +46,64 @@ Scene twoSpecies() {
     return scene;
 }
 
-BackendChoice cpu() { return BackendChoice{"cpu", Precision::Fp64, 1, 0}; }
+Vec3<double> momentumOf(const ParticleState& st, const Scene& scene) {
+    Vec3<double> p{0, 0, 0};
+    for (size_t i = 0; i < st.size(); ++i) p += scene.species[size_t(st.species[i])].mass * st.velocity[i];
+    return p;
+}
+
+double totalMassOf(const ParticleState& st, const Scene& scene) {
+    double m = 0;
+    for (int32_t s : st.species) m += scene.species[size_t(s)].mass;
+    return m;
+}
+
+// dU/dx_ij summed over the pairs of species i and j (i != j) of a state, for LJ with sigma = eps = 1
+// and a shifted-force cutoff r_c. The potential is linear in the mixing: only the attraction
+// -4 x g(R), g = R^-6, carries it, shifted like the rest, so per pair within r_c
+//     dU/dx = -4 [g(R) - g(r_c) + 6 (R - r_c) g(r_c) / r_c]
+// and a mixing edit x -> x' changes the potential by (x' - x) times this sum. Also returns the sum of
+// |dU/dx| over those pairs (the scale for round-off).
+double mixingDerivative(const ParticleState& st, int32_t si, int32_t sj, double rc, double* magnitude) {
+    const double grc = std::pow(rc, -6.0);
+    double sum = 0, abs = 0;
+    for (size_t i = 0; i < st.size(); ++i) {
+        for (size_t k = i + 1; k < st.size(); ++k) {
+            const bool pair = (st.species[i] == si && st.species[k] == sj) || (st.species[i] == sj && st.species[k] == si);
+            if (!pair) continue;
+            const double r = std::sqrt(norm2(st.position[i] - st.position[k]));
+            if (r >= rc) continue;
+            const double d = -4.0 * (std::pow(r, -6.0) - grc + 6.0 * (r - rc) * grc / rc);
+            sum += d;
+            abs += std::fabs(d);
+        }
+    }
+    *magnitude = abs;
+    return sum;
+}
+
+double maxDifference(const ParticleState& a, const ParticleState& b) {
+    double worst = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+            worst = std::max(worst, std::fabs(a.position[i][k] - b.position[i][k]));
+            worst = std::max(worst, std::fabs(a.velocity[i][k] - b.velocity[i][k]));
+        }
+    }
+    return worst;
+}
+
+class LiveControls : public OnEveryBackend {
+protected:
+    BackendChoice choice() const { return BackendChoice{backendName(), Precision::Fp64, 1, 0}; }
+};
 
 }  // namespace
 
-TEST(LiveControls, LiveEditsReachTheRunningSimulationWithoutARestart) {
-    Session session(twoSpecies(), cpu());
+INSTANTIATE_TEST_SUITE_P(Backends, LiveControls, ::testing::ValuesIn(backendNames()), backendInstanceName);
+
+TEST_P(LiveControls, LiveEditsReachTheRunningSimulationWithoutARestart) {
+    Session session(twoSpecies(), choice());
     SimulationControls controls(session);
     for (int s = 0; s < 5; ++s) session.simulation().step();
     const ParticleState before = session.simulation().state();
@@ -54,27 +119,55 @@ TEST(LiveControls, LiveEditsReachTheRunningSimulationWithoutARestart) {
     controls.setWallRestitution(0.7);
     controls.setGravity({0, 0, -0.5});
 
+    // The controls' own bookkeeping: one mixing edit sets x_01 and x_10 and leaves the diagonal.
     const Scene& live = session.runningScene();
-    EXPECT_EQ(live.thermostat.temperature, 2.5);
-    EXPECT_EQ(live.thermostat.tau, 0.3);
-    EXPECT_EQ(live.thermostat.kind, ThermostatKind::Rescale);
     EXPECT_EQ(live.mixing(0, 1), 0.25);
-    EXPECT_EQ(live.mixing(1, 0), 0.25);  // symmetric
+    EXPECT_EQ(live.mixing(1, 0), 0.25);
     EXPECT_EQ(live.mixing(0, 0), 1.0);
-    EXPECT_EQ(live.integrator.method, Method::Verlet);
-    EXPECT_EQ(live.integrator.dt, 1e-3);
-    EXPECT_EQ(live.interaction.restitution, 0.8);
-    EXPECT_EQ(live.box.wallRestitution, 0.7);
-    EXPECT_EQ(live.interaction.gravity[2], -0.5);
     // No restart: same backend generation, same particles, same step count.
     EXPECT_EQ(session.generation(), generation);
     EXPECT_EQ(session.simulation().stepIndex(), 5);
     const ParticleState after = session.simulation().state();
     for (size_t i = 0; i < before.size(); ++i) ASSERT_EQ(norm2(after.position[i] - before.position[i]), 0.0);
-    // And the next step uses them: dt = 1e-3 advances the clock by exactly that.
-    const double t = session.simulation().time();
-    session.simulation().step();
-    EXPECT_NEAR(session.simulation().time() - t, 1e-3, 1e-15);
+
+    // What the next steps compute with. A simulation created with the edited values (written out
+    // here, not taken from the controls) from the same state on the same backend does the same
+    // arithmetic, so the two must agree to round-off; 1e-12 leaves room for a reduction order that a
+    // GPU may vary between runs. One created with the values before the edits must not agree (the
+    // edits change positions by >= 1e-8 in three steps), so the comparison can tell them apart.
+    Scene edited = twoSpecies();
+    edited.thermostat.kind = ThermostatKind::Rescale;
+    edited.thermostat.temperature = 2.5;
+    edited.thermostat.tau = 0.3;
+    edited.interaction.mixing = {{1.0, 0.25}, {0.25, 1.0}};
+    edited.integrator.method = Method::Verlet;
+    edited.integrator.dt = 1e-3;
+    edited.interaction.restitution = 0.8;
+    edited.box.wallRestitution = 0.7;
+    edited.interaction.gravity = {0, 0, -0.5};
+    auto reference = makeSimulation(backendName(), edited, before, 1);
+    auto unedited = makeSimulation(backendName(), twoSpecies(), before, 1);
+
+    Simulation& sim = session.simulation();
+    const double t0 = sim.time();
+    for (int s = 0; s < 3; ++s) {
+        const double thermostat0 = sim.thermostatEnergy();
+        sim.step();
+        reference->step();
+        unedited->step();
+        // The rescale thermostat with the new target and tau: K' = K + (dt / tau) (K_target - K), K the
+        // kinetic energy before it acted (K' minus the energy it added). Bussi, or the old target or
+        // tau, give another K'.
+        const double kAfter = sim.lastKineticEnergy();
+        const double kBefore = kAfter - (sim.thermostatEnergy() - thermostat0);
+        const double kTarget = 0.5 * 3.0 * double(sim.particleCount()) * 2.5;
+        EXPECT_NEAR(kAfter, rescaleKineticEnergy(kBefore, kTarget, 1e-3, 0.3), 1e-12 * kAfter) << "step " << s;
+    }
+    // dt = 1e-3 advances the clock by exactly that per step.
+    EXPECT_NEAR(sim.time() - t0, 3e-3, 1e-15);
+    const ParticleState now = sim.state();
+    EXPECT_LT(maxDifference(now, reference->state()), 1e-12);
+    EXPECT_GT(maxDifference(now, unedited->state()), 1e-8);
 
     controls.setLikeUnlikeMixing(1.2, 0.4);
     EXPECT_EQ(session.runningScene().mixing(0, 0), 1.2);
@@ -82,8 +175,120 @@ TEST(LiveControls, LiveEditsReachTheRunningSimulationWithoutARestart) {
     EXPECT_EQ(session.runningScene().mixing(0, 1), 0.4);
 }
 
-TEST(LiveControls, RestartSettingsWaitForReset) {
-    Session session(twoSpecies(), cpu());
+TEST_P(LiveControls, GravityEditChangesTheMomentumByMGDtPerStep) {
+    // A free system: hard spheres without pair force, on a lattice of spacing 5 in a 20^3 box (2.5
+    // from the walls), at T = 1: in a few steps of 1e-3 nothing collides, so only gravity can change
+    // the momentum, by M g dt per step exactly. Tolerance 1e-9 of M g dt: the momentum sums over 64
+    // particles carry round-off ~1e-14, the effect checked is the whole M g dt.
+    Scene scene = hardSphereScene(0, 20.0, Method::Verlet, 1e-3);
+    SpeciesDef light = scene.species[0], heavy = scene.species[0];
+    light.name = "light";
+    light.count = 40;
+    heavy.name = "heavy";
+    heavy.count = 24;
+    heavy.mass = 2.5;
+    scene.species = {light, heavy};
+    Session session(scene, choice());
+    SimulationControls controls(session);
+    Simulation& sim = session.simulation();
+    const double mass = totalMassOf(sim.state(), scene);
+    auto checkSteps = [&](const std::array<double, 3>& g) {
+        for (int s = 0; s < 3; ++s) {
+            const Vec3<double> p0 = momentumOf(sim.state(), scene);
+            const StepReport r = sim.step();
+            ASSERT_EQ(r.pairCollisions + r.wallCollisions + r.positionalFixes, 0) << "the system is not free";
+            const Vec3<double> dp = momentumOf(sim.state(), scene) - p0;
+            const double scale = std::max(mass * std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) * 1e-3, 1e-3);
+            for (int a = 0; a < 3; ++a) {
+                EXPECT_NEAR(dp[a], mass * g[size_t(a)] * 1e-3, 1e-9 * scale) << "g = (" << g[0] << ", " << g[1] << ", " << g[2]
+                                                                              << "), step " << s << ", axis " << a;
+            }
+        }
+    };
+    checkSteps({0, 0, 0});
+    controls.setGravity({0.3, 0, -0.5});
+    checkSteps({0.3, 0, -0.5});
+    controls.setGravity({0, 0, 0});
+    checkSteps({0, 0, 0});
+}
+
+TEST_P(LiveControls, RestitutionEditsChangeTheDissipatedEnergy) {
+    // A dense elastic hard-sphere gas (packing fraction 0.31, T = 2): many pair and wall collisions in
+    // every phase of 40 steps. Elastic collisions dissipate exactly nothing ((1 - e^2) = 0, no forces),
+    // so any dissipation in a phase comes from the one restitution that was edited below 1.
+    Scene scene = hardSphereScene(300, 8.0, Method::Verlet, 5e-3);
+    scene.init.temperature = 2.0;
+    Session session(scene, choice());
+    SimulationControls controls(session);
+    Simulation& sim = session.simulation();
+    struct Phase {
+        int64_t pair = 0, wall = 0;
+        double dissipated = 0;
+    };
+    auto run = [&]() {
+        Phase p;
+        for (int s = 0; s < 40; ++s) {
+            const StepReport r = sim.step();
+            p.pair += r.pairCollisions;
+            p.wall += r.wallCollisions;
+            p.dissipated += r.dissipated;
+        }
+        return p;
+    };
+    const Phase elastic = run();
+    EXPECT_GT(elastic.pair, 20);
+    EXPECT_GT(elastic.wall, 20);
+    EXPECT_EQ(elastic.dissipated, 0.0);
+
+    controls.setWallRestitution(0.7);  // pairs stay elastic: only wall hits can dissipate
+    const Phase walls = run();
+    EXPECT_GT(walls.wall, 20);
+    // Each wall hit loses (1 - 0.49) m v_n^2 / 2, about 0.5 kT on average: far above zero.
+    EXPECT_GT(walls.dissipated, 0.05 * double(walls.wall));
+
+    controls.setWallRestitution(1.0);
+    controls.setRestitution(0.8);  // walls elastic again: only pair collisions can dissipate
+    const Phase pairs = run();
+    EXPECT_GT(pairs.pair, 20);
+    EXPECT_GT(pairs.dissipated, 0.05 * double(pairs.pair));
+
+    controls.setRestitution(1.0);  // and back: exactly nothing again
+    EXPECT_EQ(run().dissipated, 0.0);
+}
+
+TEST_P(LiveControls, MixingEditChangesThePotentialByThePairAmount) {
+    Session session(twoSpecies(), choice());
+    SimulationControls controls(session);
+    Simulation& sim = session.simulation();
+    for (int s = 0; s < 5; ++s) sim.step();
+    const ParticleState st = sim.state();
+    const double rc = twoSpecies().interaction.cutoff;
+    double scale01 = 0, scale00 = 0, scale11 = 0;
+    const double d01 = mixingDerivative(st, 0, 1, rc, &scale01);
+    const double d00 = mixingDerivative(st, 0, 0, rc, &scale00);
+    const double d11 = mixingDerivative(st, 1, 1, rc, &scale11);
+    ASSERT_GT(std::fabs(d01), 1.0);  // enough unlike pairs within the cutoff for the edit to show
+    ASSERT_GT(std::fabs(d00) + std::fabs(d11), 1.0);
+
+    // No step in between: the state is the same, so the potential (a force pass on the backend) moves
+    // only by the mixing. Tolerance: 1e-10 of the summed |dU/dx| (round-off of sums of ~1e3 terms).
+    const double u0 = sim.observe().potential;
+    controls.setMixing(0, 1, 0.25);
+    const double u1 = sim.observe().potential;
+    EXPECT_NEAR(u1 - u0, (0.25 - 1.0) * d01, 1e-10 * scale01);
+
+    controls.setLikeUnlikeMixing(1.2, 0.4);
+    const double u2 = sim.observe().potential;
+    EXPECT_NEAR(u2 - u0, (0.4 - 1.0) * d01 + (1.2 - 1.0) * (d00 + d11), 1e-10 * (scale01 + scale00 + scale11));
+    // The controls' bookkeeping of the like/unlike edit.
+    EXPECT_EQ(session.runningScene().mixing(0, 0), 1.2);
+    EXPECT_EQ(session.runningScene().mixing(1, 1), 1.2);
+    EXPECT_EQ(session.runningScene().mixing(0, 1), 0.4);
+    EXPECT_EQ(session.runningScene().mixing(1, 0), 0.4);
+}
+
+TEST_P(LiveControls, RestartSettingsWaitForReset) {
+    Session session(twoSpecies(), choice());
     SimulationControls controls(session);
     controls.setSpeciesCount(0, 80);
     controls.setSpeciesMass(1, 3.0);
@@ -96,6 +301,7 @@ TEST(LiveControls, RestartSettingsWaitForReset) {
     EXPECT_EQ(session.runningScene().species[1].mass, 2.0);
     EXPECT_EQ(session.runningScene().box.size[0], 8.0);
     EXPECT_EQ(session.simulation().particleCount(), 100);
+    EXPECT_EQ(session.simulation().state().size(), 100u);
 
     EXPECT_EQ(controls.reset(), "");
     EXPECT_FALSE(controls.restartPending());
@@ -108,20 +314,25 @@ TEST(LiveControls, RestartSettingsWaitForReset) {
     EXPECT_EQ(live.thermostat.temperature, 1.7);
     EXPECT_EQ(session.simulation().particleCount(), 120);
     EXPECT_EQ(session.simulation().stepIndex(), 0);
+    // The backend holds the new particles: 80 of species 0 and 40 of species 1.
+    const ParticleState st = session.simulation().state();
+    ASSERT_EQ(st.size(), 120u);
+    EXPECT_EQ(std::count(st.species.begin(), st.species.end(), 0), 80);
 }
 
-TEST(LiveControls, AResetThatCannotWorkChangesNothing) {
-    Session session(twoSpecies(), cpu());
+TEST_P(LiveControls, AResetThatCannotWorkChangesNothing) {
+    Session session(twoSpecies(), choice());
     SimulationControls controls(session);
     controls.setSpeciesCount(0, 100000);  // cannot fit
     const std::string error = controls.reset();
     EXPECT_NE(error.find("more particles than fit"), std::string::npos) << error;
     EXPECT_EQ(session.simulation().particleCount(), 100);
+    EXPECT_EQ(session.simulation().state().size(), 100u);
     EXPECT_TRUE(controls.restartPending());
 }
 
-TEST(LiveControls, SwitchingMethodOrPrecisionKeepsTheState) {
-    Session session(twoSpecies(), cpu());
+TEST_P(LiveControls, SwitchingMethodOrPrecisionKeepsTheState) {
+    Session session(twoSpecies(), choice());
     SimulationControls controls(session);
     for (int s = 0; s < 10; ++s) session.simulation().step();
     const ParticleState before = session.simulation().state();
