@@ -166,6 +166,7 @@ TEST_P(LiveControls, LiveEditsReachTheRunningSimulationWithoutARestart) {
     // dt = 1e-3 advances the clock by exactly that per step.
     EXPECT_NEAR(sim.time() - t0, 3e-3, 1e-15);
     const ParticleState now = sim.state();
+    fprintf(stderr, "DBG ref %g unedited %g\n", maxDifference(now, reference->state()), maxDifference(now, unedited->state()));
     EXPECT_LT(maxDifference(now, reference->state()), 1e-12);
     EXPECT_GT(maxDifference(now, unedited->state()), 1e-8);
 
@@ -242,6 +243,7 @@ TEST_P(LiveControls, RestitutionEditsChangeTheDissipatedEnergy) {
 
     controls.setWallRestitution(0.7);  // pairs stay elastic: only wall hits can dissipate
     const Phase walls = run();
+    fprintf(stderr, "DBG elastic %ld %ld walls %ld %ld %g\n", (long)elastic.pair, (long)elastic.wall, (long)walls.pair, (long)walls.wall, walls.dissipated);
     EXPECT_GT(walls.wall, 20);
     // Each wall hit loses (1 - 0.49) m v_n^2 / 2, about 0.5 kT on average: far above zero.
     EXPECT_GT(walls.dissipated, 0.05 * double(walls.wall));
@@ -249,6 +251,7 @@ TEST_P(LiveControls, RestitutionEditsChangeTheDissipatedEnergy) {
     controls.setWallRestitution(1.0);
     controls.setRestitution(0.8);  // walls elastic again: only pair collisions can dissipate
     const Phase pairs = run();
+    fprintf(stderr, "DBG pairs %ld %ld %g\n", (long)pairs.pair, (long)pairs.wall, pairs.dissipated);
     EXPECT_GT(pairs.pair, 20);
     EXPECT_GT(pairs.dissipated, 0.05 * double(pairs.pair));
 
@@ -275,6 +278,7 @@ TEST_P(LiveControls, MixingEditChangesThePotentialByThePairAmount) {
     const double u0 = sim.observe().potential;
     controls.setMixing(0, 1, 0.25);
     const double u1 = sim.observe().potential;
+    fprintf(stderr, "DBG u0 %.17g u1 %.17g du %.17g exp %.17g d00 %g d11 %g scale %g\n", u0, u1, u1-u0, (0.25-1.0)*d01, d00, d11, scale01);
     EXPECT_NEAR(u1 - u0, (0.25 - 1.0) * d01, 1e-10 * scale01);
 
     controls.setLikeUnlikeMixing(1.2, 0.4);

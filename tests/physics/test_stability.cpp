@@ -143,6 +143,7 @@ TEST_P(Stability, ABlowUpIsStoppedAtTheStepThatBreaksAndTheStateBeforeItIsKept) 
             ASSERT_TRUE(finiteAndInside(now, scene)) << "after step " << sim->stepIndex() << ", which did not throw";
             beforeStep = now;
         }
+        fprintf(stderr, "DBG %s step %ld: %s\n", methodName(m), (long)sim->stepIndex(), message.c_str());
         ASSERT_FALSE(message.empty()) << "omega*dt = 3.5 ran 100000 steps without being stopped";
         // The message names the step that broke (the step counter already counts it), the method and dt.
         EXPECT_NE(message.find("instability at step " + std::to_string(sim->stepIndex()) + " "), std::string::npos) << message;
