@@ -10,10 +10,10 @@
 
 #include "butcher_tableau.h"
 #include "collision_resolution.h"
-#include "contact_grid.h"
 #include "cpu_parallel.h"
 #include "energy_terms.h"
 #include "errors.h"
+#include "host_cell_list.h"
 #include "host_info.h"
 #include "maxwell_boltzmann.h"
 #include "pair_table.h"
@@ -409,7 +409,7 @@ private:
     std::vector<Vec3<Real>> m_contactAcceleration;
     std::vector<char> m_hasContactAcceleration;
     std::vector<int64_t> m_needAcceleration;
-    ContactGrid<Real> m_grid;
+    CellList m_grid;
     std::vector<double> m_loss;
     std::vector<Vec3<Real>> m_snapshotX, m_snapshotV;
 };
