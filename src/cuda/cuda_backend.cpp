@@ -350,32 +350,29 @@ public:
     }
 
 private:
-    gpu::GridArgs<Real> grid() {
-        gpu::GridArgs<Real> g{};
+    // Rebuilds the contact cell list from the current positions (cell_list.h: the one rule, cells at
+    // least the largest contact distance wide) and returns its view for the collision kernels.
+    CellListView buildGrid(cudaStream_t s) {
+        gpu::CellListArgs<Real> g{};
         g.x = m_x.data();
         g.n = m_n;
-        const double reach = 2.0 * m_maxRadius;
-        const double volume = double(m_box.x) * double(m_box.y) * double(m_box.z);
-        const double cell = std::max(reach, std::cbrt(volume / double(std::max<int64_t>(2 * m_n, 1))));
-        int cells = 1;
-        for (int a = 0; a < 3; ++a) {
-            g.dims[a] = std::max(1, int(double(m_box[a]) / cell));
-            g.inverseCell[a] = Real(double(g.dims[a]) / double(m_box[a]));
-            cells *= g.dims[a];
-        }
-        m_cellOf.resize(size_t(m_n));
+        g.geometry = cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_maxRadius);
+        m_cellKeys.resize(size_t(m_n));
+        m_sortedCellKeys.resize(size_t(m_n));
+        m_cellIndices.resize(size_t(m_n));
         m_sorted.resize(size_t(m_n));
-        m_cellStart.resize(size_t(cells) + 1);
-        m_cellFill.resize(size_t(cells) + 1);
-        const size_t scratch = gpu::gridScanScratchBytes(cells);
-        m_scanScratch.resize(scratch);
-        g.cellOf = m_cellOf.data();
+        m_cellStart.resize(size_t(g.geometry.cellCount()) + 1);
+        const size_t scratch = gpu::cellListScratchBytes(m_n);
+        m_cellScratch.resize(scratch);
         g.cellStart = m_cellStart.data();
-        g.cellFill = m_cellFill.data();
         g.sorted = m_sorted.data();
-        g.scanScratch = m_scanScratch.data();
-        g.scanScratchBytes = scratch;
-        return g;
+        g.keys = m_cellKeys.data();
+        g.sortedKeys = m_sortedCellKeys.data();
+        g.indices = m_cellIndices.data();
+        g.scratch = m_cellScratch.data();
+        g.scratchBytes = scratch;
+        gpu::launchBuildCellList(g, s);
+        return g.view();
     }
 
     void resolveCollisions(StepReport& report) {
@@ -408,8 +405,7 @@ private:
         const gpu::ForceArgs<Real> forces = forceArgs(m_x.data(), nullptr);
         bool done = false;
         for (int round = 0; round < m_params.interaction.maxCollisionRounds && !done; ++round) {
-            a.grid = grid();
-            gpu::launchBuildGrid(a.grid, s);
+            a.grid = buildGrid(s);
             cudaCheck(cudaMemsetAsync(m_counters.data(), 0, 2 * sizeof(unsigned int), s), "memset");
             gpu::launchFindEvents(a, s);
             unsigned int need = 0;
@@ -426,8 +422,7 @@ private:
         }
         if (!done) {
             // The cap was reached; look once more with every particle active.
-            a.grid = grid();
-            gpu::launchBuildGrid(a.grid, s);
+            a.grid = buildGrid(s);
             cudaCheck(cudaMemsetAsync(m_active.data(), 1, n, s), "memset");
             cudaCheck(cudaMemsetAsync(m_counters.data(), 0, 2 * sizeof(unsigned int), s), "memset");
             cudaCheck(cudaMemsetAsync(m_hasContactAcceleration.data(), 1, n, s), "memset");  // find only, list nothing
@@ -471,8 +466,9 @@ private:
     DeviceBuffer<Real> m_mass, m_invMass, m_radius;
     DeviceBuffer<Vec3<Real>> m_x, m_v, m_acceleration, m_scratch, m_xStage, m_vStage, m_kx, m_kv, m_contactAcceleration;
     DeviceBuffer<Vec3<Real>> m_snapshotX, m_snapshotV;
-    DeviceBuffer<int32_t> m_species, m_cellOf, m_sorted, m_cellStart, m_cellFill, m_needList;
-    DeviceBuffer<unsigned char> m_scanScratch, m_sortScratch, m_forceScratch;
+    DeviceBuffer<int32_t> m_species, m_cellIndices, m_sorted, m_cellStart, m_needList;
+    DeviceBuffer<uint32_t> m_cellKeys, m_sortedCellKeys;
+    DeviceBuffer<unsigned char> m_cellScratch, m_sortScratch, m_forceScratch;
     DeviceBuffer<CollisionEvent> m_events;
     DeviceBuffer<char> m_active, m_hasContactAcceleration;
     DeviceBuffer<unsigned int> m_counters;
