@@ -1,61 +1,12 @@
 // A posteriori collision rounds on the GPU (DESIGN.md sec. 2) with the shared event and resolution
-// functions of collision_resolution.h. Contacts are found through a uniform grid (cells at least
-// the largest contact distance wide) rebuilt by counting sort every round; the order of particles
-// inside a cell does not matter because every choice is made by the deterministic event order.
-#include <cub/device/device_scan.cuh>
-
+// functions of collision_resolution.h. Contacts are found through the cell list (cell_list.h, cells at
+// least the largest contact distance wide), rebuilt by cell_list_kernels.cu every round since
+// resolution moves particles.
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
 
 namespace corebox::gpu {
 namespace {
-
-template <class Real>
-__device__ int cellCoord(Real p, Real inverseCell, int dim) {
-    const int c = int(floor(double(p) * double(inverseCell)));
-    return c < 0 ? 0 : (c >= dim ? dim - 1 : c);
-}
-
-template <class Real>
-__global__ void assignCellsKernel(GridArgs<Real> g) {
-    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i >= g.n) return;
-    const Vec3<Real> x = g.x[i];
-    const int cx = cellCoord(x.x, g.inverseCell[0], g.dims[0]);
-    const int cy = cellCoord(x.y, g.inverseCell[1], g.dims[1]);
-    const int cz = cellCoord(x.z, g.inverseCell[2], g.dims[2]);
-    const int cell = (cz * g.dims[1] + cy) * g.dims[0] + cx;
-    g.cellOf[i] = cell;
-    atomicAdd(&g.cellFill[cell], 1);
-}
-
-template <class Real>
-__global__ void scatterKernel(GridArgs<Real> g) {
-    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i >= g.n) return;
-    const int slot = atomicAdd(&g.cellFill[g.cellOf[i]], 1);
-    g.sorted[slot] = int32_t(i);
-}
-
-template <class Real, class Fn>
-__device__ void forNeighbours(const GridArgs<Real>& g, Vec3<Real> x, Fn&& fn) {
-    const int c[3] = {cellCoord(x.x, g.inverseCell[0], g.dims[0]), cellCoord(x.y, g.inverseCell[1], g.dims[1]),
-                      cellCoord(x.z, g.inverseCell[2], g.dims[2])};
-    for (int dz = -1; dz <= 1; ++dz) {
-        const int z = c[2] + dz;
-        if (z < 0 || z >= g.dims[2]) continue;
-        for (int dy = -1; dy <= 1; ++dy) {
-            const int y = c[1] + dy;
-            if (y < 0 || y >= g.dims[1]) continue;
-            for (int dx = -1; dx <= 1; ++dx) {
-                const int xx = c[0] + dx;
-                if (xx < 0 || xx >= g.dims[0]) continue;
-                const int cell = (z * g.dims[1] + y) * g.dims[0] + xx;
-                for (int k = g.cellStart[cell]; k < g.cellStart[cell + 1]; ++k) fn(int64_t(g.sorted[k]));
-            }
-        }
-    }
-}
 
 template <class Real>
 __global__ void findEventsKernel(CollisionArgs<Real> a) {
@@ -65,7 +16,7 @@ __global__ void findEventsKernel(CollisionArgs<Real> a) {
     const Vec3<Real> xi = a.p.x[i], vi = a.p.v[i];
     const Real ri = a.table.radius[a.p.species[i]];
     CollisionEvent best = noEvent();
-    forNeighbours(a.grid, xi, [&](int64_t j) {
+    forEachNeighbour(a.grid, xi, [&](int64_t j) {
         if (j == i || !(checkAll || a.active[j])) return;
         considerPair(xi, vi, ri, a.p.x[j], a.p.v[j], a.table.radius[a.p.species[j]], j, best);
     });
@@ -155,25 +106,6 @@ __global__ void updateActiveKernel(CollisionArgs<Real> a) {
 
 }  // namespace
 
-size_t gridScanScratchBytes(int cells) {
-    size_t bytes = 0;
-    cub::DeviceScan::ExclusiveSum(nullptr, bytes, static_cast<int32_t*>(nullptr), static_cast<int32_t*>(nullptr), cells + 1);
-    return bytes;
-}
-
-template <class Real>
-void launchBuildGrid(const GridArgs<Real>& g, cudaStream_t stream) {
-    const int cells = g.dims[0] * g.dims[1] * g.dims[2];
-    cudaMemsetAsync(g.cellFill, 0, size_t(cells + 1) * sizeof(int32_t), stream);
-    assignCellsKernel<Real><<<blocksFor(g.n), kBlock, 0, stream>>>(g);
-    checkLaunch("cell assignment kernel");
-    size_t bytes = g.scanScratchBytes;
-    cub::DeviceScan::ExclusiveSum(g.scanScratch, bytes, g.cellFill, g.cellStart, cells + 1, stream);
-    cudaMemcpyAsync(g.cellFill, g.cellStart, size_t(cells) * sizeof(int32_t), cudaMemcpyDeviceToDevice, stream);
-    scatterKernel<Real><<<blocksFor(g.n), kBlock, 0, stream>>>(g);
-    checkLaunch("cell scatter kernel");
-}
-
 template <class Real>
 void launchFindEvents(const CollisionArgs<Real>& a, cudaStream_t stream) {
     findEventsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
@@ -200,7 +132,6 @@ void launchUpdateActive(const CollisionArgs<Real>& a, cudaStream_t stream) {
 }
 
 #define COREBOX_INSTANTIATE(Real)                                                                                  \
-    template void launchBuildGrid<Real>(const GridArgs<Real>&, cudaStream_t);                                      \
     template void launchFindEvents<Real>(const CollisionArgs<Real>&, cudaStream_t);                                \
     template void launchContactAccelerations<Real>(const CollisionArgs<Real>&, const ForceArgs<Real>&, int, cudaStream_t); \
     template void launchResolve<Real>(const CollisionArgs<Real>&, cudaStream_t);                                  \

@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "butcher_tableau.h"
+#include "cell_list.h"
 #include "collision_resolution.h"
 #include "pair_potential.h"
 #include "particle_instance.h"
@@ -85,31 +86,36 @@ void launchVerletDrift(Vec3<Real>* x, const Vec3<Real>* v, int64_t n, Real dt, c
 template <class Real>
 void launchScale(Vec3<Real>* v, int64_t n, Real alpha, cudaStream_t stream);
 
-// ---- collisions (collision_kernels.cu) ----
+// ---- cell list (cell_list_kernels.cu; layout and rule in cell_list.h) ----
 template <class Real>
-struct GridArgs {
-    const Vec3<Real>* x;
-    int64_t n;
-    int dims[3];
-    Real inverseCell[3];
-    int32_t* cellOf;     // n
-    int32_t* cellStart;  // cells + 1
-    int32_t* cellFill;   // cells (scratch)
-    int32_t* sorted;     // n
-    void* scanScratch;
-    size_t scanScratchBytes;
-};
-// Bytes of scratch the grid build needs for `cells` cells.
-size_t gridScanScratchBytes(int cells);
-template <class Real>
-void launchBuildGrid(const GridArgs<Real>& args, cudaStream_t stream);
+struct CellListArgs {
+    const Vec3<Real>* x;    // n positions
+    int64_t n;              // at most INT32_MAX
+    CellGeometry geometry;  // from cellGeometry (the one rule)
+    int32_t* cellStart;     // out: cells + 1
+    int32_t* sorted;        // out: n particle indices by ascending (cell key, index)
+    uint32_t* keys;         // scratch: n cell keys
+    uint32_t* sortedKeys;   // scratch: n cell keys, sorted
+    int32_t* indices;       // scratch: n (0 .. n-1, the values the sort carries)
+    void* scratch;          // radix sort scratch, cellListScratchBytes(n) large
+    size_t scratchBytes;
 
+    CellListView view() const { return CellListView{geometry, cellStart, sorted}; }
+};
+// Bytes of radix-sort scratch a cell list of n particles needs.
+size_t cellListScratchBytes(int64_t n);
+// Keys per particle, a stable radix sort of (key, index) pairs, then cellStart by a binary search per
+// cell: no atomics, so the arrays are the same on every run and equal to the host's counting sort.
+template <class Real>
+void launchBuildCellList(const CellListArgs<Real>& args, cudaStream_t stream);
+
+// ---- collisions (collision_kernels.cu) ----
 template <class Real>
 struct CollisionArgs {
     ParticleArrays<Real> p;
     SpeciesTable<Real> table;
     Vec3<Real> box;
-    GridArgs<Real> grid;
+    CellListView grid;  // contacts: cells at least the largest a_i + a_j wide
     CollisionEvent* events;
     char* active;
     Vec3<Real>* contactAcceleration;

@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include "errors.h"
-#include "overlap_grid.h"
+#include "host_cell_list.h"
 #include "rng.h"
 #include "state_csv.h"
 
@@ -80,7 +80,8 @@ void placeRandomly(const Scene& scene, ParticleState& state) {
     double maxDistance = 0;
     for (const SpeciesDef& a : scene.species)
         for (const SpeciesDef& b : scene.species) maxDistance = std::max(maxDistance, placementDistance(a, b));
-    OverlapGrid grid(scene.box.size, maxDistance);
+    const Vec3<double> box{scene.box.size[0], scene.box.size[1], scene.box.size[2]};
+    IncrementalCellList grid(cellGeometry(box, n, maxDistance), n);
     constexpr int kAttempts = 2000;
     for (int64_t i = 0; i < n; ++i) {
         const SpeciesDef& si = scene.species[size_t(state.species[size_t(i)])];
@@ -148,10 +149,14 @@ void checkPlacement(const Scene& scene, const ParticleState& state, const std::s
     }
     double maxContact = 0;
     for (const SpeciesDef& s : scene.species) maxContact = std::max(maxContact, 2 * s.radius);
-    OverlapGrid grid(scene.box.size, maxContact);
+    // Each pair is checked once, from its higher index, so the first overlap reported is the one a
+    // check in file order meets first.
+    CellList grid;
+    grid.build(state.position, Vec3<double>{scene.box.size[0], scene.box.size[1], scene.box.size[2]}, maxContact);
     for (size_t i = 0; i < state.size(); ++i) {
         const double ai = scene.species[size_t(state.species[i])].radius;
         grid.forNeighbours(state.position[i], [&](int64_t j) {
+            if (j >= int64_t(i)) return;
             const double d = ai + scene.species[size_t(state.species[size_t(j)])].radius;
             const double r = std::sqrt(norm2(state.position[i] - state.position[size_t(j)]));
             if (r < d * (1 - slack)) {
@@ -160,7 +165,6 @@ void checkPlacement(const Scene& scene, const ParticleState& state, const std::s
                 throw InputError(locatedMessage(source, 0, "", msg.str()));
             }
         });
-        grid.insert(int64_t(i), state.position[i]);
     }
 }
 

@@ -7,10 +7,10 @@
 #include <cmath>
 
 #include "collision_resolution.h"
-#include "contact_grid.h"
 #include "cpu_parallel.h"
 #include "energy_terms.h"
 #include "errors.h"
+#include "host_cell_list.h"
 #include "host_info.h"
 #include "pair_table.h"
 #include "rk_stage.h"
@@ -380,7 +380,7 @@ private:
     std::vector<int> m_kind;
     std::vector<double> m_loss;
     CollisionTally m_tally;
-    ContactGrid<Real> m_grid;
+    CellList m_grid;
 
     Clock::time_point m_phaseStart[3] = {};
     double m_forceSeconds = 0;  // force passes since the Integrate mark

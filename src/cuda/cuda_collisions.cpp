@@ -1,4 +1,4 @@
-// The CUDA backend's collision rounds: a uniform grid rebuilt each round, every particle's earliest
+// The CUDA backend's collision rounds: the cell list rebuilt each round, every particle's earliest
 // event (kernels/collision_kernels.cu), end-of-step accelerations of the particles about to be
 // resolved, and the resolution of the mutual-earliest matching. One host read-back per round (the
 // counts of findEvents); everything else stays on the stream.
@@ -26,31 +26,7 @@ gpu::CollisionArgs<Real> CudaDevice<Real>::collisionArgs() {
     a.restitution = Real(m_model.restitution);
     a.wallRestitution = Real(m_model.wallRestitution);
     a.elasticBelow = Real(m_model.elasticBelowSpeed);
-    // The grid: cells at least the largest contact distance wide, at most ~2 cells per particle.
-    gpu::GridArgs<Real>& g = a.grid;
-    g.x = m_x.data();
-    g.n = m_n;
-    const double reach = 2.0 * m_model.maxRadius();
-    const double volume = double(m_box.x) * double(m_box.y) * double(m_box.z);
-    const double cell = std::max(reach, std::cbrt(volume / double(std::max<int64_t>(2 * m_n, 1))));
-    int cells = 1;
-    for (int axis = 0; axis < 3; ++axis) {
-        g.dims[axis] = std::max(1, int(double(m_box[axis]) / cell));
-        g.inverseCell[axis] = Real(double(g.dims[axis]) / double(m_box[axis]));
-        cells *= g.dims[axis];
-    }
-    m_cellOf.resize(size_t(m_n));
-    m_sorted.resize(size_t(m_n));
-    m_cellStart.resize(size_t(cells) + 1);
-    m_cellFill.resize(size_t(cells) + 1);
-    const size_t scratch = gpu::gridScanScratchBytes(cells);
-    m_scanScratch.resize(scratch);
-    g.cellOf = m_cellOf.data();
-    g.cellStart = m_cellStart.data();
-    g.cellFill = m_cellFill.data();
-    g.sorted = m_sorted.data();
-    g.scanScratch = m_scanScratch.data();
-    g.scanScratchBytes = scratch;
+    a.grid = m_cellList;
     return a;
 }
 
@@ -72,8 +48,9 @@ void CudaDevice<Real>::beginCollisions() {
 template <class Real>
 int64_t CudaDevice<Real>::findEvents(EventScope scope) {
     cudaStream_t s = stream();
+    // Cells at least the largest contact distance wide (cell_list.h: the one rule).
+    m_cellList = m_contactCells.build(m_x.data(), m_n, cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_model.maxRadius()), s);
     const gpu::CollisionArgs<Real> a = collisionArgs();
-    gpu::launchBuildGrid(a.grid, s);
     if (scope == EventScope::All) cudaCheck(cudaMemsetAsync(m_active.data(), 1, size_t(m_n), s), "memset");
     cudaCheck(cudaMemsetAsync(m_counters.data(), 0, 2 * sizeof(unsigned int), s), "memset");
     gpu::launchFindEvents(a, s);

@@ -9,6 +9,7 @@
 #include "cuda_backend.h"
 #include "cuda_check.h"
 #include "device_buffer.h"
+#include "device_cell_list.h"
 #include "device_partition.h"
 #include "gpu_launch.h"
 
@@ -99,8 +100,10 @@ private:
     DeviceBuffer<Real> m_mass, m_invMass, m_radius;
     DeviceBuffer<Vec3<Real>> m_x, m_v, m_acceleration, m_scratch, m_xStage, m_vStage, m_kx, m_kv, m_contactAcceleration;
     DeviceBuffer<Vec3<Real>> m_snapshotX, m_snapshotV;
-    DeviceBuffer<int32_t> m_species, m_cellOf, m_sorted, m_cellStart, m_cellFill, m_needList;
-    DeviceBuffer<unsigned char> m_scanScratch, m_forceScratch;
+    DeviceBuffer<int32_t> m_species, m_needList;
+    DeviceCellList<Real> m_contactCells;
+    CellListView m_cellList{};  // of the last findEvents
+    DeviceBuffer<unsigned char> m_forceScratch;
     DeviceBuffer<CollisionEvent> m_events;
     DeviceBuffer<char> m_active, m_hasContactAcceleration;
     DeviceBuffer<unsigned int> m_counters;  // [0] particles needing a contact acceleration, [1] particles with an event

@@ -1,0 +1,77 @@
+// Host side of the one cell list (kernels/cell_list.h): the owning arrays behind a CellListView,
+// built from positions by a counting sort. Counting the particles of each cell, prefix-summing the
+// counts into cellStart and then scattering indices in ascending order gives ascending indices inside
+// every cell, the same arrays the GPU's stable radix sort produces, with no dependence on thread
+// count. Used by the CPU backend's contact search (rebuilt every collision round, since resolution
+// moves particles) and by the initial overlap check.
+//
+// (Named host_cell_list.h, not cell_list.h: src/core and kernels/ are both on the include path, and
+// this header includes kernels/cell_list.h, which a same-named file would shadow.)
+//
+// IncrementalCellList serves random placement, which asks "is this spot free?" of a set that grows
+// by one particle at a time: a sorted list would need a rebuild per insertion, so it keeps a linked
+// list per cell instead, with the same geometry, the same rule and the same visiting order.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "cell_list.h"
+#include "vec3.h"
+
+namespace corebox {
+
+class CellList {
+public:
+    // Builds over x with the one rule: cells at least minCell wide (contacts: the largest a_i + a_j).
+    template <class Real>
+    void build(const std::vector<Vec3<Real>>& x, const Vec3<Real>& box, double minCell) {
+        const int64_t n = int64_t(x.size());
+        build(x.data(), n, cellGeometry(vec3Cast<double>(box), n, minCell));
+    }
+    // Builds over x[0 .. n) with a given geometry. Throws std::length_error when n exceeds int32.
+    template <class Real>
+    void build(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry);
+
+    // fn(j) for every particle in the 27 cells around `position` (see forEachNeighbour).
+    template <class Real, class Fn>
+    void forNeighbours(const Vec3<Real>& position, Fn&& fn) const {
+        forEachNeighbour(view(), position, fn);
+    }
+
+    CellListView view() const { return CellListView{m_geometry, m_cellStart.data(), m_sorted.data()}; }
+    const CellGeometry& geometry() const { return m_geometry; }
+    // cells + 1 offsets into sorted(); n particle indices by ascending (cell key, index).
+    const std::vector<int32_t>& cellStart() const { return m_cellStart; }
+    const std::vector<int32_t>& sorted() const { return m_sorted; }
+
+private:
+    // Empty until built: one cell, no particles, so forNeighbours visits nothing.
+    CellGeometry m_geometry{{1, 1, 1}, {1.0, 1.0, 1.0}};
+    std::vector<int32_t> m_cellStart{0, 0};
+    std::vector<int32_t> m_sorted;
+    std::vector<int32_t> m_cellOf;  // scratch of build: each particle's cell key
+};
+
+class IncrementalCellList {
+public:
+    // Room for indices [0, capacity); geometry from cellGeometry (see CellList::build).
+    IncrementalCellList(const CellGeometry& geometry, int64_t capacity);
+
+    // Indices must be inserted in ascending order, so that a cell's list stays ascending.
+    void insert(int64_t index, const Vec3<double>& position);
+
+    template <class Fn>
+    void forNeighbours(const Vec3<double>& position, Fn&& fn) const {
+        forEachNeighbourCell(m_geometry, cellCoords(m_geometry, position), [&](int cell) {
+            for (int64_t j = m_head[size_t(cell)]; j >= 0; j = m_next[size_t(j)]) fn(j);
+        });
+    }
+
+private:
+    CellGeometry m_geometry;
+    std::vector<int64_t> m_head, m_tail;  // per cell: first and last index, -1 when empty
+    std::vector<int64_t> m_next;          // per index: next index in its cell, -1 at the end
+};
+
+}  // namespace corebox
