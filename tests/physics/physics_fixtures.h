@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -47,9 +48,13 @@ protected:
     const std::string& backendName() const { return GetParam(); }
 };
 
-// threads: CPU threads (0: all cores); a GPU backend ignores it.
+// threads: CPU threads (0: all cores); a GPU backend ignores it. Checks that the factory gave the
+// backend asked for, so that an instance never runs on another backend than its name says.
 inline std::unique_ptr<Backend> makeTestBackend(const std::string& backend, Precision precision, int threads = 0) {
-    return makeBackend(BackendChoice{backend, precision, threads, 0});
+    std::unique_ptr<Backend> made = makeBackend(BackendChoice{backend, precision, threads, 0});
+    if (made->name() != backend)
+        throw std::logic_error("asked the factory for '" + backend + "', got '" + made->name() + "'");
+    return made;
 }
 
 // ---- scenes and states ----
@@ -78,9 +83,11 @@ inline ParticleState stateOf(const std::vector<Vec3<double>>& x, const std::vect
     return s;
 }
 
-inline std::unique_ptr<Simulation> makeSimulation(const std::string& backend, const Scene& scene, const ParticleState& state,
-                                                  int threads = 0, SimulationLimits limits = SimulationLimits{}) {
-    return std::make_unique<Simulation>(scene, makeTestBackend(backend, scene.integrator.precision, threads), state, limits);
+inline std::unique_ptr<Simulation> makeSimulation(const std::string& backend, const Scene& scene,
+                                                  const ParticleState& state, int threads = 0,
+                                                  SimulationLimits limits = SimulationLimits{}) {
+    return std::make_unique<Simulation>(scene, makeTestBackend(backend, scene.integrator.precision, threads), state,
+                                        limits);
 }
 
 inline std::unique_ptr<Simulation> makeSimulation(const std::string& backend, const Scene& scene, int threads = 0) {

@@ -31,7 +31,8 @@ struct TwoBody {
         scene.species = {a, b};
         scene.interaction.restitution = restitution;
         scene.interaction.elasticBelowSpeed = 0;
-        sim = makeSimulation(backend, scene, stateOf({{9.0, 10, 10}, {10.2, 10, 10}}, {{v1, 0, 0}, {v2, 0, 0}}, {0, 1}));
+        sim =
+            makeSimulation(backend, scene, stateOf({{9.0, 10, 10}, {10.2, 10, 10}}, {{v1, 0, 0}, {v2, 0, 0}}, {0, 1}));
     }
     void run(int steps) {
         for (int s = 0; s < steps; ++s) sim->step();
@@ -78,7 +79,8 @@ TEST_P(Collisions, EnergyLossEqualsTheFormulaAndIsCountedAsDissipated) {
 
 TEST_P(Collisions, OffCentreImpulseActsAlongTheLineOfCentres) {
     Scene scene = hardSphereScene(2, 20.0);
-    auto sim = makeSimulation(backendName(), scene, stateOf({{9.0, 10.0, 10}, {10.5, 10.5, 10}}, {{1, 0, 0}, {0, 0, 0}}));
+    auto sim =
+        makeSimulation(backendName(), scene, stateOf({{9.0, 10.0, 10}, {10.5, 10.5, 10}}, {{1, 0, 0}, {0, 0, 0}}));
     for (int s = 0; s < 1000; ++s) sim->step();
     const ParticleState st = sim->state();
     // Equal masses, elastic: the velocities end up perpendicular and the speeds add in quadrature.
@@ -148,7 +150,8 @@ TEST_P(Collisions, NoOverlapIsLeftAfterAStep) {
         EXPECT_FALSE(r.roundCapHit);
         const ParticleState st = sim->state();
         for (size_t i = 0; i < st.size(); ++i) {
-            for (size_t j = i + 1; j < st.size(); ++j) worst = std::max(worst, 1.0 - std::sqrt(norm2(st.position[i] - st.position[j])));
+            for (size_t j = i + 1; j < st.size(); ++j)
+                worst = std::max(worst, 1.0 - std::sqrt(norm2(st.position[i] - st.position[j])));
             for (int a = 0; a < 3; ++a) {
                 worst = std::max(worst, 0.5 - st.position[i][a]);
                 worst = std::max(worst, st.position[i][a] - 7.5);

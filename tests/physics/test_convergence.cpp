@@ -36,12 +36,14 @@ double errorAgainst(const ParticleState& a, const ParticleState& ref) {
 }
 
 // Least-squares slope of log(error) against log(dt).
-double fittedOrder(const std::string& backend, Method method, const std::vector<double>& steps, const ParticleState& reference) {
+double fittedOrder(const std::string& backend, Method method, const std::vector<double>& steps,
+                   const ParticleState& reference) {
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
     for (double dt : steps) {
         const double e = errorAgainst(runPair(backend, method, dt), reference);
         EXPECT_GT(e, 1e-11) << methodName(method) << " dt " << dt << ": error at round-off, slope meaningless";
-        ::testing::Test::RecordProperty(std::string(methodName(method)) + "_dt_" + std::to_string(dt), std::to_string(e));
+        ::testing::Test::RecordProperty(std::string(methodName(method)) + "_dt_" + std::to_string(dt),
+                                        std::to_string(e));
         const double x = std::log(dt), y = std::log(e);
         sx += x;
         sy += y;
@@ -59,7 +61,9 @@ protected:
         if (IsSkipped()) return;
         m_reference = runPair(backendName(), Method::Hairer10, kEndTime / 600);
     }
-    double order(Method method, const std::vector<double>& steps) { return fittedOrder(backendName(), method, steps, m_reference); }
+    double order(Method method, const std::vector<double>& steps) {
+        return fittedOrder(backendName(), method, steps, m_reference);
+    }
     ParticleState m_reference;
 };
 
@@ -70,9 +74,7 @@ class AdaptiveDp5 : public OnEveryBackend {};
 INSTANTIATE_TEST_SUITE_P(Backends, Convergence, ::testing::ValuesIn(backendNames()), backendInstanceName);
 INSTANTIATE_TEST_SUITE_P(Backends, AdaptiveDp5, ::testing::ValuesIn(backendNames()), backendInstanceName);
 
-TEST_P(Convergence, EulerIsFirstOrder) {
-    EXPECT_NEAR(order(Method::Euler, {1.2e-3, 6e-4, 3e-4}), 1.0, 0.3);
-}
+TEST_P(Convergence, EulerIsFirstOrder) { EXPECT_NEAR(order(Method::Euler, {1.2e-3, 6e-4, 3e-4}), 1.0, 0.3); }
 TEST_P(Convergence, Rk2IsSecondOrder) { EXPECT_NEAR(order(Method::Rk2, {6e-3, 3e-3, 1.5e-3}), 2.0, 0.3); }
 TEST_P(Convergence, VerletIsSecondOrder) { EXPECT_NEAR(order(Method::Verlet, {6e-3, 3e-3, 1.5e-3}), 2.0, 0.3); }
 TEST_P(Convergence, Rk4IsFourthOrder) { EXPECT_NEAR(order(Method::Rk4, {1.2e-2, 6e-3, 3e-3}), 4.0, 0.3); }

@@ -11,8 +11,8 @@
 #include <cmath>
 #include <vector>
 
-#include "physics_fixtures.h"
 #include "maxwell_boltzmann.h"
+#include "physics_fixtures.h"
 #include "speed_statistics.h"
 
 using namespace corebox;
@@ -47,7 +47,7 @@ TEST_P(Statistics, ElasticHardSphereGasRelaxesToMaxwellBoltzmann) {
     request.temperature = temperature;
     const double critical = ksCriticalValue(2000, 0.01);
     const double before = sim->speedStatistics(request).ksStatistic;
-    EXPECT_GT(before, 5 * critical);  // all speeds equal: far from MB, so the test can fail
+    EXPECT_GT(before, 5 * critical);            // all speeds equal: far from MB, so the test can fail
     for (int s = 0; s < 800; ++s) sim->step();  // ~10 collision times
     const ObservablesRow row = sim->observe();
     EXPECT_NEAR(row.temperature, temperature, 1e-9 * temperature);  // elastic: T conserved
@@ -55,7 +55,8 @@ TEST_P(Statistics, ElasticHardSphereGasRelaxesToMaxwellBoltzmann) {
     const SpeedStatistics after = sim->speedStatistics(request);
     RecordProperty("ks_before", std::to_string(before));
     RecordProperty("ks_after", std::to_string(after.ksStatistic));
-    EXPECT_LT(after.ksStatistic, critical) << "KS D = " << after.ksStatistic << " vs D_crit(alpha = 0.01) = " << critical;
+    EXPECT_LT(after.ksStatistic, critical)
+        << "KS D = " << after.ksStatistic << " vs D_crit(alpha = 0.01) = " << critical;
 }
 
 TEST_P(Statistics, SpeciesOfMassRatioFourShareOneTemperature) {
@@ -137,8 +138,10 @@ TEST(Statistics, KsStatisticOfAnExactMaxwellBoltzmannSampleIsSmall) {
         double lo = 0, hi = 10;
         for (int it = 0; it < 100; ++it) {
             const double mid = 0.5 * (lo + hi);
-            if (maxwellBoltzmannCdf(mid, 2.0, 1.3) < q) lo = mid;
-            else hi = mid;
+            if (maxwellBoltzmannCdf(mid, 2.0, 1.3) < q)
+                lo = mid;
+            else
+                hi = mid;
         }
         speeds.push_back(0.5 * (lo + hi));
     }
