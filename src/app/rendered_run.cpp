@@ -117,7 +117,7 @@ int guardedRun(const RunOptions& options, std::unique_ptr<LiveRun>& live, Body&&
 }
 
 RenderStyle styleOf(LiveRun& live) {
-    return renderStyleFor(live.simulation().scene(), live.view().colorBySpeed ? ColorMode::Speed : ColorMode::Species);
+    return renderStyleFor(live.simulation().scene(), live.display().colorBySpeed ? ColorMode::Speed : ColorMode::Species);
 }
 
 // Keeps the instance feed matched to the session's current backend.
@@ -126,8 +126,8 @@ struct Feed {
     uint64_t generation = ~uint64_t(0);
     bool colorBySpeed = false;
     void update(LiveRun& live, ParticleRenderer& renderer) {
-        if (!feed || generation != live.session().generation() || colorBySpeed != live.view().colorBySpeed) {
-            colorBySpeed = live.view().colorBySpeed;
+        if (!feed || generation != live.session().generation() || colorBySpeed != live.display().colorBySpeed) {
+            colorBySpeed = live.display().colorBySpeed;
             feed = std::make_unique<InstanceFeed>(live.simulation(), renderer, colorBySpeed ? ColorMode::Speed : ColorMode::Species);
             generation = live.session().generation();
         }
@@ -144,8 +144,8 @@ int runHeadlessFrames(const RunOptions& options, const Scene& scene) {
         livePtr = std::make_unique<LiveRun>(scene, BackendChoice{options.backend.name, scene.integrator.precision, options.backend.threads, 0},
                                             liveOptions(options, h.stepsPerFrame));
         LiveRun& live = *livePtr;
-        live.view().colorBySpeed = h.colorBy == "speed";
-        live.view().stepsPerFrame = int(h.stepsPerFrame);
+        live.display().colorBySpeed = h.colorBy == "speed";
+        live.display().stepsPerFrame = int(h.stepsPerFrame);
         int width = 0, height = 0;
         std::sscanf(h.size.c_str(), "%dx%d", &width, &height);
         FrameDumpOptions dump;
@@ -171,7 +171,7 @@ int runHeadlessFrames(const RunOptions& options, const Scene& scene) {
         std::fprintf(stderr, "[corebox] headless rendering on %s\n", frames->contextDescription().c_str());
         ProgressReporter progress((h.frames - 1) * h.stepsPerFrame, !options.quiet);
         auto overlay = [&](int w, int hgt) {
-            live.refreshSpeedView();
+            live.refreshSpeedDistributions();
             hud->beginFrame(w, hgt, 1.0 / 30.0);
             drawHud(live.speeds(), live.history(), live.performance(), float(w), float(hgt));
             hud->endFrame();
@@ -186,7 +186,7 @@ int runHeadlessFrames(const RunOptions& options, const Scene& scene) {
         };
         render(0);
         for (int64_t f = 1; f < h.frames; ++f) {
-            const ScriptEffects e = live.advance(live.view().paused ? 0 : live.view().stepsPerFrame);
+            const ScriptEffects e = live.advance(live.display().paused ? 0 : live.display().stepsPerFrame);
             if (e.reset) live.reset();
             render(f);
             if (!e.screenshotPath.empty()) {
@@ -233,7 +233,7 @@ int runWindow(const RunOptions& options, const Scene& scene) {
         ImGuiLayer ui(window.handle(), settingsFile.imguiIniPath());
         BackendChoice choice{options.backend.name, scene.integrator.precision, options.backend.threads, 0};
         live = std::make_unique<LiveRun>(scene, choice, liveOptions(options, 10));
-        settingsFile.load(live->view());
+        settingsFile.load(live->display());
         ParticleRenderer renderer;
         Feed feed;
         OrbitCamera camera;
@@ -246,15 +246,15 @@ int runWindow(const RunOptions& options, const Scene& scene) {
         double lastX = 0, lastY = 0;
         while (!window.shouldClose() && !quit) {
             glfwPollEvents();
-            ViewSettings& view = live->view();
+            DisplaySettings& display = live->display();
             PanelActions actions;
             if (!ui.wantsKeyboard()) {
-                if (keys.pressed(window.handle(), GLFW_KEY_SPACE)) view.paused = !view.paused;
+                if (keys.pressed(window.handle(), GLFW_KEY_SPACE)) display.paused = !display.paused;
                 if (keys.pressed(window.handle(), GLFW_KEY_RIGHT)) actions.singleStep = true;
                 if (keys.pressed(window.handle(), GLFW_KEY_R)) actions.reset = true;
                 if (keys.pressed(window.handle(), GLFW_KEY_F12)) actions.screenshot = true;
-                if (keys.pressed(window.handle(), GLFW_KEY_H)) view.showPanel = !view.showPanel;
-                if (keys.pressed(window.handle(), GLFW_KEY_F1)) view.showHelp = !view.showHelp;
+                if (keys.pressed(window.handle(), GLFW_KEY_H)) display.showPanel = !display.showPanel;
+                if (keys.pressed(window.handle(), GLFW_KEY_F1)) display.showHelp = !display.showHelp;
                 if (keys.pressed(window.handle(), GLFW_KEY_ESCAPE)) quit = true;
             }
             int width = 0, height = 0;
@@ -284,9 +284,9 @@ int runWindow(const RunOptions& options, const Scene& scene) {
             // Simulation: the frame's steps, and the script.
             // At most ~40 ms of stepping per frame: the panel stays responsive at any steps/frame
             // (a script's timing is by step number, so it is unaffected).
-            ScriptEffects effects = live->advance(view.paused ? 0 : view.stepsPerFrame, 0.04);
+            ScriptEffects effects = live->advance(display.paused ? 0 : display.stepsPerFrame, 0.04);
             if (Clock::now() - lastSpeeds > std::chrono::milliseconds(250)) {
-                live->refreshSpeedView();
+                live->refreshSpeedDistributions();
                 lastSpeeds = Clock::now();
             }
 
@@ -298,20 +298,20 @@ int runWindow(const RunOptions& options, const Scene& scene) {
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
             glEnable(GL_MULTISAMPLE);
             RenderStyle style = styleOf(*live);
-            style.showLegend = !view.showPanel;  // the panel lists the species and their colours itself
+            style.showLegend = !display.showPanel;  // the panel lists the species and their colours itself
             renderer.render(camera, box, style, width, height);
             const double msRender = msSince(t);
             ui.beginFrame(width, height, 0);
-            if (view.showPanel) {
-                drawControlPanel(live->controls(), view, actions, presets, live->status);
+            if (display.showPanel) {
+                drawControlPanel(live->controls(), display, actions, presets, live->status);
                 drawSpeedHistogram(live->speeds());
                 drawTimePlots(live->history());
                 drawPerformance(live->performance());
             }
-            drawHelp(&view.showHelp);
+            drawHelp(&display.showHelp);
             ui.endFrame();
             live->recordFrame(msFeed, msRender);
-            if (view.vsync != vsync) window.setVsync(vsync = view.vsync);
+            if (display.vsync != vsync) window.setVsync(vsync = display.vsync);
 
             // Panel and script actions.
             if (actions.singleStep) effects.quit = effects.quit || live->advance(1).quit;
@@ -353,7 +353,7 @@ int runWindow(const RunOptions& options, const Scene& scene) {
             ++frame;
             if (lastFrame) break;
         }
-        settingsFile.save(live->view());
+        settingsFile.save(live->display());
         live->finish();
         if (!options.stateOutPath.empty()) writeStateCsv(options.stateOutPath, live->simulation().state());
     });

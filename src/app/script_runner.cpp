@@ -17,15 +17,15 @@ double number(const ScriptCommand& c, size_t index, const std::string& path) {
 
 }  // namespace
 
-ScriptEffects runScriptCommand(const ScriptCommand& c, const std::string& path, SimulationControls& controls, ViewSettings& view) {
+ScriptEffects runScriptCommand(const ScriptCommand& c, const std::string& path, LiveControls& controls, DisplaySettings& display) {
     ScriptEffects effects;
     std::string text;
     for (const std::string& w : c.words) text += (text.empty() ? "" : " ") + w;
     std::fprintf(stderr, "[corebox] script step %lld: %s\n", (long long)c.step, text.c_str());
     const std::string& command = c.words[0];
     if (command == "quit") effects.quit = true;
-    else if (command == "pause") view.paused = true;
-    else if (command == "resume") view.paused = false;
+    else if (command == "pause") display.paused = true;
+    else if (command == "resume") display.paused = false;
     else if (command == "reset") effects.reset = true;
     else if (command == "screenshot") effects.screenshotPath = c.words[1];
     else if (command == "set") {
@@ -37,7 +37,7 @@ ScriptEffects runScriptCommand(const ScriptCommand& c, const std::string& path, 
         else if (what == "wall-restitution") controls.setWallRestitution(number(c, 2, path));
         else if (what == "gravity") controls.setGravity({number(c, 2, path), number(c, 3, path), number(c, 4, path)});
         else if (what == "mixing") controls.setMixing(size_t(number(c, 2, path)), size_t(number(c, 3, path)), number(c, 4, path));
-        else if (what == "steps-per-frame") view.stepsPerFrame = std::max(1, int(number(c, 2, path)));
+        else if (what == "steps-per-frame") display.stepsPerFrame = std::max(1, int(number(c, 2, path)));
         else if (what == "method") {
             Method m;
             if (!parseMethod(c.words[2], &m)) throw InputError(locatedMessage(path, c.line, "method", "unknown method '" + c.words[2] + "'"));
@@ -53,7 +53,7 @@ ScriptEffects runScriptCommand(const ScriptCommand& c, const std::string& path, 
             else throw InputError(locatedMessage(path, c.line, "thermostat", "expected bussi, rescale or none"));
         } else if (what == "color") {
             if (c.words[2] != "species" && c.words[2] != "speed") throw InputError(locatedMessage(path, c.line, "color", "expected species or speed"));
-            view.colorBySpeed = c.words[2] == "speed";
+            display.colorBySpeed = c.words[2] == "speed";
         }
     }
     return effects;

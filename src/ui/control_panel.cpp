@@ -15,7 +15,7 @@ bool inputDouble(const char* label, double* value, double step, const char* form
     return ImGui::InputDouble(label, value, step, step * 10, format, ImGuiInputTextFlags_EnterReturnsTrue);
 }
 
-void liveSection(SimulationControls& c) {
+void liveSection(LiveControls& c) {
     const Scene& s = c.live();
     ImGui::TextDisabled("Live: applies at the next step");
 
@@ -58,7 +58,7 @@ void liveSection(SimulationControls& c) {
     }
 }
 
-void restartSection(SimulationControls& c, PanelActions& actions) {
+void restartSection(LiveControls& c, PanelActions& actions) {
     ImGui::TextDisabled("Needs Reset: counts, masses, radii, box, seed");
     const Scene& p = c.pending();
     for (size_t k = 0; k < p.species.size(); ++k) {
@@ -83,20 +83,20 @@ void restartSection(SimulationControls& c, PanelActions& actions) {
 
 }  // namespace
 
-void drawControlPanel(SimulationControls& controls, ViewSettings& view, PanelActions& actions,
+void drawControlPanel(LiveControls& controls, DisplaySettings& display, PanelActions& actions,
                       const std::vector<std::string>& presetPaths, const std::string& status) {
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(360, 700), ImGuiCond_FirstUseEver);
     ImGui::Begin("corebox");
-    if (ImGui::Button(view.paused ? "Run (Space)" : "Pause (Space)")) view.paused = !view.paused;
+    if (ImGui::Button(display.paused ? "Run (Space)" : "Pause (Space)")) display.paused = !display.paused;
     ImGui::SameLine();
     if (ImGui::Button("Step (Right)")) actions.singleStep = true;
     ImGui::SameLine();
     if (ImGui::Button("Screenshot (F12)")) actions.screenshot = true;
-    ImGui::SliderInt("steps/frame", &view.stepsPerFrame, 1, 200);
-    ImGui::Checkbox("vsync", &view.vsync);
+    ImGui::SliderInt("steps/frame", &display.stepsPerFrame, 1, 200);
+    ImGui::Checkbox("vsync", &display.vsync);
     ImGui::SameLine();
-    ImGui::Checkbox("colour by speed", &view.colorBySpeed);
+    ImGui::Checkbox("colour by speed", &display.colorBySpeed);
     if (!status.empty()) ImGui::TextWrapped("%s", status.c_str());
 
     if (ImGui::CollapsingHeader("Live parameters", ImGuiTreeNodeFlags_DefaultOpen)) liveSection(controls);

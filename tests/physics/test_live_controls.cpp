@@ -7,7 +7,7 @@
 
 #include "physics_fixtures.h"
 #include "session.h"
-#include "simulation_controls.h"
+#include "live_controls.h"
 
 using namespace corebox;
 using namespace corebox::testing;
@@ -39,7 +39,7 @@ BackendChoice cpu() { return BackendChoice{"cpu", Precision::Fp64, 1, 0}; }
 
 TEST(LiveControls, LiveEditsReachTheRunningSimulationWithoutARestart) {
     Session session(twoSpecies(), cpu());
-    SimulationControls controls(session);
+    LiveControls controls(session);
     for (int s = 0; s < 5; ++s) session.simulation().step();
     const ParticleState before = session.simulation().state();
     const uint64_t generation = session.generation();
@@ -84,7 +84,7 @@ TEST(LiveControls, LiveEditsReachTheRunningSimulationWithoutARestart) {
 
 TEST(LiveControls, RestartSettingsWaitForReset) {
     Session session(twoSpecies(), cpu());
-    SimulationControls controls(session);
+    LiveControls controls(session);
     controls.setSpeciesCount(0, 80);
     controls.setSpeciesMass(1, 3.0);
     controls.setSpeciesRadius(0, 0.4);
@@ -112,7 +112,7 @@ TEST(LiveControls, RestartSettingsWaitForReset) {
 
 TEST(LiveControls, AResetThatCannotWorkChangesNothing) {
     Session session(twoSpecies(), cpu());
-    SimulationControls controls(session);
+    LiveControls controls(session);
     controls.setSpeciesCount(0, 100000);  // cannot fit
     const std::string error = controls.reset();
     EXPECT_NE(error.find("more particles than fit"), std::string::npos) << error;
@@ -122,7 +122,7 @@ TEST(LiveControls, AResetThatCannotWorkChangesNothing) {
 
 TEST(LiveControls, SwitchingMethodOrPrecisionKeepsTheState) {
     Session session(twoSpecies(), cpu());
-    SimulationControls controls(session);
+    LiveControls controls(session);
     for (int s = 0; s < 10; ++s) session.simulation().step();
     const ParticleState before = session.simulation().state();
     controls.setMethod(Method::Hairer10);
