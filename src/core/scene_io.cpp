@@ -41,9 +41,6 @@ const char* const kInitKeys[] = {"temperature", "seed", "placement", "particles"
 // Colours for species that give none, by position: distinct under the renderer's shading.
 const char* const kPalette[] = {"#cc4d33", "#3373cc", "#4dad4d", "#d9a626", "#8c4dbf", "#33b3b3"};
 
-template <class Enum>
-using Choices = std::initializer_list<std::pair<const char*, Enum>>;
-
 std::string joined(const char* const* names, size_t count) {
     std::string out;
     for (size_t i = 0; i < count; ++i) out += (i ? ", " : "") + std::string(names[i]);
@@ -198,19 +195,11 @@ private:
     }
 
     template <class Enum>
-    void readChoice(const Field& f, Choices<Enum> choices, Enum* out) const {
+    void readChoice(const Field& f, const Vocabulary<Enum>& table, Enum* out) const {
         std::string text;
         if (!f.node) return;
         readString(f, &text);
-        std::string valid;
-        for (const auto& [name, value] : choices) {
-            if (text == name) {
-                *out = value;
-                return;
-            }
-            valid += (valid.empty() ? "" : ", ") + std::string(name);
-        }
-        fail(f.line, f.key, "unknown value '" + text + "'; valid: " + valid);
+        check(f, table.parse(text, out), table.unknown(text));
     }
 
     void readVec3(const Field& f, std::array<double, 3>* out) const {
@@ -308,9 +297,7 @@ private:
         Field cutoff = field(t, "interaction", "cutoff");
         readNumber(cutoff, &in->cutoff);
         check(cutoff, in->cutoff >= 0, "must be >= 0 (0: all pairs)");
-        readChoice<CutoffShift>(field(t, "interaction", "shift"),
-                                {{"none", CutoffShift::None}, {"energy", CutoffShift::Energy}, {"force", CutoffShift::Force}},
-                                &in->shift);
+        readChoice(field(t, "interaction", "shift"), shiftTable(), &in->shift);
         Field restitution = field(t, "interaction", "restitution");
         readNumber(restitution, &in->restitution);
         checkUnitInterval(restitution, in->restitution);
@@ -358,15 +345,12 @@ private:
     }
 
     void readIntegrator(const toml::table& t, IntegratorDef* in) const {
-        Choices<Method> methods = {{"euler", Method::Euler}, {"rk2", Method::Rk2},           {"rk4", Method::Rk4},
-                                   {"dp5", Method::Dp5},     {"hairer10", Method::Hairer10}, {"verlet", Method::Verlet}};
-        readChoice(field(t, "integrator", "method"), methods, &in->method);
+        readChoice(field(t, "integrator", "method"), methodTable(), &in->method);
 
         Field dt = field(t, "integrator", "dt");
         readNumber(dt, &in->dt);
         check(dt, in->dt > 0, "must be > 0");
-        readChoice<Precision>(field(t, "integrator", "precision"),
-                              {{"fp32", Precision::Fp32}, {"fp64", Precision::Fp64}}, &in->precision);
+        readChoice(field(t, "integrator", "precision"), precisionTable(), &in->precision);
         Field adaptive = field(t, "integrator", "adaptive");
         readBool(adaptive, &in->adaptive);
         check(adaptive, !in->adaptive || in->method == Method::Dp5,
@@ -378,10 +362,7 @@ private:
     }
 
     void readThermostat(const toml::table& t, ThermostatDef* th) const {
-        readChoice<ThermostatKind>(
-            field(t, "thermostat", "kind"),
-            {{"bussi", ThermostatKind::Bussi}, {"rescale", ThermostatKind::Rescale}, {"none", ThermostatKind::None}},
-            &th->kind);
+        readChoice(field(t, "thermostat", "kind"), thermostatTable(), &th->kind);
         Field temperature = field(t, "thermostat", "temperature");
         readNumber(temperature, &th->temperature);
         check(temperature, th->temperature >= 0, "must be >= 0");
@@ -399,8 +380,7 @@ private:
         readInteger(seed, &seedValue);
         check(seed, seedValue >= 0, "must be >= 0");
         init->seed = static_cast<uint64_t>(seedValue);
-        readChoice<Placement>(field(t, "init", "placement"),
-                              {{"lattice", Placement::Lattice}, {"random", Placement::Random}}, &init->placement);
+        readChoice(field(t, "init", "placement"), placementTable(), &init->placement);
         readString(field(t, "init", "particles"), &init->particlesFile);
     }
 
@@ -570,7 +550,7 @@ std::string sceneToToml(const Scene& scene) {
     out << "\n[init]\n"
         << "temperature = " << number(scene.init.temperature) << "\n"
         << "seed = " << scene.init.seed << "\n"
-        << "placement = " << quoted(scene.init.placement == Placement::Lattice ? "lattice" : "random") << "\n";
+        << "placement = " << quoted(placementTable().name(scene.init.placement)) << "\n";
     if (!scene.init.particlesFile.empty()) out << "particles = " << quoted(scene.init.particlesFile) << "\n";
     return out.str();
 }

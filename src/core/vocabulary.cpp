@@ -1,0 +1,57 @@
+#include "vocabulary.h"
+
+namespace corebox {
+namespace {
+
+// The order of each table is the order of every list a user sees (help, messages, the panel).
+constexpr Term<Method> kMethods[] = {
+    {Method::Euler, "euler", "order 1"},
+    {Method::Rk2, "rk2", "order 2"},
+    {Method::Rk4, "rk4", "order 4"},
+    {Method::Dp5, "dp5", "order 5"},
+    {Method::Hairer10, "hairer10", "order 10"},
+    {Method::Verlet, "verlet", "order 2, symplectic"},
+};
+constexpr Term<Precision> kPrecisions[] = {{Precision::Fp32, "fp32", ""}, {Precision::Fp64, "fp64", ""}};
+constexpr Term<BackendKind> kBackends[] = {
+    {BackendKind::Cpu, "cpu", ""}, {BackendKind::Cuda, "cuda", ""}, {BackendKind::Auto, "auto", "cuda when a GPU is present"}};
+constexpr Term<ThermostatKind> kThermostats[] = {
+    {ThermostatKind::Bussi, "bussi", ""}, {ThermostatKind::Rescale, "rescale", ""}, {ThermostatKind::None, "none", ""}};
+constexpr Term<CutoffShift> kShifts[] = {
+    {CutoffShift::None, "none", ""}, {CutoffShift::Energy, "energy", ""}, {CutoffShift::Force, "force", ""}};
+constexpr Term<Placement> kPlacements[] = {{Placement::Lattice, "lattice", ""}, {Placement::Random, "random", ""}};
+
+}  // namespace
+
+const Vocabulary<Method>& methodTable() {
+    static const Vocabulary<Method> table("method", kMethods);
+    return table;
+}
+const Vocabulary<Precision>& precisionTable() {
+    static const Vocabulary<Precision> table("precision", kPrecisions);
+    return table;
+}
+const Vocabulary<BackendKind>& backendTable() {
+    static const Vocabulary<BackendKind> table("backend", kBackends);
+    return table;
+}
+const Vocabulary<ThermostatKind>& thermostatTable() {
+    static const Vocabulary<ThermostatKind> table("thermostat kind", kThermostats);
+    return table;
+}
+const Vocabulary<CutoffShift>& shiftTable() {
+    static const Vocabulary<CutoffShift> table("shift", kShifts);
+    return table;
+}
+const Vocabulary<Placement>& placementTable() {
+    static const Vocabulary<Placement> table("placement", kPlacements);
+    return table;
+}
+
+const char* methodName(Method method) { return methodTable().name(method); }
+bool parseMethod(const std::string& text, Method* method) { return methodTable().parse(text, method); }
+const char* precisionName(Precision precision) { return precisionTable().name(precision); }
+const char* thermostatName(ThermostatKind kind) { return thermostatTable().name(kind); }
+const char* shiftName(CutoffShift shift) { return shiftTable().name(shift); }
+
+}  // namespace corebox
