@@ -6,13 +6,11 @@ namespace corebox {
 namespace {
 
 constexpr Term<ColorMode> kColorModes[] = {{ColorMode::Species, "species", ""}, {ColorMode::Speed, "speed", ""}};
+constexpr Vocabulary<ColorMode> kColorModeTable("colour mode", kColorModes);
 
 }  // namespace
 
-const Vocabulary<ColorMode>& colorModeTable() {
-    static const Vocabulary<ColorMode> table("colour mode", kColorModes);
-    return table;
-}
+const Vocabulary<ColorMode>& colorModeTable() { return kColorModeTable; }
 
 bool parseFrameSize(const std::string& text, FrameSize* size) {
     int w = 0, h = 0;

@@ -4,7 +4,9 @@
 // own included, leaves through reportError (error_report.h).
 #include <CLI/CLI.hpp>
 
-#include <optional>
+#include <functional>
+#include <string>
+#include <vector>
 
 #include "display_vocabulary.h"
 #include "error_report.h"

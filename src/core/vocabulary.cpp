@@ -14,39 +14,28 @@ constexpr Term<Method> kMethods[] = {
 };
 constexpr Term<Precision> kPrecisions[] = {{Precision::Fp32, "fp32", ""}, {Precision::Fp64, "fp64", ""}};
 constexpr Term<BackendKind> kBackends[] = {
-    {BackendKind::Cpu, "cpu", ""}, {BackendKind::Cuda, "cuda", ""}, {BackendKind::Auto, "auto", "cuda when a GPU is present"}};
+    {BackendKind::Cpu, "cpu", ""}, {BackendKind::Cuda, "cuda", ""}, {BackendKind::Auto, "auto", "cuda when a GPU is present, else cpu"}};
 constexpr Term<ThermostatKind> kThermostats[] = {
     {ThermostatKind::Bussi, "bussi", ""}, {ThermostatKind::Rescale, "rescale", ""}, {ThermostatKind::None, "none", ""}};
 constexpr Term<CutoffShift> kShifts[] = {
     {CutoffShift::None, "none", ""}, {CutoffShift::Energy, "energy", ""}, {CutoffShift::Force, "force", ""}};
 constexpr Term<Placement> kPlacements[] = {{Placement::Lattice, "lattice", ""}, {Placement::Random, "random", ""}};
 
+constexpr Vocabulary<Method> kMethodTable("method", kMethods);
+constexpr Vocabulary<Precision> kPrecisionTable("precision", kPrecisions);
+constexpr Vocabulary<BackendKind> kBackendTable("backend", kBackends);
+constexpr Vocabulary<ThermostatKind> kThermostatTable("thermostat kind", kThermostats);
+constexpr Vocabulary<CutoffShift> kShiftTable("shift", kShifts);
+constexpr Vocabulary<Placement> kPlacementTable("placement", kPlacements);
+
 }  // namespace
 
-const Vocabulary<Method>& methodTable() {
-    static const Vocabulary<Method> table("method", kMethods);
-    return table;
-}
-const Vocabulary<Precision>& precisionTable() {
-    static const Vocabulary<Precision> table("precision", kPrecisions);
-    return table;
-}
-const Vocabulary<BackendKind>& backendTable() {
-    static const Vocabulary<BackendKind> table("backend", kBackends);
-    return table;
-}
-const Vocabulary<ThermostatKind>& thermostatTable() {
-    static const Vocabulary<ThermostatKind> table("thermostat kind", kThermostats);
-    return table;
-}
-const Vocabulary<CutoffShift>& shiftTable() {
-    static const Vocabulary<CutoffShift> table("shift", kShifts);
-    return table;
-}
-const Vocabulary<Placement>& placementTable() {
-    static const Vocabulary<Placement> table("placement", kPlacements);
-    return table;
-}
+const Vocabulary<Method>& methodTable() { return kMethodTable; }
+const Vocabulary<Precision>& precisionTable() { return kPrecisionTable; }
+const Vocabulary<BackendKind>& backendTable() { return kBackendTable; }
+const Vocabulary<ThermostatKind>& thermostatTable() { return kThermostatTable; }
+const Vocabulary<CutoffShift>& shiftTable() { return kShiftTable; }
+const Vocabulary<Placement>& placementTable() { return kPlacementTable; }
 
 const char* methodName(Method method) { return methodTable().name(method); }
 bool parseMethod(const std::string& text, Method* method) { return methodTable().parse(text, method); }
