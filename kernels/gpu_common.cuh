@@ -4,8 +4,9 @@
 #include <cuda_runtime.h>
 
 #include <cstdint>
-#include <stdexcept>
 #include <string>
+
+#include "errors.h"  // DeviceError: a failed launch is a device error (exit code 4), like any CUDA failure
 
 namespace corebox::gpu {
 
@@ -17,7 +18,7 @@ inline unsigned int blocksFor(int64_t n, int block = kBlock) { return unsigned((
 // the host side (src/cuda) checks them.
 inline void checkLaunch(const char* what) {
     const cudaError_t e = cudaGetLastError();
-    if (e != cudaSuccess) throw std::runtime_error(std::string(what) + ": " + cudaGetErrorString(e));
+    if (e != cudaSuccess) throw DeviceError(std::string(what) + ": " + cudaGetErrorString(e));
 }
 
 }  // namespace corebox::gpu

@@ -9,6 +9,8 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "errors.h"
+
 namespace corebox {
 namespace {
 
@@ -21,12 +23,27 @@ std::string shellQuote(const std::string& s) {
     return out + "'";
 }
 
+// image_io reports with std::runtime_error; its messages name the path, except an encoding failure.
+template <class Write>
+void asOutput(const std::string& path, Write&& write) {
+    try {
+        write();
+    } catch (const std::runtime_error& e) {
+        const std::string what = e.what();
+        throw InputError(what.find(path) == std::string::npos ? "cannot write '" + path + "': " + what : what);
+    }
+}
+
 }  // namespace
 
 void requireFfmpeg() {
     if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
-        throw std::runtime_error("--video needs ffmpeg, which is not installed (apt-get install ffmpeg), or leave out --video");
+        throw InputError("--video needs ffmpeg, which is not installed (apt-get install ffmpeg), or leave out --video");
     }
+}
+
+void writeOutputPng(const std::string& path, const Image& image) {
+    asOutput(path, [&] { writePng(path, image); });
 }
 
 FrameDumper::FrameDumper(const FrameDumpOptions& options, const std::array<float, 3>& boxSize)
@@ -48,7 +65,7 @@ FrameDumper::FrameDumper(const FrameDumpOptions& options, const std::array<float
                                 " -i - -c:v libx264 -pix_fmt yuv420p -vf " + shellQuote("pad=ceil(iw/2)*2:ceil(ih/2)*2") + " " +
                                 shellQuote(m_videoTemp);
         m_video = ::popen(cmd.c_str(), "w");
-        if (!m_video) throw std::runtime_error("cannot start ffmpeg for --video " + options.videoPath);
+        if (!m_video) throw InputError("--video: cannot start ffmpeg for " + options.videoPath);
     }
 }
 
@@ -83,7 +100,7 @@ void FrameDumper::writeFrame(int64_t index, const RenderStyle& style, const std:
     m_timings.readback += since(t);
     if (m_timings.frames == 0) m_firstFrame = Clock::now();
     if (m_video && std::fwrite(m_image.rgba.data(), 1, m_image.rgba.size(), m_video) != m_image.rgba.size()) {
-        throw std::runtime_error("ffmpeg stopped accepting frames for " + m_options.videoPath);
+        throw InputError("--video: ffmpeg stopped accepting frames for " + m_options.videoPath);
     }
     // Encode and write in the background; wait only when every encoder is busy.
     t = Clock::now();
@@ -94,7 +111,7 @@ void FrameDumper::writeFrame(int64_t index, const RenderStyle& style, const std:
     m_timings.encodeWait += since(t);
     auto image = std::make_shared<const Image>(m_image);
     const std::string path = framePath(m_options.outDir, index);
-    m_encoding.push_back(std::async(std::launch::async, [image, path] { writeFileAtomic(path, encodePng(*image)); }));
+    m_encoding.push_back(std::async(std::launch::async, [image, path] { asOutput(path, [&] { writeFileAtomic(path, encodePng(*image)); }); }));
     ++m_timings.frames;
 }
 

@@ -3,6 +3,9 @@
 // PNG encoding, the slowest part of a frame on the CPU, runs on background threads (one per
 // hardware thread, a bounded number of frames in flight) while the next frames are simulated and
 // drawn. Timing of render, read-back and the wait for the encoders is kept for the report.
+//
+// Every file written here was named by the user (--out, --video, --screenshot, a script), so a
+// failure to write one is an input/output problem: InputError naming the path (exit code 2).
 #pragma once
 
 #include <cstdint>
@@ -41,7 +44,7 @@ struct FrameTimings {
 
 class FrameDumper {
 public:
-    // Throws PlatformError (no EGL), RenderError, or std::runtime_error for ffmpeg problems.
+    // Throws PlatformError (no EGL), RenderError, or InputError for ffmpeg problems.
     FrameDumper(const FrameDumpOptions& options, const std::array<float, 3>& boxSize);
     ~FrameDumper();
 
@@ -53,7 +56,7 @@ public:
     // frame number `index`.
     void writeFrame(int64_t index, const RenderStyle& style, const std::function<void(int, int)>& overlay = {});
     const Image& lastImage() const { return m_image; }
-    // Waits for every PNG to be written (rethrowing a write error) and closes the video (renaming
+    // Waits for every PNG to be written (rethrowing a write error as InputError) and closes the video (renaming
     // it into place). Returns false when ffmpeg reported an error.
     bool finish();
     const FrameTimings& timings() const { return m_timings; }
@@ -75,7 +78,10 @@ private:
     std::chrono::steady_clock::time_point m_firstFrame;
 };
 
-// Throws std::runtime_error with advice when ffmpeg is not on PATH.
+// Throws InputError with advice when ffmpeg is not on PATH.
 void requireFfmpeg();
+
+// writePng for a file the user asked for (frames, screenshots): throws InputError naming the path.
+void writeOutputPng(const std::string& path, const Image& image);
 
 }  // namespace corebox

@@ -5,7 +5,7 @@
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
 
-#include <stdexcept>
+#include "platform_error.h"
 
 namespace corebox {
 
@@ -17,8 +17,8 @@ ImGuiLayer::ImGuiLayer(GLFWwindow* window, const std::string& iniPath) : m_windo
     ImGui::StyleColorsDark();
     ImGui::GetStyle().WindowRounding = 4.0f;
     ImGui::GetStyle().Colors[ImGuiCol_WindowBg].w = 0.88f;
-    if (window && !ImGui_ImplGlfw_InitForOpenGL(window, true)) throw std::runtime_error("ImGui GLFW backend failed to start");
-    if (!ImGui_ImplOpenGL3_Init("#version 450")) throw std::runtime_error("ImGui OpenGL 3 backend failed to start");
+    if (window && !ImGui_ImplGlfw_InitForOpenGL(window, true)) throw PlatformError("ImGui GLFW backend failed to start");
+    if (!ImGui_ImplOpenGL3_Init("#version 450")) throw PlatformError("ImGui OpenGL 3 backend failed to start");
 }
 
 ImGuiLayer::~ImGuiLayer() {

@@ -1,7 +1,7 @@
 #include "live_run.h"
 
 #include "observables.h"
-#include "view_data.h"
+#include "speed_distributions.h"
 
 namespace corebox {
 
@@ -17,7 +17,7 @@ LiveRun::LiveRun(const Scene& scene, const BackendChoice& backend, LiveRunOption
     m_performance.device = simulation().backend().deviceName();
     observe(0);
     m_conserved0 = m_lastRow.conserved();
-    refreshSpeedView();
+    refreshSpeedDistributions();
 }
 
 void LiveRun::observe(int64_t stepsSinceLast) {
@@ -37,7 +37,7 @@ ScriptEffects LiveRun::advance(int64_t steps, double budgetSeconds) {
     auto runDue = [&]() {
         if (!m_options.script) return;
         for (const ScriptCommand& c : m_options.script->due(simulation().stepIndex())) {
-            const ScriptEffects e = runScriptCommand(c, m_options.script->path(), m_controls, m_view);
+            const ScriptEffects e = runScriptCommand(c, m_options.script->path(), m_controls, m_display);
             effects.quit = effects.quit || e.quit;
             effects.reset = effects.reset || e.reset;
             if (!e.screenshotPath.empty()) effects.screenshotPath = e.screenshotPath;
@@ -68,20 +68,20 @@ std::string LiveRun::reset() {
     observe(0);
     m_conserved0 = m_lastRow.conserved();
     m_performance.backend = simulation().backend().name();
-    refreshSpeedView();
+    refreshSpeedDistributions();
     return "";
 }
 
-void LiveRun::refreshSpeedView() { fillSpeedView(simulation(), m_lastRow, m_speeds); }
+void LiveRun::refreshSpeedDistributions() { measureSpeedDistributions(simulation(), m_lastRow, m_speeds); }
 
 void LiveRun::recordFrame(double msInterop, double msRender) {
     ++m_rateFrames;
     const double elapsed = std::chrono::duration<double>(Clock::now() - m_rateStart).count();
     m_performance.msInterop = msInterop;
     m_performance.msRender = msRender;
-    m_performance.stepsPerFrame = m_view.stepsPerFrame;
+    m_performance.stepsPerFrame = m_display.stepsPerFrame;
     if (elapsed < 0.5) return;
-    PerformanceView& p = m_performance;
+    PerformanceData& p = m_performance;
     p.stepsPerSecond = double(m_rateSteps) / elapsed;
     p.framesPerSecond = double(m_rateFrames) / elapsed;
     const double n = double(simulation().particleCount());

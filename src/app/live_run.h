@@ -1,4 +1,4 @@
-// A run that is watched: the session, the panel's controls and view settings, the time series and
+// A run that is watched: the session, the panel's controls and display settings, the time series and
 // speed distributions the panels show, performance figures, an optional script and an optional
 // observables file. The window and the headless frame loop both drive one of these, so a script or
 // a panel edit behaves the same in either.
@@ -13,8 +13,8 @@
 #include "script.h"
 #include "script_runner.h"
 #include "session.h"
-#include "simulation_controls.h"
-#include "ui_views.h"
+#include "live_controls.h"
+#include "panel_data.h"
 
 namespace corebox {
 
@@ -31,8 +31,8 @@ public:
 
     Session& session() { return m_session; }
     Simulation& simulation() { return m_session.simulation(); }
-    SimulationControls& controls() { return m_controls; }
-    ViewSettings& view() { return m_view; }
+    LiveControls& controls() { return m_controls; }
+    DisplaySettings& display() { return m_display; }
 
     // Runs up to `steps` steps (stopping early for a script's quit/screenshot/reset, or once
     // `budgetSeconds` > 0 of stepping has passed, so a window stays responsive whatever steps/frame
@@ -42,13 +42,13 @@ public:
     std::string reset();
     // Speed distributions and performance for the panels (the O(N) speed statistics: call a few
     // times a second, not every frame).
-    void refreshSpeedView();
+    void refreshSpeedDistributions();
     void recordFrame(double msInterop, double msRender);
     void finish();  // commits the observables file
 
     const ObservableHistory& history() const { return m_history; }
-    const SpeedView& speeds() const { return m_speeds; }
-    const PerformanceView& performance() const { return m_performance; }
+    const SpeedDistributionData& speeds() const { return m_speeds; }
+    const PerformanceData& performance() const { return m_performance; }
     std::string status;
 
 private:
@@ -56,11 +56,11 @@ private:
 
     LiveRunOptions m_options;
     Session m_session;
-    SimulationControls m_controls;
-    ViewSettings m_view;
+    LiveControls m_controls;
+    DisplaySettings m_display;
     ObservableHistory m_history;
-    SpeedView m_speeds;
-    PerformanceView m_performance;
+    SpeedDistributionData m_speeds;
+    PerformanceData m_performance;
     std::unique_ptr<AtomicFile> m_observables;
     ObservablesRow m_lastRow;
     int64_t m_lastObservedStep = 0;

@@ -1,14 +1,93 @@
-// corebox command line. Subcommands: run (DESIGN.md sec. 3). Usage errors exit with code 2.
+// corebox command line (DESIGN.md sec. 3): `run`, `bench forces|throughput`, and no subcommand for
+// the default scene in a window. Named choices (method, precision, backend, colour mode, frame size)
+// are read, checked and listed in --help from their vocabulary tables; every error, the parser's
+// own included, leaves through reportError (error_report.h).
 #include <CLI/CLI.hpp>
 
-#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
 
+#include "display_vocabulary.h"
+#include "error_report.h"
 #include "errors.h"
-
 #include "force_benchmark.h"
 #include "glfw_window.h"
 #include "run_command.h"
 #include "throughput_benchmark.h"
+
+namespace corebox {
+namespace {
+
+// Accepts the names of `table`; rejects anything else with the table's "unknown ..." message.
+template <class Enum>
+CLI::Validator oneOf(const Vocabulary<Enum>& table) {
+    return CLI::Validator(
+        [&table](std::string& text) {
+            Enum value;
+            return table.parse(text, &value) ? std::string() : table.unknown(text);
+        },
+        "", table.what());
+}
+
+// An option taking one name of `table`, stored through `set` once checked.
+template <class Enum>
+CLI::Option* addChoice(CLI::App* command, const std::string& flag, const Vocabulary<Enum>& table, const std::string& help,
+                       std::function<void(Enum)> set) {
+    return command
+        ->add_option_function<std::string>(
+            flag,
+            [&table, set](const std::string& text) {
+                Enum value;
+                if (table.parse(text, &value)) set(value);
+            },
+            help + ": one of " + table.list())
+        ->check(oneOf(table));
+}
+
+// An option taking names of `table` separated by commas; the default shows `values`.
+template <class Enum>
+CLI::Option* addChoices(CLI::App* command, const std::string& flag, const Vocabulary<Enum>& table, const std::string& help,
+                        std::vector<Enum>& values) {
+    std::string defaults;
+    for (Enum value : values) defaults += (defaults.empty() ? "" : ",") + std::string(table.name(value));
+    return command
+        ->add_option_function<std::vector<std::string>>(
+            flag,
+            [&table, &values](const std::vector<std::string>& names) {
+                values.clear();
+                for (const std::string& name : names) {
+                    Enum value;
+                    if (table.parse(name, &value)) values.push_back(value);
+                }
+            },
+            help + ", separated by commas: from " + table.list())
+        ->delimiter(',')
+        ->check(oneOf(table))
+        ->default_str(defaults);
+}
+
+CLI::Option* addFrameSize(CLI::App* command, FrameSize& size) {
+    return command
+        ->add_option_function<std::string>(
+            "--size", [&size](const std::string& text) { parseFrameSize(text, &size); }, "Frame size WIDTHxHEIGHT")
+        ->check(CLI::Validator(
+            [](std::string& text) {
+                FrameSize ignored;
+                return parseFrameSize(text, &ignored) ? std::string() : frameSizeProblem(text);
+            },
+            "", "frame size"))
+        ->default_str(frameSizeName(size));
+}
+
+std::string commandLine(int argc, char** argv) {
+    std::string out = "corebox";
+    for (int i = 1; i < argc; ++i) out += " " + std::string(argv[i]);
+    return out;
+}
+
+}  // namespace
+}  // namespace corebox
 
 int main(int argc, char** argv) {
     using namespace corebox;
@@ -17,7 +96,6 @@ int main(int argc, char** argv) {
     app.require_subcommand(0, 1);
 
     RunOptions run;
-    std::string precision, method;
     double dt = 0;
     int64_t seed = -1;
     CLI::App* runCmd = app.add_subcommand("run", "Run a scene and write observables and the final state");
@@ -26,10 +104,13 @@ int main(int argc, char** argv) {
     runCmd->add_option("--every", run.every, "Observables row every K steps")->capture_default_str();
     runCmd->add_option("--observables", run.observablesPath, "Observables CSV (default: stdout)");
     runCmd->add_option("--state-out", run.stateOutPath, "Write the final state as CSV");
-    runCmd->add_option("--backend", run.backend.name, "cpu, cuda or auto")->capture_default_str();
+    runCmd->add_option("--backend", run.backend.name, "Backend: one of " + backendTable().list())
+        ->check(oneOf(backendTable()))
+        ->capture_default_str();
     runCmd->add_option("--threads", run.backend.threads, "CPU threads (0: all cores)")->capture_default_str();
-    auto* precisionOpt = runCmd->add_option("--precision", precision, "Override the scene's precision: fp32 or fp64");
-    auto* methodOpt = runCmd->add_option("--method", method, "Override the integrator: euler, rk2, rk4, dp5, hairer10, verlet");
+    addChoice<Precision>(runCmd, "--precision", precisionTable(), "Override the scene's precision",
+                         [&](Precision p) { run.precision = p; });
+    addChoice<Method>(runCmd, "--method", methodTable(), "Override the integrator", [&](Method m) { run.method = m; });
     auto* dtOpt = runCmd->add_option("--dt", dt, "Override the time step");
     auto* seedOpt = runCmd->add_option("--seed", seed, "Override the random seed");
     runCmd->add_option("--max-drift", run.maxEnergyDrift,
@@ -40,9 +121,10 @@ int main(int argc, char** argv) {
     runCmd->add_flag("--headless", h.enabled, "Render frames without a display (EGL) into --out");
     runCmd->add_option("--frames", h.frames, "Number of frames (frame 0 is the initial state)");
     runCmd->add_option("--steps-per-frame", h.stepsPerFrame, "Simulation steps between frames")->capture_default_str();
-    runCmd->add_option("--size", h.size, "Frame size WIDTHxHEIGHT")->capture_default_str();
+    addFrameSize(runCmd, h.size);
     runCmd->add_option("--out", h.outDir, "Directory for frame_NNNNNN.png and observables.csv");
-    runCmd->add_option("--color-by", h.colorBy, "species or speed")->capture_default_str();
+    addChoice<ColorMode>(runCmd, "--color-by", colorModeTable(), "Particle colours", [&](ColorMode m) { h.colorBy = m; })
+        ->default_str(colorModeTable().name(h.colorBy));
     runCmd->add_option("--video", h.videoPath, "Also encode the frames into this video file (needs ffmpeg)");
     runCmd->add_option("--speed-max", h.speedMax, "Top of the speed colour bar (default: from the temperature)");
     runCmd->add_flag("--software-gl", h.softwareOnly, "Render on Mesa's software device even when a GPU is present");
@@ -54,88 +136,59 @@ int main(int argc, char** argv) {
     CLI::App* benchCmd = app.add_subcommand("bench", "Benchmarks that write CSV and JSON results");
     benchCmd->require_subcommand(1);
     ForceBenchmarkOptions forces;
-    std::vector<std::string> precisions{"fp32", "fp64"};
     CLI::App* forcesCmd = benchCmd->add_subcommand("forces", "Pair interactions per second of the all-pairs force pass");
-    forcesCmd->add_option("--backend", forces.backend, "cpu or cuda")->capture_default_str();
+    forcesCmd->add_option("--backend", forces.backend, "Backend: one of " + backendTable().list())
+        ->check(oneOf(backendTable()))
+        ->capture_default_str();
     forcesCmd->add_option("--threads", forces.threads, "CPU threads (0: all cores)")->capture_default_str();
     forcesCmd->add_option("--n", forces.sizes, "Particle counts")->delimiter(',')->capture_default_str();
-    forcesCmd->add_option("--precision", precisions, "fp32 and/or fp64")->delimiter(',')->check(CLI::IsMember({"fp32", "fp64"}));
+    addChoices(forcesCmd, "--precision", precisionTable(), "Precisions", forces.precisions);
     forcesCmd->add_option("--min-seconds", forces.minSeconds, "Repeat each measurement at least this long")->capture_default_str();
     forcesCmd->add_option("--out", forces.outputPrefix, "Write OUT.csv and OUT.json");
 
     ThroughputOptions throughput;
-    std::vector<std::string> throughputPrecisions{"fp32", "fp64"}, throughputMethods{"euler", "rk2", "rk4", "dp5", "hairer10", "verlet"};
-    std::string frameSize = "1920x1080";
+    FrameSize frameSize{throughput.frameWidth, throughput.frameHeight};
     CLI::App* throughputCmd = benchCmd->add_subcommand("throughput", "Force pass, full steps per method, interop and frames");
-    throughputCmd->add_option("--backend", throughput.backend, "cpu or cuda")->capture_default_str();
+    throughputCmd->add_option("--backend", throughput.backend, "Backend: one of " + backendTable().list())
+        ->check(oneOf(backendTable()))
+        ->capture_default_str();
     throughputCmd->add_option("--n-forces", throughput.forceSizes, "Particle counts for the force pass")->delimiter(',')->capture_default_str();
     throughputCmd->add_option("--n-step", throughput.stepN, "Particle count for the full steps")->capture_default_str();
-    throughputCmd->add_option("--precision", throughputPrecisions, "fp32 and/or fp64")->delimiter(',')->check(CLI::IsMember({"fp32", "fp64"}));
-    throughputCmd->add_option("--methods", throughputMethods, "Integrators for the full steps")->delimiter(',');
+    addChoices(throughputCmd, "--precision", precisionTable(), "Precisions", throughput.precisions);
+    addChoices(throughputCmd, "--methods", methodTable(), "Integrators for the full steps", throughput.methods);
     throughputCmd->add_option("--n-frames", throughput.frameN, "Particle count for the frame measurements (0: none)")->capture_default_str();
-    throughputCmd->add_option("--size", frameSize, "Frame size WIDTHxHEIGHT")->capture_default_str();
+    addFrameSize(throughputCmd, frameSize);
     throughputCmd->add_option("--min-seconds", throughput.minSeconds, "Repeat each measurement at least this long")->capture_default_str();
     throughputCmd->add_option("--out", throughput.outputPrefix, "Write OUT.csv and OUT.json");
 
     try {
         app.parse(argc, argv);
+    } catch (const CLI::Success& e) {  // --help, --version
+        return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        const int code = app.exit(e);
-        return code == 0 ? 0 : kExitInput;
+        return reportError(std::make_exception_ptr(InputError(std::string(e.what()) + " (see corebox --help)")));
     }
-    if (*precisionOpt) run.precision = precision;
-    if (*methodOpt) run.method = method;
     if (*dtOpt) run.dt = dt;
     if (*seedOpt) run.seed = seed;
     if (*runCmd) return runCommand(run);
     if (app.get_subcommands().empty()) {
         // `corebox` alone: the default scene in a window.
         if (!GlfwWindow::displayAvailable()) {
-            std::fprintf(stderr, "corebox: no display; try `corebox run SCENE --headless --frames N --out DIR`, see --help\n");
-            return kExitInput;
+            return reportError(std::make_exception_ptr(
+                InputError("no display; try `corebox run SCENE --headless --frames N --out DIR`, see --help")));
         }
         run.scenePath = COREBOX_DEFAULT_SCENE;
         return runCommand(run);
     }
     if (*throughputCmd) {
-        throughput.precisions.clear();
-        for (const std::string& p : throughputPrecisions) throughput.precisions.push_back(p == "fp32" ? Precision::Fp32 : Precision::Fp64);
-        throughput.methods.clear();
-        for (const std::string& m : throughputMethods) {
-            Method method;
-            if (!parseMethod(m, &method)) {
-                std::fprintf(stderr, "corebox: error: --methods: unknown method '%s'\n", m.c_str());
-                return kExitInput;
-            }
-            throughput.methods.push_back(method);
-        }
-        if (std::sscanf(frameSize.c_str(), "%dx%d", &throughput.frameWidth, &throughput.frameHeight) != 2) {
-            std::fprintf(stderr, "corebox: error: --size: expected WIDTHxHEIGHT\n");
-            return kExitInput;
-        }
-        for (int i = 0; i < argc; ++i) throughput.commandLine += (i ? " " : "") + std::string(i ? argv[i] : "corebox");
-        try {
-            runThroughputBenchmark(throughput);
-        } catch (const DeviceError& e) {
-            std::fprintf(stderr, "corebox: device error: %s\n", e.what());
-            return kExitDevice;
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "corebox: error: %s\n", e.what());
-            return kExitInput;
-        }
-        return 0;
+        throughput.frameWidth = frameSize.width;
+        throughput.frameHeight = frameSize.height;
+        throughput.commandLine = commandLine(argc, argv);
+        return runReportingErrors([&] { runThroughputBenchmark(throughput); });
     }
     if (*forcesCmd) {
-        forces.precisions.clear();
-        for (const std::string& p : precisions) forces.precisions.push_back(p == "fp32" ? Precision::Fp32 : Precision::Fp64);
-        for (int i = 0; i < argc; ++i) forces.commandLine += (i ? " " : "") + std::string(i ? argv[i] : "corebox");
-        try {
-            runForceBenchmark(forces);
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "corebox: error: %s\n", e.what());
-            return kExitInput;
-        }
-        return 0;
+        forces.commandLine = commandLine(argc, argv);
+        return runReportingErrors([&] { runForceBenchmark(forces); });
     }
     return kExitInput;
 }

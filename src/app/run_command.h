@@ -1,12 +1,16 @@
 // `corebox run SCENE ...`: load a scene, run it on a backend, write observables and the final state.
-// Exit codes (DESIGN.md sec. 3): 0 ok, 2 usage or input error, 3 instability, 4 device error.
+// The options as the command line gave them, their checks, and the choice between a batch, headless
+// or window run (run_modes.h). Exit codes (DESIGN.md sec. 3) come from error_report.h.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 
 #include "backend_factory.h"
+#include "display_vocabulary.h"
+#include "simulation.h"
 
 namespace corebox {
 
@@ -15,9 +19,9 @@ struct HeadlessOptions {
     bool enabled = false;
     int64_t frames = 0;           // frame 0 is the initial state, then one every stepsPerFrame steps
     int64_t stepsPerFrame = 10;
-    std::string size = "1280x720";
+    FrameSize size{1280, 720};
     std::string outDir;
-    std::string colorBy = "species";  // species | speed
+    ColorMode colorBy = ColorMode::Species;
     std::string videoPath;
     double speedMax = 0;          // colour bar top; 0: from the temperature
     bool softwareOnly = false;    // render on Mesa's software device even when a GPU is there
@@ -31,8 +35,8 @@ struct RunOptions {
     std::string observablesPath;       // "" : rows go to stdout
     std::string stateOutPath;          // "" : final state not written
     BackendChoice backend;
-    std::optional<std::string> precision;  // overrides [integrator] precision
-    std::optional<std::string> method;     // overrides [integrator] method
+    std::optional<Precision> precision;    // overrides [integrator] precision
+    std::optional<Method> method;          // overrides [integrator] method
     std::optional<double> dt;              // overrides [integrator] dt
     std::optional<int64_t> seed;           // overrides [init] seed
     double maxEnergyDrift = 0.5;
@@ -47,12 +51,11 @@ struct RunOptions {
 // else beside --observables (last_good_state.csv), else corebox_last_good_state.csv.
 std::string lastGoodPath(const RunOptions& options);
 
-class FrameDumper;
-// Frame timings and where the frames are (and the video, closed here), on stderr.
-void reportFrames(const RunOptions& options, FrameDumper& frames);
+// What every run keeps after a blow-up: the observables up to the failure (`commitObservables`
+// closes the file, when there is one) and the state before the failing step, at lastGoodPath.
+void keepAfterInstability(const RunOptions& options, Simulation& sim, const std::function<void()>& commitObservables);
 
-enum ExitCode : int { kExitOk = 0, kExitInput = 2, kExitUnstable = 3, kExitDevice = 4 };
-
+// Returns the exit code.
 int runCommand(const RunOptions& options);
 
 }  // namespace corebox

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "display_vocabulary.h"
 #include "errors.h"
 
 namespace corebox {
@@ -15,17 +16,25 @@ double number(const ScriptCommand& c, size_t index, const std::string& path) {
     return v;
 }
 
+// The setting's value (third word) as a name from `table`.
+template <class Enum>
+Enum choice(const ScriptCommand& c, const Vocabulary<Enum>& table, const std::string& path) {
+    Enum value;
+    if (!table.parse(c.words[2], &value)) throw InputError(locatedMessage(path, c.line, c.words[1], table.unknown(c.words[2])));
+    return value;
+}
+
 }  // namespace
 
-ScriptEffects runScriptCommand(const ScriptCommand& c, const std::string& path, SimulationControls& controls, ViewSettings& view) {
+ScriptEffects runScriptCommand(const ScriptCommand& c, const std::string& path, LiveControls& controls, DisplaySettings& display) {
     ScriptEffects effects;
     std::string text;
     for (const std::string& w : c.words) text += (text.empty() ? "" : " ") + w;
     std::fprintf(stderr, "[corebox] script step %lld: %s\n", (long long)c.step, text.c_str());
     const std::string& command = c.words[0];
     if (command == "quit") effects.quit = true;
-    else if (command == "pause") view.paused = true;
-    else if (command == "resume") view.paused = false;
+    else if (command == "pause") display.paused = true;
+    else if (command == "resume") display.paused = false;
     else if (command == "reset") effects.reset = true;
     else if (command == "screenshot") effects.screenshotPath = c.words[1];
     else if (command == "set") {
@@ -37,24 +46,11 @@ ScriptEffects runScriptCommand(const ScriptCommand& c, const std::string& path, 
         else if (what == "wall-restitution") controls.setWallRestitution(number(c, 2, path));
         else if (what == "gravity") controls.setGravity({number(c, 2, path), number(c, 3, path), number(c, 4, path)});
         else if (what == "mixing") controls.setMixing(size_t(number(c, 2, path)), size_t(number(c, 3, path)), number(c, 4, path));
-        else if (what == "steps-per-frame") view.stepsPerFrame = std::max(1, int(number(c, 2, path)));
-        else if (what == "method") {
-            Method m;
-            if (!parseMethod(c.words[2], &m)) throw InputError(locatedMessage(path, c.line, "method", "unknown method '" + c.words[2] + "'"));
-            controls.setMethod(m);
-        } else if (what == "precision") {
-            if (c.words[2] != "fp32" && c.words[2] != "fp64") throw InputError(locatedMessage(path, c.line, "precision", "expected fp32 or fp64"));
-            controls.setPrecision(c.words[2] == "fp32" ? Precision::Fp32 : Precision::Fp64);
-        } else if (what == "thermostat") {
-            const std::string& k = c.words[2];
-            if (k == "bussi") controls.setThermostatKind(ThermostatKind::Bussi);
-            else if (k == "rescale") controls.setThermostatKind(ThermostatKind::Rescale);
-            else if (k == "none") controls.setThermostatKind(ThermostatKind::None);
-            else throw InputError(locatedMessage(path, c.line, "thermostat", "expected bussi, rescale or none"));
-        } else if (what == "color") {
-            if (c.words[2] != "species" && c.words[2] != "speed") throw InputError(locatedMessage(path, c.line, "color", "expected species or speed"));
-            view.colorBySpeed = c.words[2] == "speed";
-        }
+        else if (what == "steps-per-frame") display.stepsPerFrame = std::max(1, int(number(c, 2, path)));
+        else if (what == "method") controls.setMethod(choice(c, methodTable(), path));
+        else if (what == "precision") controls.setPrecision(choice(c, precisionTable(), path));
+        else if (what == "thermostat") controls.setThermostatKind(choice(c, thermostatTable(), path));
+        else if (what == "color") display.colorBySpeed = choice(c, colorModeTable(), path) == ColorMode::Speed;
     }
     return effects;
 }

@@ -1,12 +1,12 @@
-// Carries out script commands (script.h) on the controls and view settings of a run; what the frame
+// Carries out script commands (script.h) on the controls and display settings of a run; what the frame
 // loop itself must do (screenshot, reset, quit) comes back as effects.
 #pragma once
 
 #include <string>
 
 #include "script.h"
-#include "simulation_controls.h"
-#include "ui_views.h"
+#include "live_controls.h"
+#include "panel_data.h"
 
 namespace corebox {
 
@@ -17,7 +17,7 @@ struct ScriptEffects {
 };
 
 // Throws InputError naming the script's file and line for a bad value.
-ScriptEffects runScriptCommand(const ScriptCommand& command, const std::string& scriptPath, SimulationControls& controls,
-                               ViewSettings& view);
+ScriptEffects runScriptCommand(const ScriptCommand& command, const std::string& scriptPath, LiveControls& controls,
+                               DisplaySettings& display);
 
 }  // namespace corebox

@@ -8,7 +8,7 @@
 
 #include "backend_factory.h"
 #include "simulation.h"
-#include "simulation_controls.h"
+#include "live_controls.h"
 
 namespace corebox {
 

@@ -21,7 +21,7 @@ UiSettingsFile::UiSettingsFile(std::string directory) : m_directory(std::move(di
 
 std::string UiSettingsFile::imguiIniPath() const { return m_directory + "/imgui.ini"; }
 
-void UiSettingsFile::load(ViewSettings& view) const {
+void UiSettingsFile::load(DisplaySettings& display) const {
     std::ifstream in(m_directory + "/settings.ini");
     std::string line;
     while (std::getline(in, line)) {
@@ -29,17 +29,17 @@ void UiSettingsFile::load(ViewSettings& view) const {
         std::string key, eq;
         int value = 0;
         if (!(s >> key >> eq >> value) || eq != "=") continue;
-        if (key == "steps_per_frame" && value >= 1) view.stepsPerFrame = value;
-        else if (key == "vsync") view.vsync = value != 0;
-        else if (key == "color_by_speed") view.colorBySpeed = value != 0;
-        else if (key == "show_panel") view.showPanel = value != 0;
+        if (key == "steps_per_frame" && value >= 1) display.stepsPerFrame = value;
+        else if (key == "vsync") display.vsync = value != 0;
+        else if (key == "color_by_speed") display.colorBySpeed = value != 0;
+        else if (key == "show_panel") display.showPanel = value != 0;
     }
 }
 
-void UiSettingsFile::save(const ViewSettings& view) const {
+void UiSettingsFile::save(const DisplaySettings& display) const {
     std::ofstream out(m_directory + "/settings.ini");
-    out << "steps_per_frame = " << view.stepsPerFrame << "\nvsync = " << int(view.vsync) << "\ncolor_by_speed = " << int(view.colorBySpeed)
-        << "\nshow_panel = " << int(view.showPanel) << "\n";
+    out << "steps_per_frame = " << display.stepsPerFrame << "\nvsync = " << int(display.vsync) << "\ncolor_by_speed = " << int(display.colorBySpeed)
+        << "\nshow_panel = " << int(display.showPanel) << "\n";
 }
 
 }  // namespace corebox

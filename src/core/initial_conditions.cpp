@@ -6,6 +6,7 @@
 
 #include "errors.h"
 #include "host_cell_list.h"
+#include "packing.h"
 #include "rng.h"
 #include "state_csv.h"
 
@@ -27,37 +28,11 @@ std::vector<int32_t> speciesOfIds(const Scene& scene) {
     return species;
 }
 
+// The sites come from latticeSites(), the lattice that packingProblem() checked the scene against.
 void placeOnLattice(const Scene& scene, ParticleState& state) {
     const int64_t n = int64_t(state.size());
     const std::array<double, 3>& box = scene.box.size;
-    const double density = double(n) / (box[0] * box[1] * box[2]);
-    std::array<int64_t, 3> sites{};
-    for (int a = 0; a < 3; ++a) sites[size_t(a)] = std::max<int64_t>(1, int64_t(std::ceil(box[size_t(a)] * std::cbrt(density))));
-    // Grow the axis with the widest spacing until every particle has a site.
-    while (sites[0] * sites[1] * sites[2] < n) {
-        int widest = 0;
-        for (int a = 1; a < 3; ++a) {
-            if (box[size_t(a)] / double(sites[size_t(a)]) > box[size_t(widest)] / double(sites[size_t(widest)])) widest = a;
-        }
-        ++sites[size_t(widest)];
-    }
-    double minDistance = 0;
-    for (size_t i = 0; i < scene.species.size(); ++i) {
-        if (scene.species[i].count == 0) continue;
-        for (size_t j = 0; j < scene.species.size(); ++j) {
-            if (scene.species[j].count > 0) minDistance = std::max(minDistance, scene.species[i].radius + scene.species[j].radius);
-        }
-    }
-    for (int a = 0; a < 3; ++a) {
-        const double spacing = box[size_t(a)] / double(sites[size_t(a)]);
-        if (spacing < minDistance) {
-            std::ostringstream msg;
-            msg << "more particles than fit: " << n << " particles on a lattice in this box need a spacing of " << spacing
-                << " on axis " << "xyz"[a] << ", below the largest contact distance " << minDistance
-                << "; enlarge the box or use fewer or smaller particles";
-            throw InputError(locatedMessage(scene.sourcePath, 0, "species", msg.str()));
-        }
-    }
+    const std::array<int64_t, 3> sites = latticeSites(scene);
     // A random subset of the sites (Fisher-Yates on counter-based draws), so species mix.
     const int64_t total = sites[0] * sites[1] * sites[2];
     std::vector<int64_t> order(static_cast<size_t>(total));
@@ -169,6 +144,11 @@ void checkPlacement(const Scene& scene, const ParticleState& state, const std::s
 }
 
 ParticleState makeInitialState(const Scene& scene) {
+    // The rule scene validation applies: a scene from a file passed it already; one built in code
+    // (a test, a benchmark, the panel's staged edits) meets it here.
+    if (const std::optional<PackingProblem> problem = packingProblem(scene)) {
+        throw InputError(locatedMessage(scene.sourcePath, 0, problem->key, problem->message));
+    }
     if (!scene.init.particlesFile.empty()) {
         ParticleState state = readStateCsv(scene.init.particlesFile);
         std::vector<int64_t> counts(scene.species.size(), 0);

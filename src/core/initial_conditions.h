@@ -10,8 +10,8 @@
 
 namespace corebox {
 
-// Throws InputError when the particles do not fit, a particle file is bad, or particles overlap or
-// lie outside the box.
+// Throws InputError when the particles do not fit (packing.h: the rule scene validation applies), a
+// particle file is bad, or particles overlap or lie outside the box.
 ParticleState makeInitialState(const Scene& scene);
 
 // Gaussian velocities with variance kT/m per component, centre-of-mass velocity removed.

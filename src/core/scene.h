@@ -13,12 +13,9 @@
 
 #include "butcher_tableau.h"
 #include "pair_potential.h"
+#include "vocabulary.h"  // Precision, ThermostatKind, Placement and the names of every choice
 
 namespace corebox {
-
-enum class Precision { Fp32, Fp64 };
-enum class ThermostatKind { Bussi, Rescale, None };
-enum class Placement { Lattice, Random };
 
 struct BoxDef {
     std::array<double, 3> size{10, 10, 10};  // box edge lengths [sigma]; walls at 0 and L per axis
@@ -89,11 +86,5 @@ struct StepParameters {
 };
 
 StepParameters stepParametersOf(const Scene& scene);
-
-const char* methodName(Method method);
-bool parseMethod(const std::string& text, Method* method);
-const char* precisionName(Precision precision);
-const char* thermostatName(ThermostatKind kind);
-const char* shiftName(CutoffShift shift);
 
 }  // namespace corebox

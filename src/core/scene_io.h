@@ -1,15 +1,16 @@
 // Scene files: TOML text <-> Scene (DESIGN.md sec. 3).
 //
-// Design note. Parsing and validation happen in one pass over the toml++ tree so that every error
-// can name the file, the line of the offending node and its dotted key ("scene.toml:12:
-// species[1].mass: must be > 0"); a separate validator would have lost the line numbers. Unknown
-// tables and keys are errors (a typo must never silently fall back to a default), and the message
-// lists the allowed keys. Missing keys take the struct defaults of scene.h, except that each
+// Design note. Reading is two steps with one purpose each: scene_parse.cpp reads the TOML tree
+// (syntax, allowed tables and keys, types, names of choices) and notes the line of every key;
+// scene_validation.h checks the values against the rules, naming "file:line: key" through those
+// notes ("scene.toml:12: species[1].mass: must be > 0"). Unknown tables and keys are errors (a typo
+// must never silently fall back to a default), and the message lists the allowed keys with a "did
+// you mean" (suggest.h). Missing keys take the struct defaults of scene.h, except that each
 // [[species]] must give `count`, and species without a name or colour are named "A", "B", ... and
 // coloured from a palette by position, so that two unnamed species do not collide.
 //
-// Serialisation is hand-written rather than via toml++'s formatter: it keeps the sections in the
-// documented order and writes doubles in their shortest round-trip form, so
+// Writing (scene_serialise.cpp) is hand-written rather than via toml++'s formatter: it keeps the
+// sections in the documented order and writes doubles in their shortest round-trip form, so
 // parseScene(sceneToToml(s)) reproduces every field of s exactly.
 #pragma once
 

@@ -8,15 +8,11 @@
 #pragma once
 
 #include <memory>
-#include <stdexcept>
 #include <string>
 
-namespace corebox {
+#include "platform_error.h"
 
-class PlatformError : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
+namespace corebox {
 
 struct HeadlessContextOptions {
     int cudaDevice = -1;         // >= 0: the EGL device driving this CUDA device, or an error

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "egl_headless_context.h"  // PlatformError
+#include "platform_error.h"
 
 struct GLFWwindow;
 

@@ -1,39 +1,63 @@
 #include <imgui.h>
 
 #include <cstdio>
+#include <string>
 
 #include "panels.h"
 
 namespace corebox {
 namespace {
 
-const char* kMethodLabels[] = {"euler (order 1)", "rk2 (order 2)", "rk4 (order 4)", "dp5 (order 5)", "hairer10 (order 10)",
-                               "verlet (order 2, symplectic)"};
-const char* kThermostatLabels[] = {"bussi", "rescale", "none"};
+// "rk4 (order 4)": the name, and the note when the table has one.
+template <class Enum>
+std::string termLabel(const Term<Enum>& term) {
+    return *term.note ? std::string(term.name) + " (" + term.note + ")" : std::string(term.name);
+}
+
+// A combo box over a vocabulary table: the labels are its names (with the note, where there is one)
+// and the selection maps back to a value through the table, never through the enum's numbering.
+template <class Enum>
+bool comboBox(const char* label, const Vocabulary<Enum>& table, Enum current, Enum* chosen) {
+    bool changed = false;
+    const size_t index = table.indexOf(current);
+    const std::string preview = index < table.size() ? termLabel(table.begin()[index]) : "?";
+    if (ImGui::BeginCombo(label, preview.c_str())) {
+        for (const Term<Enum>& term : table) {
+            const bool selected = term.value == current;
+            if (ImGui::Selectable(termLabel(term).c_str(), selected) && !selected) {
+                *chosen = term.value;
+                changed = true;
+            }
+            if (selected) ImGui::SetItemDefaultFocus();
+        }
+        ImGui::EndCombo();
+    }
+    return changed;
+}
 
 bool inputDouble(const char* label, double* value, double step, const char* format = "%.4g") {
     return ImGui::InputDouble(label, value, step, step * 10, format, ImGuiInputTextFlags_EnterReturnsTrue);
 }
 
-void liveSection(SimulationControls& c) {
+void liveSection(LiveControls& c) {
     const Scene& s = c.live();
     ImGui::TextDisabled("Live: applies at the next step");
 
-    int thermostat = int(s.thermostat.kind);
-    if (ImGui::Combo("thermostat", &thermostat, kThermostatLabels, 3)) c.setThermostatKind(ThermostatKind(thermostat));
+    ThermostatKind thermostat;
+    if (comboBox("thermostat", thermostatTable(), s.thermostat.kind, &thermostat)) c.setThermostatKind(thermostat);
     float target = float(s.thermostat.temperature);
     if (ImGui::SliderFloat("target T", &target, 0.05f, 10.0f, "%.3f", ImGuiSliderFlags_Logarithmic)) c.setTargetTemperature(target);
     float tau = float(s.thermostat.tau);
     if (ImGui::SliderFloat("tau", &tau, 0.005f, 10.0f, "%.3f", ImGuiSliderFlags_Logarithmic)) c.setThermostatTau(tau);
 
-    int method = int(s.integrator.method);
-    if (ImGui::Combo("integrator", &method, kMethodLabels, 6)) c.setMethod(Method(method));
+    Method method;
+    if (comboBox("integrator", methodTable(), s.integrator.method, &method)) c.setMethod(method);
     double dt = s.integrator.dt;
     if (inputDouble("dt", &dt, 1e-4, "%.2e")) c.setDt(dt);
-    int precision = s.integrator.precision == Precision::Fp32 ? 0 : 1;
-    if (ImGui::RadioButton("fp32", &precision, 0)) c.setPrecision(Precision::Fp32);
-    ImGui::SameLine();
-    if (ImGui::RadioButton("fp64", &precision, 1)) c.setPrecision(Precision::Fp64);
+    for (const Term<Precision>& term : precisionTable()) {
+        if (&term != precisionTable().begin()) ImGui::SameLine();
+        if (ImGui::RadioButton(term.name, s.integrator.precision == term.value)) c.setPrecision(term.value);
+    }
 
     float e = float(s.interaction.restitution);
     if (ImGui::SliderFloat("restitution", &e, 0.0f, 1.0f)) c.setRestitution(e);
@@ -58,7 +82,7 @@ void liveSection(SimulationControls& c) {
     }
 }
 
-void restartSection(SimulationControls& c, PanelActions& actions) {
+void restartSection(LiveControls& c, PanelActions& actions) {
     ImGui::TextDisabled("Needs Reset: counts, masses, radii, box, seed");
     const Scene& p = c.pending();
     for (size_t k = 0; k < p.species.size(); ++k) {
@@ -83,20 +107,20 @@ void restartSection(SimulationControls& c, PanelActions& actions) {
 
 }  // namespace
 
-void drawControlPanel(SimulationControls& controls, ViewSettings& view, PanelActions& actions,
+void drawControlPanel(LiveControls& controls, DisplaySettings& display, PanelActions& actions,
                       const std::vector<std::string>& presetPaths, const std::string& status) {
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(360, 700), ImGuiCond_FirstUseEver);
     ImGui::Begin("corebox");
-    if (ImGui::Button(view.paused ? "Run (Space)" : "Pause (Space)")) view.paused = !view.paused;
+    if (ImGui::Button(display.paused ? "Run (Space)" : "Pause (Space)")) display.paused = !display.paused;
     ImGui::SameLine();
     if (ImGui::Button("Step (Right)")) actions.singleStep = true;
     ImGui::SameLine();
     if (ImGui::Button("Screenshot (F12)")) actions.screenshot = true;
-    ImGui::SliderInt("steps/frame", &view.stepsPerFrame, 1, 200);
-    ImGui::Checkbox("vsync", &view.vsync);
+    ImGui::SliderInt("steps/frame", &display.stepsPerFrame, 1, 200);
+    ImGui::Checkbox("vsync", &display.vsync);
     ImGui::SameLine();
-    ImGui::Checkbox("colour by speed", &view.colorBySpeed);
+    ImGui::Checkbox("colour by speed", &display.colorBySpeed);
     if (!status.empty()) ImGui::TextWrapped("%s", status.c_str());
 
     if (ImGui::CollapsingHeader("Live parameters", ImGuiTreeNodeFlags_DefaultOpen)) liveSection(controls);

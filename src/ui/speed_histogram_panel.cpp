@@ -51,7 +51,7 @@ void plotSeries(const SpeedSeries& s, double maxSpeed, double target, float widt
 
 }  // namespace
 
-void drawSpeedHistogram(const SpeedView& speeds, bool place) {
+void drawSpeedHistogram(const SpeedDistributionData& speeds, bool place) {
     if (place) {
         ImGui::SetNextWindowPos(ImVec2(1180, 10), ImGuiCond_FirstUseEver);
         ImGui::SetNextWindowSize(ImVec2(410, 520), ImGuiCond_FirstUseEver);

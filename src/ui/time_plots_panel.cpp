@@ -43,7 +43,7 @@ void drawTimePlots(const ObservableHistory& h, bool place) {
     ImGui::End();
 }
 
-void drawPerformance(const PerformanceView& p, bool place) {
+void drawPerformance(const PerformanceData& p, bool place) {
     if (place) ImGui::SetNextWindowPos(ImVec2(380, 10), ImGuiCond_FirstUseEver);
     ImGui::Begin("Performance", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
     ImGui::Text("%s: %s", p.backend.c_str(), p.device.c_str());
@@ -56,7 +56,7 @@ void drawPerformance(const PerformanceView& p, bool place) {
     ImGui::End();
 }
 
-void drawHud(const SpeedView& speeds, const ObservableHistory& history, const PerformanceView& performance, float width,
+void drawHud(const SpeedDistributionData& speeds, const ObservableHistory& history, const PerformanceData& performance, float width,
              float height) {
     const float column = std::min(420.0f, 0.34f * width);
     ImGui::SetNextWindowPos(ImVec2(width - column - 8, 8), ImGuiCond_Always);

@@ -104,6 +104,8 @@ no_outputs "unwritable outputs"
 expect "unknown flag" 2 "--bogus" -- run "$work/good.toml" --bogus
 expect "bad steps" 2 "--steps" -- run "$work/good.toml" --steps -3
 expect "bad backend" 2 "unknown backend" -- run "$work/good.toml" --backend fpga
+# A named choice on the command line: refused with the list of names, from the same table as scene files.
+expect "unknown method flag" 2 "--method: unknown method 'leapfrog'; one of: euler, rk2" -- run "$work/good.toml" --method leapfrog
 "$COREBOX" --help | grep -q "run" && pass || fail "--help does not list run"
 
 # A normal run: observables header, rows at 0, every K and the end, final state readable.
@@ -134,6 +136,22 @@ expect "blow-up" 3 "instability at step [0-9]+.*likely cause: dt = 0.05 is too l
 [ -s "$work/out/state.last_good.csv" ] && pass || fail "no last good state after a blow-up"
 [ ! -e "$work/out/state.csv" ] && pass || fail "final state written despite the blow-up"
 if grep -qiE 'nan|inf' "$work/out/obs.csv"; then fail "NaN or inf in the observables"; else pass; fi
+
+# The same blow-up in a headless run (Mesa's software EGL device): exit 3, the observables so far
+# and the last good state kept beside them, as in a batch run.
+rm -rf "$work/out" && mkdir -p "$work/out"
+expect "headless blow-up" 3 "instability at step [0-9]+" -- \
+    run "$SRC/assets/argon_gas.toml" --method euler --dt 0.05 --headless --software-gl --frames 201 --steps-per-frame 25 \
+    --size 64x64 --out "$work/out/frames"
+[ -s "$work/out/frames/observables.csv" ] && pass || fail "no observables after a headless blow-up"
+[ -s "$work/out/frames/last_good_state.csv" ] && pass || fail "no last good state after a headless blow-up"
+
+# An output that fails during the run (a script's screenshot into a missing directory): exit 2,
+# the path named.
+printf '2 screenshot %s\n' "$work/missing_dir/shot.png" >"$work/shot.script"
+expect "unwritable screenshot" 2 "cannot write '$work/missing_dir/shot.png'" -- \
+    run "$SRC/assets/hard_spheres.toml" --headless --software-gl --frames 3 --steps-per-frame 2 --size 64x64 \
+    --out "$work/out/shots" --script "$work/shot.script"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -19,7 +19,7 @@
 
 #include "physics_fixtures.h"
 #include "session.h"
-#include "simulation_controls.h"
+#include "live_controls.h"
 #include "thermostat_formulas.h"
 
 using namespace corebox;
@@ -94,18 +94,18 @@ double maxDifference(const ParticleState& a, const ParticleState& b) {
     return worst;
 }
 
-class LiveControls : public OnEveryBackend {
+class LiveEdits : public OnEveryBackend {
 protected:
     BackendChoice choice() const { return BackendChoice{backendName(), Precision::Fp64, 1, 0}; }
 };
 
 }  // namespace
 
-INSTANTIATE_TEST_SUITE_P(Backends, LiveControls, ::testing::ValuesIn(backendNames()), backendInstanceName);
+INSTANTIATE_TEST_SUITE_P(Backends, LiveEdits, ::testing::ValuesIn(backendNames()), backendInstanceName);
 
-TEST_P(LiveControls, LiveEditsReachTheRunningSimulationWithoutARestart) {
+TEST_P(LiveEdits, LiveEditsReachTheRunningSimulationWithoutARestart) {
     Session session(twoSpecies(), choice());
-    SimulationControls controls(session);
+    LiveControls controls(session);
     for (int s = 0; s < 5; ++s) session.simulation().step();
     const ParticleState before = session.simulation().state();
     const uint64_t generation = session.generation();
@@ -177,7 +177,7 @@ TEST_P(LiveControls, LiveEditsReachTheRunningSimulationWithoutARestart) {
     EXPECT_EQ(session.runningScene().mixing(0, 1), 0.4);
 }
 
-TEST_P(LiveControls, GravityEditChangesTheMomentumByMGDtPerStep) {
+TEST_P(LiveEdits, GravityEditChangesTheMomentumByMGDtPerStep) {
     // A free system: hard spheres without pair force, on a lattice of spacing 5 in a 20^3 box (2.5
     // from the walls), at T = 1: in a few steps of 1e-3 nothing collides, so only gravity can change
     // the momentum, by M g dt per step exactly. Tolerance 1e-9 of M g dt: the momentum sums over 64
@@ -191,7 +191,7 @@ TEST_P(LiveControls, GravityEditChangesTheMomentumByMGDtPerStep) {
     heavy.mass = 2.5;
     scene.species = {light, heavy};
     Session session(scene, choice());
-    SimulationControls controls(session);
+    LiveControls controls(session);
     Simulation& sim = session.simulation();
     const double mass = totalMassOf(sim.state(), scene);
     auto checkSteps = [&](const std::array<double, 3>& g) {
@@ -214,14 +214,14 @@ TEST_P(LiveControls, GravityEditChangesTheMomentumByMGDtPerStep) {
     checkSteps({0, 0, 0});
 }
 
-TEST_P(LiveControls, RestitutionEditsChangeTheDissipatedEnergy) {
+TEST_P(LiveEdits, RestitutionEditsChangeTheDissipatedEnergy) {
     // A dense elastic hard-sphere gas (packing fraction 0.31, T = 2): many pair and wall collisions in
     // every phase of 40 steps. Elastic collisions dissipate exactly nothing ((1 - e^2) = 0, no forces),
     // so any dissipation in a phase comes from the one restitution that was edited below 1.
     Scene scene = hardSphereScene(300, 8.0, Method::Verlet, 5e-3);
     scene.init.temperature = 2.0;
     Session session(scene, choice());
-    SimulationControls controls(session);
+    LiveControls controls(session);
     Simulation& sim = session.simulation();
     struct Phase {
         int64_t pair = 0, wall = 0;
@@ -258,9 +258,9 @@ TEST_P(LiveControls, RestitutionEditsChangeTheDissipatedEnergy) {
     EXPECT_EQ(run().dissipated, 0.0);
 }
 
-TEST_P(LiveControls, MixingEditChangesThePotentialByThePairAmount) {
+TEST_P(LiveEdits, MixingEditChangesThePotentialByThePairAmount) {
     Session session(twoSpecies(), choice());
-    SimulationControls controls(session);
+    LiveControls controls(session);
     Simulation& sim = session.simulation();
     for (int s = 0; s < 5; ++s) sim.step();
     const ParticleState st = sim.state();
@@ -289,9 +289,9 @@ TEST_P(LiveControls, MixingEditChangesThePotentialByThePairAmount) {
     EXPECT_EQ(session.runningScene().mixing(1, 0), 0.4);
 }
 
-TEST_P(LiveControls, RestartSettingsWaitForReset) {
+TEST_P(LiveEdits, RestartSettingsWaitForReset) {
     Session session(twoSpecies(), choice());
-    SimulationControls controls(session);
+    LiveControls controls(session);
     controls.setSpeciesCount(0, 80);
     controls.setSpeciesMass(1, 3.0);
     controls.setSpeciesRadius(0, 0.4);
@@ -322,9 +322,9 @@ TEST_P(LiveControls, RestartSettingsWaitForReset) {
     EXPECT_EQ(std::count(st.species.begin(), st.species.end(), 0), 80);
 }
 
-TEST_P(LiveControls, AResetThatCannotWorkChangesNothing) {
+TEST_P(LiveEdits, AResetThatCannotWorkChangesNothing) {
     Session session(twoSpecies(), choice());
-    SimulationControls controls(session);
+    LiveControls controls(session);
     controls.setSpeciesCount(0, 100000);  // cannot fit
     const std::string error = controls.reset();
     EXPECT_NE(error.find("more particles than fit"), std::string::npos) << error;
@@ -333,9 +333,9 @@ TEST_P(LiveControls, AResetThatCannotWorkChangesNothing) {
     EXPECT_TRUE(controls.restartPending());
 }
 
-TEST_P(LiveControls, SwitchingMethodOrPrecisionKeepsTheState) {
+TEST_P(LiveEdits, SwitchingMethodOrPrecisionKeepsTheState) {
     Session session(twoSpecies(), choice());
-    SimulationControls controls(session);
+    LiveControls controls(session);
     for (int s = 0; s < 10; ++s) session.simulation().step();
     const ParticleState before = session.simulation().state();
     controls.setMethod(Method::Hairer10);

@@ -1,4 +1,4 @@
-#include "simulation_controls.h"
+#include "live_controls.h"
 
 #include <stdexcept>
 
@@ -6,9 +6,9 @@
 
 namespace corebox {
 
-SimulationControls::SimulationControls(SimulationHost& host) : m_host(host), m_pending(host.runningScene()) {}
+LiveControls::LiveControls(SimulationHost& host) : m_host(host), m_pending(host.runningScene()) {}
 
-void SimulationControls::pushStepParameters(const Scene& scene) {
+void LiveControls::pushStepParameters(const Scene& scene) {
     m_host.applyStepParameters(stepParametersOf(scene));
     // Keep the staged scene's live part in step, so a later reset keeps the live edits.
     m_pending.integrator = scene.integrator;
@@ -16,7 +16,7 @@ void SimulationControls::pushStepParameters(const Scene& scene) {
     m_pending.box.wallRestitution = scene.box.wallRestitution;
 }
 
-void SimulationControls::setTargetTemperature(double kT) {
+void LiveControls::setTargetTemperature(double kT) {
     if (!(kT > 0)) return;
     ThermostatDef t = live().thermostat;
     t.temperature = kT;
@@ -24,14 +24,14 @@ void SimulationControls::setTargetTemperature(double kT) {
     m_pending.thermostat = t;
 }
 
-void SimulationControls::setThermostatKind(ThermostatKind kind) {
+void LiveControls::setThermostatKind(ThermostatKind kind) {
     ThermostatDef t = live().thermostat;
     t.kind = kind;
     m_host.applyThermostat(t);
     m_pending.thermostat = t;
 }
 
-void SimulationControls::setThermostatTau(double tau) {
+void LiveControls::setThermostatTau(double tau) {
     if (!(tau > 0)) return;
     ThermostatDef t = live().thermostat;
     t.tau = tau;
@@ -39,7 +39,7 @@ void SimulationControls::setThermostatTau(double tau) {
     m_pending.thermostat = t;
 }
 
-void SimulationControls::setMixing(size_t i, size_t j, double x) {
+void LiveControls::setMixing(size_t i, size_t j, double x) {
     Scene s = live();
     const size_t n = s.species.size();
     if (i >= n || j >= n || x < 0) return;
@@ -49,7 +49,7 @@ void SimulationControls::setMixing(size_t i, size_t j, double x) {
     pushStepParameters(s);
 }
 
-void SimulationControls::setLikeUnlikeMixing(double like, double unlike) {
+void LiveControls::setLikeUnlikeMixing(double like, double unlike) {
     Scene s = live();
     const size_t n = s.species.size();
     if (like < 0 || unlike < 0) return;
@@ -58,76 +58,76 @@ void SimulationControls::setLikeUnlikeMixing(double like, double unlike) {
     pushStepParameters(s);
 }
 
-void SimulationControls::setMethod(Method method) {
+void LiveControls::setMethod(Method method) {
     Scene s = live();
     s.integrator.method = method;
     if (method != Method::Dp5) s.integrator.adaptive = false;
     pushStepParameters(s);
 }
 
-void SimulationControls::setDt(double dt) {
+void LiveControls::setDt(double dt) {
     if (!(dt > 0)) return;
     Scene s = live();
     s.integrator.dt = dt;
     pushStepParameters(s);
 }
 
-void SimulationControls::setPrecision(Precision precision) {
+void LiveControls::setPrecision(Precision precision) {
     if (precision == live().integrator.precision) return;
     m_host.switchPrecision(precision);
     m_pending.integrator.precision = precision;
 }
 
-void SimulationControls::setRestitution(double e) {
+void LiveControls::setRestitution(double e) {
     if (e < 0 || e > 1) return;
     Scene s = live();
     s.interaction.restitution = e;
     pushStepParameters(s);
 }
 
-void SimulationControls::setWallRestitution(double e) {
+void LiveControls::setWallRestitution(double e) {
     if (e < 0 || e > 1) return;
     Scene s = live();
     s.box.wallRestitution = e;
     pushStepParameters(s);
 }
 
-void SimulationControls::setGravity(const std::array<double, 3>& g) {
+void LiveControls::setGravity(const std::array<double, 3>& g) {
     Scene s = live();
     s.interaction.gravity = g;
     pushStepParameters(s);
 }
 
-void SimulationControls::setSpeciesCount(size_t species, int64_t count) {
+void LiveControls::setSpeciesCount(size_t species, int64_t count) {
     if (species >= m_pending.species.size() || count < 0) return;
     m_pending.species[species].count = count;
     m_restartPending = true;
 }
 
-void SimulationControls::setSpeciesMass(size_t species, double mass) {
+void LiveControls::setSpeciesMass(size_t species, double mass) {
     if (species >= m_pending.species.size() || !(mass > 0)) return;
     m_pending.species[species].mass = mass;
     m_restartPending = true;
 }
 
-void SimulationControls::setSpeciesRadius(size_t species, double radius) {
+void LiveControls::setSpeciesRadius(size_t species, double radius) {
     if (species >= m_pending.species.size() || !(radius > 0)) return;
     m_pending.species[species].radius = radius;
     m_restartPending = true;
 }
 
-void SimulationControls::setBoxSize(const std::array<double, 3>& size) {
+void LiveControls::setBoxSize(const std::array<double, 3>& size) {
     if (!(size[0] > 0 && size[1] > 0 && size[2] > 0)) return;
     m_pending.box.size = size;
     m_restartPending = true;
 }
 
-void SimulationControls::setSeed(uint64_t seed) {
+void LiveControls::setSeed(uint64_t seed) {
     m_pending.init.seed = seed;
     m_restartPending = true;
 }
 
-std::string SimulationControls::reset() {
+std::string LiveControls::reset() {
     try {
         m_host.restart(m_pending);
     } catch (const InputError& e) {
@@ -138,7 +138,7 @@ std::string SimulationControls::reset() {
     return "";
 }
 
-std::string SimulationControls::load(const Scene& scene) {
+std::string LiveControls::load(const Scene& scene) {
     const Scene previous = m_pending;
     m_pending = scene;
     const std::string error = reset();

@@ -1,4 +1,4 @@
-#include "ui_views.h"
+#include "panel_data.h"
 
 #include <cmath>
 

@@ -1,6 +1,7 @@
-// Read-only data the panels show, filled by the app from the simulation (the UI never asks a
-// backend itself): observable time series, speed distributions with their Maxwell-Boltzmann
-// references, and performance figures. Plus the view settings and the actions the panel requests.
+// Data the panels read and write. Read-only, filled by the app from the simulation (the UI never
+// asks a backend itself): observable time series, speed distributions with their Maxwell-Boltzmann
+// references, and performance figures. Written by the panel: the display settings (colour mode,
+// steps per frame, vsync, what is shown) and the actions it requests of the frame loop.
 #pragma once
 
 #include <array>
@@ -38,13 +39,13 @@ struct SpeedSeries {
     double temperatureDistribution = 0;   // pi m <v>^2 / 8, from the mean speed of the histogram
 };
 
-struct SpeedView {
+struct SpeedDistributionData {
     std::vector<SpeedSeries> species;  // one per species, then "all" last
     double maxSpeed = 4;
     double targetTemperature = 0;  // 0: no thermostat
 };
 
-struct PerformanceView {
+struct PerformanceData {
     std::string backend, device;
     double stepsPerSecond = 0, framesPerSecond = 0, pairInteractionsPerSecond = 0;
     bool pairForces = true;  // false for pure hard spheres: no force pass to rate
@@ -54,7 +55,7 @@ struct PerformanceView {
     int stepsPerFrame = 1;
 };
 
-struct ViewSettings {
+struct DisplaySettings {
     bool colorBySpeed = false;
     int stepsPerFrame = 4;
     bool vsync = true;

@@ -1,4 +1,5 @@
-// What the panel can change, and when it takes effect, without ImGui or GL (so it is unit-tested).
+// LiveControls: the edits a running simulation accepts (from the panel, a script or a test) and when
+// each takes effect. Core code with no ImGui or GL, so it is unit-tested and the panel stays a view.
 //
 // Live settings (temperature and thermostat, mixing x_ij, integrator and dt, precision, restitution,
 // gravity) reach the running simulation at once through the SimulationHost. Creation-time settings
@@ -25,9 +26,9 @@ public:
     virtual void restart(const Scene& scene) = 0;          // new initial state from the scene
 };
 
-class SimulationControls {
+class LiveControls {
 public:
-    explicit SimulationControls(SimulationHost& host);
+    explicit LiveControls(SimulationHost& host);
 
     // ---- live ----
     void setTargetTemperature(double kT);

@@ -1,0 +1,46 @@
+#include "vocabulary.h"
+
+namespace corebox {
+namespace {
+
+// The order of each table is the order of every list a user sees (help, messages, the panel).
+constexpr Term<Method> kMethods[] = {
+    {Method::Euler, "euler", "order 1"},
+    {Method::Rk2, "rk2", "order 2"},
+    {Method::Rk4, "rk4", "order 4"},
+    {Method::Dp5, "dp5", "order 5"},
+    {Method::Hairer10, "hairer10", "order 10"},
+    {Method::Verlet, "verlet", "order 2, symplectic"},
+};
+constexpr Term<Precision> kPrecisions[] = {{Precision::Fp32, "fp32", ""}, {Precision::Fp64, "fp64", ""}};
+constexpr Term<BackendKind> kBackends[] = {
+    {BackendKind::Cpu, "cpu", ""}, {BackendKind::Cuda, "cuda", ""}, {BackendKind::Auto, "auto", "cuda when a GPU is present, else cpu"}};
+constexpr Term<ThermostatKind> kThermostats[] = {
+    {ThermostatKind::Bussi, "bussi", ""}, {ThermostatKind::Rescale, "rescale", ""}, {ThermostatKind::None, "none", ""}};
+constexpr Term<CutoffShift> kShifts[] = {
+    {CutoffShift::None, "none", ""}, {CutoffShift::Energy, "energy", ""}, {CutoffShift::Force, "force", ""}};
+constexpr Term<Placement> kPlacements[] = {{Placement::Lattice, "lattice", ""}, {Placement::Random, "random", ""}};
+
+constexpr Vocabulary<Method> kMethodTable("method", kMethods);
+constexpr Vocabulary<Precision> kPrecisionTable("precision", kPrecisions);
+constexpr Vocabulary<BackendKind> kBackendTable("backend", kBackends);
+constexpr Vocabulary<ThermostatKind> kThermostatTable("thermostat kind", kThermostats);
+constexpr Vocabulary<CutoffShift> kShiftTable("shift", kShifts);
+constexpr Vocabulary<Placement> kPlacementTable("placement", kPlacements);
+
+}  // namespace
+
+const Vocabulary<Method>& methodTable() { return kMethodTable; }
+const Vocabulary<Precision>& precisionTable() { return kPrecisionTable; }
+const Vocabulary<BackendKind>& backendTable() { return kBackendTable; }
+const Vocabulary<ThermostatKind>& thermostatTable() { return kThermostatTable; }
+const Vocabulary<CutoffShift>& shiftTable() { return kShiftTable; }
+const Vocabulary<Placement>& placementTable() { return kPlacementTable; }
+
+const char* methodName(Method method) { return methodTable().name(method); }
+bool parseMethod(const std::string& text, Method* method) { return methodTable().parse(text, method); }
+const char* precisionName(Precision precision) { return precisionTable().name(precision); }
+const char* thermostatName(ThermostatKind kind) { return thermostatTable().name(kind); }
+const char* shiftName(CutoffShift shift) { return shiftTable().name(shift); }
+
+}  // namespace corebox
