@@ -91,23 +91,26 @@ namespace corebox {
 // Backward time to the wall along the parabola for the normal coordinate: p = x - wall (signed so
 // that the penetration is p < 0 when v < 0 reaches the wall), v and a the normal velocity and
 // acceleration. Solves (a/2) s^2 - v s + p = 0 for its smallest positive root in the stable form
-// s = 2p / (v + sgn(v) sqrt(v^2 - 2 a p)); falls back to the straight line p / v.
+// s = 2p / (v + sgn(v) sqrt(v^2 - 2 a p)); falls back to the straight line p / v. Never more than
+// maxRewind (the step): the contact began within it.
 template <class Real>
-COREBOX_HD inline Real parabolicWallRewindTime(Real p, Real v, Real a, Real straightLine) {
+COREBOX_HD inline Real parabolicWallRewindTime(Real p, Real v, Real a, Real straightLine, Real maxRewind) {
     const Real disc = v * v - Real(2) * a * p;
-    if (disc < Real(0)) return straightLine;
-    const Real root = realSqrt(disc);
+    Real s = straightLine;
+    const Real root = disc >= Real(0) ? realSqrt(disc) : Real(0);
     const Real denominator = v + (v < Real(0) ? -root : root);
-    if (denominator == Real(0)) return straightLine;
-    const Real s = Real(2) * p / denominator;
-    return s >= Real(0) ? s : straightLine;
+    if (disc >= Real(0) && denominator != Real(0)) {
+        const Real parabolic = Real(2) * p / denominator;
+        if (parabolic >= Real(0)) s = parabolic;
+    }
+    return s < maxRewind ? s : maxRewind;
 }
 
 // Backward time to contact of a pair along the relative parabola r(-s) = r - v s + a s^2 / 2,
 // refined by Newton from the straight-line time s0 (|r(-s)|^2 = d^2 is a quartic). Keeps s0 when
-// Newton does not converge to a non-negative root nearby.
+// Newton does not converge to a non-negative root nearby; never more than maxRewind (the step).
 template <class Real>
-COREBOX_HD inline Real parabolicContactRewindTime(Vec3<Real> r, Vec3<Real> v, Vec3<Real> a, Real d, Real s0) {
+COREBOX_HD inline Real parabolicContactRewindTime(Vec3<Real> r, Vec3<Real> v, Vec3<Real> a, Real d, Real s0, Real maxRewind) {
     Real s = s0;
     for (int it = 0; it < 4; ++it) {
         const Vec3<Real> rs = r - s * v + (Real(0.5) * s * s) * a;
@@ -118,7 +121,8 @@ COREBOX_HD inline Real parabolicContactRewindTime(Vec3<Real> r, Vec3<Real> v, Ve
         s -= f / df;
     }
     const Real tolerance = Real(0.5) * s0 + Real(1e-12);
-    return (s >= Real(0) && realAbs(s - s0) <= tolerance) ? s : s0;
+    const Real refined = (s >= Real(0) && realAbs(s - s0) <= tolerance) ? s : s0;
+    return refined < maxRewind ? refined : maxRewind;
 }
 
 }  // namespace corebox

@@ -18,9 +18,9 @@ __global__ void findEventsKernel(CollisionArgs<Real> a) {
     CollisionEvent best = noEvent();
     forEachNeighbour(a.grid, xi, [&](int64_t j) {
         if (j == i || !(checkAll || a.active[j])) return;
-        considerPair(xi, vi, ri, a.p.x[j], a.p.v[j], a.table.radius[a.p.species[j]], j, best);
+        considerPair(xi, vi, ri, a.p.x[j], a.p.v[j], a.table.radius[a.p.species[j]], j, a.window, best);
     });
-    considerWalls(xi, vi, ri, a.box, best);
+    considerWalls(xi, vi, ri, a.box, a.window, best);
     a.events[i] = best;
     if (!isValid(best)) return;
     atomicAdd(&a.counters[1], 1u);  // a count: the same whatever the order
@@ -75,8 +75,8 @@ __global__ void resolveKernel(CollisionArgs<Real> a) {
             const int sj = a.p.species[j];
             Vec3<Real> xi = a.p.x[i], vi = a.p.v[i], xj = a.p.x[j], vj = a.p.v[j];
             kind = resolvePairEvent(xi, vi, a.contactAcceleration[i], a.table.mass[si], xj, vj, a.contactAcceleration[j],
-                                    a.table.mass[sj], a.table.radius[si] + a.table.radius[sj], e.key, a.restitution,
-                                    a.elasticBelow, &loss);
+                                    a.table.mass[sj], a.table.radius[si] + a.table.radius[sj], e.key, a.window.maxRewind,
+                                    a.restitution, a.elasticBelow, &loss);
             a.p.x[i] = xi;
             a.p.v[i] = vi;
             a.p.x[j] = xj;
@@ -86,7 +86,7 @@ __global__ void resolveKernel(CollisionArgs<Real> a) {
         const int code = int(-1 - e.partner), axis = code / 2;
         Vec3<Real> x = a.p.x[i], v = a.p.v[i];
         kind = resolveWallEvent(x[axis], v[axis], a.contactAcceleration[i][axis], a.table.mass[si], a.table.radius[si],
-                                a.box[axis], code % 2, e.key, a.wallRestitution, a.elasticBelow, &loss);
+                                a.box[axis], code % 2, e.key, a.window.maxRewind, a.wallRestitution, a.elasticBelow, &loss);
         a.p.x[i] = x;
         a.p.v[i] = v;
     }

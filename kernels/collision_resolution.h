@@ -1,10 +1,17 @@
-// The a posteriori resolution step by step, shared by the CPU backend and the CUDA kernels (DESIGN.md
+// The a posteriori impacts step by step, shared by the CPU backend and the CUDA kernels (DESIGN.md
 // sec. 2): the candidate events of a particle, the order that picks its earliest one, and the
 // resolution of a pair or wall event along the second-order (parabolic) rewind of collision.h.
 //
 // In each parallel round every particle finds its earliest event among its overlaps; an event is
 // resolved when it is the earliest event of every particle it touches. Those events form a matching,
 // so they can be resolved concurrently without two threads writing one particle.
+//
+// An overlap is an impact of this step only when the straight-line rewind to contact is within the
+// step (s <= dt: the contact began during this step) and the pair approaches faster than the resting
+// speed. Anything else (an overlap inherited from an earlier step or handed in, a pair separating
+// while overlapping, a slow contact pressed by gravity) is left to the contact relaxation of
+// contact_relaxation.h: rewinding it further than the step would move it along a parabola it never
+// followed and throw it forward with energy from nowhere.
 #pragma once
 
 #include <cfloat>
@@ -16,18 +23,24 @@
 
 namespace corebox {
 
-// One candidate event of a particle. Larger key = earlier in the step (longer rewind); positional
-// fixes (overlaps not produced by approach) rank below every contact. partner: particle index, or a
-// wall code -1 - (2 * axis + side).
+// One candidate event of a particle. Larger key = earlier in the step (longer rewind). partner:
+// particle index, or a wall code -1 - (2 * axis + side).
 struct CollisionEvent {
     double key;
     int64_t partner;
 };
 
 constexpr int64_t kNoPartner = INT64_MIN;
-constexpr double kFixKey = -1.0;
 
-enum CollisionKind : int { kNoCollision = 0, kPairCollision = 1, kWallCollision = 2, kPositionalFix = 3 };
+enum CollisionKind : int { kNoCollision = 0, kPairCollision = 1, kWallCollision = 2 };
+
+// Which overlaps count as impacts of this step: rewound at most maxRewind (the step) and approaching
+// at least restingSpeed.
+template <class Real>
+struct ImpactWindow {
+    Real maxRewind;
+    Real restingSpeed;
+};
 
 COREBOX_HD inline CollisionEvent noEvent() { return CollisionEvent{-DBL_MAX, kNoPartner}; }
 COREBOX_HD inline bool isValid(const CollisionEvent& e) { return e.partner != kNoPartner; }
@@ -37,28 +50,34 @@ COREBOX_HD inline bool isBetter(const CollisionEvent& a, const CollisionEvent& b
 }
 COREBOX_HD inline int64_t wallCode(int axis, int side) { return -1 - (2 * axis + side); }
 
-// Offers the pair (i, j) to i's best event when the two overlap.
+// Offers the pair (i, j) to i's best event when the two overlap in an impact of this step.
 template <class Real>
 COREBOX_HD inline void considerPair(Vec3<Real> xi, Vec3<Real> vi, Real ai, Vec3<Real> xj, Vec3<Real> vj, Real aj, int64_t j,
-                                    CollisionEvent& best) {
+                                    ImpactWindow<Real> window, CollisionEvent& best) {
     const Real d = ai + aj;
     const Vec3<Real> r = xi - xj;
-    if (norm2(r) >= d * d * (Real(1) - contactSlack<Real>())) return;
-    const Real s = contactRewindTime(r, vi - vj, d);
-    const CollisionEvent e{s >= Real(0) ? double(s) : kFixKey, j};
+    const Real r2 = norm2(r);
+    if (r2 >= d * d * (Real(1) - contactSlack<Real>())) return;
+    const Vec3<Real> v = vi - vj;
+    const Real s = contactRewindTime(r, v, d);
+    if (s < Real(0) || s > window.maxRewind) return;  // separating, or not begun within this step
+    const Real vn = dot(r, v);                          // |r| times the normal speed, < 0 here
+    if (vn * vn < window.restingSpeed * window.restingSpeed * r2) return;  // a resting contact
+    const CollisionEvent e{double(s), j};
     if (isBetter(e, best)) best = e;
 }
 
-// Offers every wall the particle has crossed to its best event.
+// Offers every wall the particle has hit within this step to its best event.
 template <class Real>
-COREBOX_HD inline void considerWalls(Vec3<Real> x, Vec3<Real> v, Real radius, Vec3<Real> box, CollisionEvent& best) {
+COREBOX_HD inline void considerWalls(Vec3<Real> x, Vec3<Real> v, Real radius, Vec3<Real> box, ImpactWindow<Real> window,
+                                     CollisionEvent& best) {
     const Real slack = contactSlack<Real>() * (radius > Real(1) ? radius : Real(1));
     for (int axis = 0; axis < 3; ++axis) {
         for (int side = 0; side < 2; ++side) {
             const Real pos = side == 0 ? x[axis] + slack : x[axis] - slack;
             const Real s = wallRewindTime(pos, v[axis], radius, box[axis], side);
-            if (s == Real(-2)) continue;
-            const CollisionEvent e{s >= Real(0) ? double(s) : kFixKey, wallCode(axis, side)};
+            if (s < Real(0) || s > window.maxRewind || realAbs(v[axis]) < window.restingSpeed) continue;
+            const CollisionEvent e{double(s), wallCode(axis, side)};
             if (isBetter(e, best)) best = e;
         }
     }
@@ -68,19 +87,11 @@ COREBOX_HD inline void considerWalls(Vec3<Real> x, Vec3<Real> v, Real radius, Ve
 // accelerations. Adds the kinetic energy lost to *loss and returns the CollisionKind.
 template <class Real>
 COREBOX_HD inline int resolvePairEvent(Vec3<Real>& xi, Vec3<Real>& vi, Vec3<Real> ai, Real mi, Vec3<Real>& xj, Vec3<Real>& vj,
-                                       Vec3<Real> aj, Real mj, Real d, double key, Real e, Real elasticBelow, double* loss) {
+                                       Vec3<Real> aj, Real mj, Real d, double key, Real maxRewind, Real e, Real elasticBelow,
+                                       double* loss) {
     const Real mu = mi * mj / (mi + mj);
-    if (key == kFixKey) {
-        // Overlapping but separating: push apart along the line of centres, heavier moves less.
-        const Vec3<Real> r = xi - xj;
-        const Real dist = realSqrt(norm2(r));
-        const Vec3<Real> n = dist > Real(0) ? (Real(1) / dist) * r : Vec3<Real>{1, 0, 0};
-        const Real gap = d - dist;
-        xi += (gap * mj / (mi + mj)) * n;
-        xj -= (gap * mi / (mi + mj)) * n;
-        return kPositionalFix;
-    }
-    const Real s = parabolicContactRewindTime(xi - xj, vi - vj, ai - aj, d, Real(key));
+    // Refined along the parabola, still bounded by the step (the key is the straight-line time).
+    const Real s = parabolicContactRewindTime(xi - xj, vi - vj, ai - aj, d, Real(key), maxRewind);
     const Real halfS2 = Real(0.5) * s * s;
     xi += halfS2 * ai - s * vi;  // back to contact along each parabola
     xj += halfS2 * aj - s * vj;
@@ -127,18 +138,14 @@ COREBOX_HD inline int resolvePairEvent(Vec3<Real>& xi, Vec3<Real>& vi, Vec3<Real
 // Resolves a wall event on one axis: x, v, a are that axis' components of the particle.
 template <class Real>
 COREBOX_HD inline int resolveWallEvent(Real& x, Real& v, Real a, Real mass, Real radius, Real boxLength, int side, double key,
-                                       Real e, Real elasticBelow, double* loss) {
+                                       Real maxRewind, Real e, Real elasticBelow, double* loss) {
     const Real wall = side == 0 ? radius : boxLength - radius;
-    if (key == kFixKey) {
-        x = wall;
-        return kPositionalFix;
-    }
     // Normal coordinate pointing into the box: p = distance from the wall plane.
     const Real sign = side == 0 ? Real(1) : Real(-1);
     const Real p = sign * (x - wall);
     const Real vIn = sign * v;
     const Real aIn = sign * a;
-    const Real s = parabolicWallRewindTime(p, vIn, aIn, Real(key));
+    const Real s = parabolicWallRewindTime(p, vIn, aIn, Real(key), maxRewind);
     const Real vContact = vIn - aIn * s;
     const Real eEff = effectiveRestitution(e, vContact, elasticBelow);
     const Real vOut = vContact < Real(0) ? -eEff * vContact : vContact;

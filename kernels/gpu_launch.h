@@ -10,6 +10,7 @@
 #include "butcher_tableau.h"
 #include "cell_list.h"
 #include "collision_resolution.h"
+#include "contact_relaxation.h"
 #include "pair_potential.h"
 #include "particle_instance.h"
 #include "vec3.h"
@@ -122,9 +123,10 @@ struct CollisionArgs {
     char* hasContactAcceleration;
     int32_t* needList;         // particles needing an acceleration this round
     unsigned int* counters;    // [0] particles listed in needList, [1] particles with an event
-    unsigned long long* kindCounts;  // pair, wall, fix
+    unsigned long long* kindCounts;  // pair, wall
     double* loss;              // per particle
     Real restitution, wallRestitution, elasticBelow;
+    ImpactWindow<Real> window;  // which overlaps are impacts of this step
 };
 // Each particle's earliest event (all neighbours when active, else only active ones); counts the
 // particles with an event into counters[1], and lists those that still need a contact acceleration
@@ -140,6 +142,39 @@ void launchResolve(const CollisionArgs<Real>& args, cudaStream_t stream);
 // active[i] = particle i had an event this round.
 template <class Real>
 void launchUpdateActive(const CollisionArgs<Real>& args, cudaStream_t stream);
+
+// ---- contact relaxation (contact_kernels.cu) ----
+template <class Real>
+struct ContactArgs {
+    ParticleArrays<Real> p;
+    SpeciesTable<Real> table;
+    Vec3<Real> box;
+    CellListView cells;       // cells at least the largest contact distance plus the resting gap wide
+    int64_t* contactStart;    // n + 1: particle i's contacts are partner[contactStart[i] .. contactStart[i + 1])
+    int64_t* partner;         // particle index, or wall code -1 - (2 axis + side)
+    RestingContact<Real> resting;
+    Vec3<Real> up;            // against gravity, unit (0 without gravity): overlapShare
+    Vec3<Real>* dv;           // n: one sweep's velocity change
+    Vec3<Real>* dx;           // n: one sweep's position change
+    unsigned long long* residual;  // [approach speed, overlap] as the bits of non-negative doubles (max)
+};
+// contactStart[i + 1] = particle i's contact count (contactStart[0] = 0); the caller scans it.
+template <class Real>
+void launchCountContacts(const ContactArgs<Real>& args, cudaStream_t stream);
+// Exclusive-scans counts in place into offsets: n + 1 entries.
+size_t contactScanScratchBytes(int64_t n);
+void scanContactCounts(int64_t* contactStart, int64_t n, void* scratch, size_t scratchBytes, cudaStream_t stream);
+// Fills partner[] in the order the count visited them (cell-list order, then walls).
+template <class Real>
+void launchFillContacts(const ContactArgs<Real>& args, cudaStream_t stream);
+// One Jacobi sweep (contact_relaxation.h: relaxParticle) then the update, `sweeps` times; the
+// residual holds the maxima of the last sweep.
+template <class Real>
+void launchRelaxContacts(const ContactArgs<Real>& args, int sweeps, cudaStream_t stream);
+// row[i] = -m_i g . (x_i - xListed_i): the work against gravity of particle i's contact moves.
+template <class Real>
+void launchLiftWorkRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, Vec3<Real> gravity, const Vec3<Real>* xListed,
+                       double* row, cudaStream_t stream);
 
 // ---- reductions (reduce_kernels.cu) ----
 // Sums of per-particle quantities: rows of `values` (row-major, rows x n) reduced into per-block

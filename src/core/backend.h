@@ -27,6 +27,8 @@
 #include <vector>
 
 #include "butcher_tableau.h"
+#include "collision_resolution.h"
+#include "contact_relaxation.h"
 #include "device_model.h"
 #include "particle_instance.h"
 #include "particle_state.h"
@@ -49,13 +51,12 @@ struct HealthReport {
     bool ok() const { return nonFinite == 0 && outsideBox == 0; }
 };
 
-// What the collision rounds of one step did, summed over particles.
+// What the impact rounds of one step did, summed over particles.
 struct CollisionTally {
     int64_t pairCollisions = 0;   // particle-particle impulses applied
     int64_t wallCollisions = 0;   // wall reflections applied
-    int64_t positionalFixes = 0;  // overlaps separated without an impulse (not approaching)
     double dissipated = 0;        // kinetic energy lost in inelastic collisions [eps]
-    int64_t total() const { return pairCollisions + wallCollisions + positionalFixes; }
+    int64_t total() const { return pairCollisions + wallCollisions; }
 };
 
 // Which particles look for events in a round: the active ones (those with an event in the previous
@@ -114,14 +115,26 @@ public:
     virtual double rkErrorNorm(double dt, double tolerance) = 0;
     virtual void acceptStage() = 0;  // (X, V) = (Xs, Vs)
 
-    // ---- a posteriori collision rounds (DESIGN.md sec. 2) ----
-    virtual void beginCollisions() = 0;  // every particle active; counts and losses zeroed
+    // ---- a posteriori collision stage, 1: impact rounds (DESIGN.md sec. 2) ----
+    // Every particle active; counts and losses zeroed. The window says which overlaps are impacts of
+    // this step (collision_resolution.h).
+    virtual void beginCollisions(const ImpactWindow<double>& window) = 0;
     // Each particle's earliest event (collision_resolution.h); returns how many particles have one.
     virtual int64_t findEvents(EventScope scope) = 0;
     // Resolves every event that is the earliest of each particle it touches (a matching, so no two
     // resolutions write one particle), then marks the particles that had an event as active.
     virtual void applyEvents() = 0;
     virtual CollisionTally collisionTally() = 0;  // since beginCollisions
+
+    // ---- collision stage, 2: contact relaxation (contact_relaxation.h) ----
+    // Lists every particle's contacts (pairs and walls within the contact margin) from the current
+    // positions and keeps those positions; returns the number of listed contacts (0: nothing to do).
+    // `resting`: which touching contacts are stopped too (relaxParticle).
+    virtual int64_t listContacts(const RestingContact<double>& resting) = 0;
+    // Runs `sweeps` Jacobi sweeps over the listed contacts; returns the residual of the last one.
+    virtual ContactResidual<double> relaxContacts(int sweeps) = 0;
+    // Work done against gravity by the position moves since listContacts: sum of -m g . dx [eps].
+    virtual double contactLiftWork() = 0;
 
     // ---- reductions ----
     virtual double kineticEnergy() = 0;  // O(N)

@@ -1,11 +1,41 @@
 #include "collision_rounds.h"
 
-namespace corebox {
+#include <algorithm>
+#include <cmath>
 
-void resolveCollisions(Backend& backend, int maxRounds, StepReport& report) {
-    backend.beginCollisions();
+namespace corebox {
+namespace {
+
+// Sweeps run in batches between convergence checks: a check reads a residual back from the device.
+constexpr int kSweepBatch = 8;
+// A relaxation that started from overlaps deeper than this fraction of a diameter lists again, up to
+// kMaxListings times.
+constexpr double kDeepOverlap = 0.005;
+constexpr int kMaxListings = 32;
+
+}  // namespace
+
+CollisionSettings collisionSettingsFor(const InteractionDef& interaction, double dt) {
+    CollisionSettings settings;
+    settings.maxRounds = interaction.maxCollisionRounds;
+    settings.dt = dt;
+    const double g = std::sqrt(interaction.gravity[0] * interaction.gravity[0] + interaction.gravity[1] * interaction.gravity[1] +
+                               interaction.gravity[2] * interaction.gravity[2]);
+    settings.restingSpeed = 2.0 * g * dt;
+    // A contact still approaching at a tenth of what one step of gravity adds (or of the
+    // elastic-below speed, without gravity) is at rest: what is left closes g dt^2 / 10 in a step,
+    // which the position level of the next step removes.
+    settings.speedTolerance = 0.1 * std::max(g * dt, interaction.elasticBelowSpeed);
+    return settings;
+}
+
+void resolveCollisions(Backend& backend, const CollisionSettings& settings, StepReport& report) {
+    // 1. Impacts.
+    // A contact that began at the very start of the step rewinds by dt up to rounding (in fp32, the
+    // rounding of a position against a depth of v dt): a tenth of a step of room keeps it an impact.
+    backend.beginCollisions(ImpactWindow<double>{1.1 * settings.dt, settings.restingSpeed});
     bool settled = false;
-    for (int round = 0; round < maxRounds && !settled; ++round) {
+    for (int round = 0; round < settings.maxRounds && !settled; ++round) {
         report.rounds = round + 1;
         settled = backend.findEvents(EventScope::Active) == 0;
         if (!settled) backend.applyEvents();
@@ -14,8 +44,32 @@ void resolveCollisions(Backend& backend, int maxRounds, StepReport& report) {
     const CollisionTally tally = backend.collisionTally();
     report.pairCollisions = tally.pairCollisions;
     report.wallCollisions = tally.wallCollisions;
-    report.positionalFixes = tally.positionalFixes;
     report.dissipated = tally.dissipated;
+
+    // 2. Contacts. Deep overlaps (handed in, or left by a capped impact phase) move particles by a
+    // good part of a diameter, into neighbours that were not listed: list again after such a pass.
+    const double kinetic0 = backend.kineticEnergy();
+    double liftWork = 0;
+    ContactResidual<double> residual{0, 0};
+    for (int listing = 0; listing < kMaxListings; ++listing) {
+        const int64_t listed = backend.listContacts(RestingContact<double>{settings.restingSpeed, settings.restingSpeed * settings.dt});
+        if (listed == 0) break;
+        report.contacts = std::max(report.contacts, listed);
+        // The first sweep alone, to see how deep the overlaps were; then batches.
+        residual = backend.relaxContacts(1);
+        const double firstOverlap = residual.overlap;
+        int sweeps = 1;
+        while (sweeps < settings.maxSweeps &&
+               !(residual.approachSpeed <= settings.speedTolerance && residual.overlap <= settings.overlapTolerance)) {
+            residual = backend.relaxContacts(kSweepBatch);
+            sweeps += kSweepBatch;
+        }
+        report.contactSweeps += sweeps;
+        liftWork += backend.contactLiftWork();
+        if (firstOverlap < kDeepOverlap) break;
+    }
+    report.contactOverlap = residual.overlap;
+    if (report.contacts > 0) report.dissipated += (kinetic0 - backend.kineticEnergy()) - liftWork;
 }
 
 }  // namespace corebox

@@ -1,12 +1,22 @@
 // The a posteriori collision stage of a step (DESIGN.md sec. 2; the report's sec. 4), written once
-// for every backend. The report resolves the earliest event first until none remain; here that runs
-// in parallel rounds: in each round every particle finds its earliest event (a pair overlap or a
-// wall penetration, rewound to its contact time), and every event that is the earliest of each
-// particle it touches is resolved. Those events form a matching, so a backend resolves them
-// concurrently. A round looks again only where something happened: active particles (with an event
-// in the previous round) against every neighbour, the others against active neighbours alone.
-// The number of rounds is capped; when the cap is hit, a last search over every particle says
-// whether overlaps remain, and the step reports it.
+// for every backend, in two phases.
+//
+// 1. Impacts. The report resolves the earliest event first until none remain; here that runs in
+//    parallel rounds: in each round every particle finds its earliest event (a pair overlap or a
+//    wall penetration that began within this step and approaches faster than the resting speed,
+//    rewound to its contact time), and every event that is the earliest of each particle it touches
+//    is resolved with restitution e. Those events form a matching, so a backend resolves them
+//    concurrently. A round looks again only where something happened: active particles (with an
+//    event in the previous round) against every neighbour, the others against active neighbours.
+//    The number of rounds is capped; when the cap is hit, a last search says whether impacts remain
+//    (reported), and the contact phase takes what is left.
+// 2. Contacts. Every overlapping or touching pair and wall is relaxed together by Jacobi sweeps
+//    (contact_relaxation.h): approach velocities stopped (restitution 0: resting contact), overlaps
+//    removed by moving positions without adding kinetic energy, until the largest approach speed and
+//    overlap are within tolerance or the sweep cap is reached. The kinetic energy this removes,
+//    minus the work done against gravity by the position moves, is booked as dissipated, so
+//    E_kin + E_pot + E_dissipated stays exact.
+// Why two phases and Jacobi: see the design note of kernels/contact_relaxation.h.
 #pragma once
 
 #include "backend.h"
@@ -14,7 +24,20 @@
 
 namespace corebox {
 
-// Runs the rounds on the backend's current state; fills the collision fields of `report`.
-void resolveCollisions(Backend& backend, int maxRounds, StepReport& report);
+struct CollisionSettings {
+    int maxRounds = 64;            // impact rounds per step
+    double dt = 0;                 // the step just taken: no rewind beyond it
+    double restingSpeed = 0;       // slower contacts rest instead of bouncing [sigma / tau]
+    int maxSweeps = 128;           // contact sweeps per listing
+    double speedTolerance = 0;     // contacts converged when no approach is faster than this ...
+    double overlapTolerance = 1e-3;  // ... and no overlap deeper than this fraction of a contact distance
+};
+
+// Settings for a step of length dt under gravity g: the resting speed is 2 |g| dt, twice what
+// gravity adds to an approach in one step (0 without gravity: every approach is then an impact).
+CollisionSettings collisionSettingsFor(const InteractionDef& interaction, double dt);
+
+// Runs both phases on the backend's current state; fills the collision fields of `report`.
+void resolveCollisions(Backend& backend, const CollisionSettings& settings, StepReport& report);
 
 }  // namespace corebox

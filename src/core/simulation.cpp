@@ -39,10 +39,10 @@ StepReport Simulation::step() {
     backend.markPhase(StepPhase::Integrate);
     m_driver.integrate(backend, report);
     backend.markPhase(StepPhase::Collide);
-    resolveCollisions(backend, m_scene.interaction.maxCollisionRounds, report);
+    resolveCollisions(backend, collisionSettingsFor(m_scene.interaction, report.dt), report);
     backend.markPhase(StepPhase::Done);
     // Collisions moved particles and changed velocities: Verlet's cached accelerations are stale.
-    if (report.pairCollisions + report.wallCollisions + report.positionalFixes > 0) m_driver.invalidateAccelerations();
+    if (report.pairCollisions + report.wallCollisions + report.contacts > 0) m_driver.invalidateAccelerations();
     const PhaseSeconds seconds = backend.phaseSeconds();
     report.secondsForces = seconds.forces;
     report.secondsIntegrate = seconds.integrate;

@@ -11,10 +11,12 @@ struct StepReport {
     int rejectedSteps = 0;         // adaptive attempts rejected before this one
     int64_t pairCollisions = 0;    // particle-particle impulses applied
     int64_t wallCollisions = 0;    // wall reflections applied
-    int64_t positionalFixes = 0;   // overlaps separated without an impulse (not approaching)
-    double dissipated = 0;         // kinetic energy lost in inelastic collisions this step [eps]
-    int rounds = 0;                // parallel resolution rounds used
-    bool roundCapHit = false;      // overlaps remained after InteractionDef::maxCollisionRounds
+    int64_t contacts = 0;          // contacts relaxed after the impacts (pairs counted from both sides, walls once)
+    double dissipated = 0;         // kinetic energy lost in collisions and contacts this step [eps]
+    int rounds = 0;                // parallel impact rounds used
+    bool roundCapHit = false;      // impacts remained after InteractionDef::maxCollisionRounds
+    int contactSweeps = 0;         // Jacobi sweeps of the contact relaxation
+    double contactOverlap = 0;     // largest overlap left, as a fraction of the contact distance
     // Where the step's time went [s]: force passes, the rest of the integration, collisions.
     double secondsForces = 0, secondsIntegrate = 0, secondsCollide = 0;
 };

@@ -130,9 +130,10 @@ public:
         std::swap(m_v, m_vStage);
     }
 
-    // ---- collision rounds ----
-    void beginCollisions() override {
+    // ---- collision stage, 1: impact rounds ----
+    void beginCollisions(const ImpactWindow<double>& window) override {
         const size_t n = m_x.size();
+        m_window = ImpactWindow<Real>{Real(window.maxRewind), Real(window.restingSpeed)};
         m_events.assign(n, noEvent());
         m_active.assign(n, 1);
         m_loss.assign(n, 0.0);
@@ -167,12 +168,8 @@ public:
         parallelFor(m_threads, n, [&](int64_t i) { m_kind[size_t(i)] = resolveEventOf(i); });
         for (int64_t i = 0; i < n; ++i) {
             m_active[size_t(i)] = isValid(m_events[size_t(i)]);  // resolved now or still pending: look again
-            switch (m_kind[size_t(i)]) {
-                case kPairCollision: ++m_tally.pairCollisions; break;
-                case kWallCollision: ++m_tally.wallCollisions; break;
-                case kPositionalFix: ++m_tally.positionalFixes; break;
-                default: break;
-            }
+            if (m_kind[size_t(i)] == kPairCollision) ++m_tally.pairCollisions;
+            if (m_kind[size_t(i)] == kWallCollision) ++m_tally.wallCollisions;
         }
     }
 
@@ -180,6 +177,79 @@ public:
         m_tally.dissipated = 0;
         for (double l : m_loss) m_tally.dissipated += l;
         return m_tally;
+    }
+
+    // ---- collision stage, 2: contact relaxation ----
+    // The CPU runs the Gauss-Seidel form of contact_relaxation.h: contacts one at a time, ordered from
+    // the bottom of the pile up (by height against gravity, then by index), so that support reaches
+    // the top of a pile within a sweep.
+    int64_t listContacts(const RestingContact<double>& resting) override {
+        const int64_t n = size();
+        const RestingContact<Real> rest{Real(resting.speed), Real(resting.gap)};
+        // Cells wide enough for resting pairs a resting gap apart: every listed pair in neighbouring cells.
+        m_grid.build(m_x, m_boxLength, 2.0 * m_model.maxRadius() + resting.gap);
+        const Vec3<double> up = vec3Cast<double>(upOf(m_gravity));
+        std::vector<std::vector<Contact>> perParticle(static_cast<size_t>(n));
+        parallelFor(m_threads, n, [&](int64_t i) {
+            forEachContactOf(i, rest, [&](int64_t partner) {
+                if (partner >= 0 && partner < i) return;  // each pair once, from its lower index
+                Contact c{i, partner, dot(up, vec3Cast<double>(m_x[size_t(i)])), Real(0)};
+                if (partner >= 0) c.height = std::min(c.height, dot(up, vec3Cast<double>(m_x[size_t(partner)])));
+                perParticle[size_t(i)].push_back(c);
+            });
+        });
+        m_contacts.clear();
+        for (const std::vector<Contact>& list : perParticle) m_contacts.insert(m_contacts.end(), list.begin(), list.end());
+        // Bottom-up; at one height the walls first, since they are what holds everything else.
+        std::stable_sort(m_contacts.begin(), m_contacts.end(), [](const Contact& a, const Contact& b) {
+            return a.height < b.height || (a.height == b.height && isWallContact(a.partner) && !isWallContact(b.partner));
+        });
+        m_xListed = m_x;
+        return int64_t(m_contacts.size());
+    }
+
+    ContactResidual<double> relaxContacts(int sweeps) override {
+        ContactResidual<Real> r{0, 0};
+        for (int sweep = 0; sweep < sweeps; ++sweep) {
+            r = ContactResidual<Real>{0, 0};
+            for (Contact& c : m_contacts) {
+                const size_t i = size_t(c.i);
+                if (isWallContact(c.partner)) {
+                    const int code = int(-1 - c.partner), axis = code / 2;
+                    stopWallContact(m_v[i][axis], code % 2 == 0 ? Real(1) : Real(-1), c.lambda, r);
+                    continue;
+                }
+                const size_t j = size_t(c.partner);
+                const Vec3<Real> rij = m_x[i] - m_x[j];
+                const Real dist = std::sqrt(norm2(rij));
+                if (!(dist > Real(0))) continue;
+                stopPairContact(m_v[i], m_v[j], m_mass[size_t(m_species[i])], m_mass[size_t(m_species[j])], (Real(1) / dist) * rij, c.lambda, r);
+            }
+            for (const Contact& c : m_contacts) {
+                const size_t i = size_t(c.i);
+                const Real ai = m_radius[size_t(m_species[i])];
+                if (isWallContact(c.partner)) {
+                    const int code = int(-1 - c.partner), axis = code / 2, side = code % 2;
+                    const Real depth = wallDepth(m_x[i][axis], ai, m_boxLength[axis], side);
+                    if (!(depth > Real(0))) continue;
+                    r.overlap = std::max(r.overlap, depth / (Real(2) * ai));
+                    m_x[i][axis] += side == 0 ? depth : -depth;
+                    continue;
+                }
+                const size_t j = size_t(c.partner);
+                separatePair(m_x[i], m_x[j], m_mass[size_t(m_species[i])], m_mass[size_t(m_species[j])], ai + m_radius[size_t(m_species[j])],
+                             upOf(m_gravity), r);
+            }
+        }
+        return ContactResidual<double>{double(r.approachSpeed), double(r.overlap)};
+    }
+
+    double contactLiftWork() override {
+        const Vec3<double> g = vec3Cast<double>(m_gravity);
+        return deterministicSum<double>(m_threads, size(), [&](int64_t i) {
+            const double m = double(m_mass[size_t(m_species[size_t(i)])]);
+            return -m * dot(g, vec3Cast<double>(m_x[size_t(i)]) - vec3Cast<double>(m_xListed[size_t(i)]));
+        });
     }
 
     // ---- reductions ----
@@ -331,10 +401,32 @@ private:
         const Real ai = m_radius[size_t(m_species[size_t(i)])];
         m_grid.forNeighbours(xi, [&](int64_t j) {
             if (j == i || !(checkAll || m_active[size_t(j)])) return;
-            considerPair(xi, vi, ai, m_x[size_t(j)], m_v[size_t(j)], m_radius[size_t(m_species[size_t(j)])], j, best);
+            considerPair(xi, vi, ai, m_x[size_t(j)], m_v[size_t(j)], m_radius[size_t(m_species[size_t(j)])], j, m_window, best);
         });
-        considerWalls(xi, vi, ai, m_boxLength, best);
+        considerWalls(xi, vi, ai, m_boxLength, m_window, best);
         return best;
+    }
+
+    struct Contact {
+        int64_t i, partner;  // partner: particle index > i, or a wall code
+        double height;       // of the lower of the two against gravity: the sweep order
+        Real lambda;         // accumulated normal impulse of the velocity level
+    };
+
+    // fn(partner) for each contact of particle i that the relaxation acts on (contact_relaxation.h:
+    // pairContactActive, wallContactActive): neighbours in the cell list's order, then walls.
+    template <class Fn>
+    void forEachContactOf(int64_t i, const RestingContact<Real>& rest, Fn&& fn) const {
+        const Vec3<Real> xi = m_x[size_t(i)], vi = m_v[size_t(i)];
+        const Real ai = m_radius[size_t(m_species[size_t(i)])];
+        m_grid.forNeighbours(xi, [&](int64_t j) {
+            if (j != i && pairContactActive(xi, vi, m_x[size_t(j)], m_v[size_t(j)], ai + m_radius[size_t(m_species[size_t(j)])], rest)) fn(j);
+        });
+        for (int axis = 0; axis < 3; ++axis) {
+            for (int side = 0; side < 2; ++side) {
+                if (wallContactActive(xi[axis], vi[axis], ai, m_boxLength[axis], side, rest)) fn(wallCode(axis, side));
+            }
+        }
     }
 
     // Resolves particle i's event when it is the earliest of every particle it touches and i is its
@@ -351,11 +443,12 @@ private:
             const size_t sj = size_t(m_species[size_t(j)]);
             return resolvePairEvent(m_x[size_t(i)], m_v[size_t(i)], m_contactAcceleration[size_t(i)], m_mass[si], m_x[size_t(j)],
                                     m_v[size_t(j)], m_contactAcceleration[size_t(j)], m_mass[sj], m_radius[si] + m_radius[sj], e.key,
-                                    eParticle, elasticBelow, &m_loss[size_t(i)]);
+                                    m_window.maxRewind, eParticle, elasticBelow, &m_loss[size_t(i)]);
         }
         const int code = int(-1 - e.partner), axis = code / 2;
         return resolveWallEvent(m_x[size_t(i)][axis], m_v[size_t(i)][axis], m_contactAcceleration[size_t(i)][axis], m_mass[si],
-                                m_radius[si], m_boxLength[axis], code % 2, e.key, eWall, elasticBelow, &m_loss[size_t(i)]);
+                                m_radius[si], m_boxLength[axis], code % 2, e.key, m_window.maxRewind, eWall, elasticBelow,
+                                &m_loss[size_t(i)]);
     }
 
     int m_threads;
@@ -380,7 +473,11 @@ private:
     std::vector<int> m_kind;
     std::vector<double> m_loss;
     CollisionTally m_tally;
+    ImpactWindow<Real> m_window{0, 0};
     CellList m_grid;
+
+    std::vector<Contact> m_contacts;  // bottom-up
+    std::vector<Vec3<Real>> m_xListed;
 
     Clock::time_point m_phaseStart[3] = {};
     double m_forceSeconds = 0;  // force passes since the Integrate mark

@@ -4,6 +4,7 @@
 // counts of findEvents); everything else stays on the stream.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "cuda_device.h"
 
@@ -26,12 +27,14 @@ gpu::CollisionArgs<Real> CudaDevice<Real>::collisionArgs() {
     a.restitution = Real(m_model.restitution);
     a.wallRestitution = Real(m_model.wallRestitution);
     a.elasticBelow = Real(m_model.elasticBelowSpeed);
+    a.window = m_window;
     a.grid = m_cellList;
     return a;
 }
 
 template <class Real>
-void CudaDevice<Real>::beginCollisions() {
+void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
+    m_window = ImpactWindow<Real>{Real(window.maxRewind), Real(window.restingSpeed)};
     const size_t n = size_t(m_n);
     m_events.resize(n);
     m_active.resize(n);
@@ -78,13 +81,69 @@ CollisionTally CudaDevice<Real>::collisionTally() {
     CollisionTally t;
     t.pairCollisions = int64_t(kinds[0]);
     t.wallCollisions = int64_t(kinds[1]);
-    t.positionalFixes = int64_t(kinds[2]);
     if (t.total() > 0) {
         m_rows.resize(size_t(m_n));
         cudaCheck(cudaMemcpyAsync(m_rows.data(), m_loss.data(), size_t(m_n) * sizeof(double), cudaMemcpyDeviceToDevice, stream()), "loss");
         t.dissipated = sumRows(1)[0];
     }
     return t;
+}
+
+template <class Real>
+gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
+    gpu::ContactArgs<Real> a{};
+    a.p = arrays();
+    a.table = table();
+    a.box = m_box;
+    a.cells = m_cellList;
+    a.contactStart = m_contactStart.data();
+    a.partner = m_contactPartner.data();
+    a.resting = m_resting;
+    a.up = upOf(m_gravity);
+    a.dv = m_dv.data();
+    a.dx = m_dx.data();
+    a.residual = m_residual.data();
+    return a;
+}
+
+template <class Real>
+int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
+    cudaStream_t s = stream();
+    m_resting = RestingContact<Real>{Real(resting.speed), Real(resting.gap)};
+    const double reach = 2.0 * m_model.maxRadius() + resting.gap;  // every listed pair in neighbouring cells
+    m_cellList = m_contactCells.build(m_x.data(), m_n, cellGeometry(vec3Cast<double>(m_box), m_n, reach), s);
+    m_contactStart.resize(size_t(m_n) + 1);
+    m_residual.resize(2);
+    for (auto* b : {&m_xListed, &m_dv, &m_dx}) b->resize(size_t(m_n));
+    gpu::launchCountContacts(contactArgs(), s);
+    const size_t scratch = gpu::contactScanScratchBytes(m_n);
+    m_contactScanScratch.resize(scratch);
+    gpu::scanContactCounts(m_contactStart.data(), m_n, m_contactScanScratch.data(), scratch, s);
+    const int64_t total = readBack(m_contactStart, size_t(m_n));
+    if (total == 0) return 0;
+    m_contactPartner.resize(size_t(total));
+    gpu::launchFillContacts(contactArgs(), s);
+    cudaCheck(cudaMemcpyAsync(m_xListed.data(), m_x.data(), size_t(m_n) * sizeof(Vec3<Real>), cudaMemcpyDeviceToDevice, s), "contacts");
+    return total;
+}
+
+template <class Real>
+ContactResidual<double> CudaDevice<Real>::relaxContacts(int sweeps) {
+    gpu::launchRelaxContacts(contactArgs(), sweeps, stream());
+    unsigned long long bits[2] = {0, 0};
+    cudaCheck(cudaMemcpyAsync(bits, m_residual.data(), sizeof bits, cudaMemcpyDeviceToHost, stream()), "contact residual");
+    sync();
+    ContactResidual<double> r{0, 0};
+    std::memcpy(&r.approachSpeed, &bits[0], sizeof(double));
+    std::memcpy(&r.overlap, &bits[1], sizeof(double));
+    return r;
+}
+
+template <class Real>
+double CudaDevice<Real>::contactLiftWork() {
+    m_rows.resize(size_t(m_n));
+    gpu::launchLiftWorkRow(arrays(), table(), m_gravity, m_xListed.data(), m_rows.data(), stream());
+    return sumRows(1)[0];
 }
 
 template class CudaDevice<float>;

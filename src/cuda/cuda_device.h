@@ -46,10 +46,13 @@ public:
     void acceptStage() override;
 
     // ---- collision rounds (cuda_collisions.cpp) ----
-    void beginCollisions() override;
+    void beginCollisions(const ImpactWindow<double>& window) override;
     int64_t findEvents(EventScope scope) override;
     void applyEvents() override;
     CollisionTally collisionTally() override;
+    int64_t listContacts(const RestingContact<double>& resting) override;
+    ContactResidual<double> relaxContacts(int sweeps) override;
+    double contactLiftWork() override;
 
     // ---- reductions, timing, output (cuda_backend.cpp) ----
     double kineticEnergy() override;
@@ -80,6 +83,7 @@ private:
         return value;
     }
     gpu::CollisionArgs<Real> collisionArgs();
+    gpu::ContactArgs<Real> contactArgs();
 
     int m_device;
     DevicePartition m_partition;
@@ -102,7 +106,13 @@ private:
     DeviceBuffer<Vec3<Real>> m_snapshotX, m_snapshotV;
     DeviceBuffer<int32_t> m_species, m_needList;
     DeviceCellList<Real> m_contactCells;
-    CellListView m_cellList{};  // of the last findEvents
+    CellListView m_cellList{};  // of the last findEvents or listContacts
+    ImpactWindow<Real> m_window{0, 0};
+    RestingContact<Real> m_resting{0, 0};
+    DeviceBuffer<int64_t> m_contactStart, m_contactPartner;
+    DeviceBuffer<Vec3<Real>> m_xListed, m_dv, m_dx;
+    DeviceBuffer<unsigned long long> m_residual;  // [approach speed, overlap], double bits
+    DeviceBuffer<unsigned char> m_contactScanScratch;
     DeviceBuffer<unsigned char> m_forceScratch;
     DeviceBuffer<CollisionEvent> m_events;
     DeviceBuffer<char> m_active, m_hasContactAcceleration;

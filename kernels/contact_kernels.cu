@@ -1,0 +1,146 @@
+// The contact relaxation on the GPU (contact_relaxation.h): per-particle contact lists built from the
+// cell list in the order the CPU builds them (count, scan, fill), then Jacobi sweeps, one thread per
+// particle, with the same relaxParticle as the CPU. No order-dependent atomics: a sweep reads only
+// the previous sweep's state, and the residual is a maximum (atomicMax on the bits of non-negative
+// doubles, which order like the values).
+#include <cub/device/device_scan.cuh>
+
+#include "gpu_common.cuh"
+#include "gpu_launch.h"
+
+namespace corebox::gpu {
+namespace {
+
+// fn(partner) for each contact of particle i the relaxation acts on, in list order (cell-list
+// neighbours, then walls), as the CPU lists them.
+template <class Real, class Fn>
+__device__ int forEachContact(const ContactArgs<Real>& a, int64_t i, Fn&& fn) {
+    int count = 0;
+    const Vec3<Real> xi = a.p.x[i];
+    const Real ai = a.table.radius[a.p.species[i]];
+    const Vec3<Real> vi = a.p.v[i];
+    forEachNeighbour(a.cells, xi, [&](int64_t j) {
+        if (j == i || !pairContactActive(xi, vi, a.p.x[j], a.p.v[j], ai + a.table.radius[a.p.species[j]], a.resting)) return;
+        fn(j);
+        ++count;
+    });
+    for (int axis = 0; axis < 3; ++axis) {
+        for (int side = 0; side < 2; ++side) {
+            if (!wallContactActive(xi[axis], vi[axis], ai, a.box[axis], side, a.resting)) continue;
+            fn(wallCode(axis, side));
+            ++count;
+        }
+    }
+    return count;
+}
+
+template <class Real>
+__global__ void countContactsKernel(ContactArgs<Real> a) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i == 0) a.contactStart[0] = 0;
+    if (i >= a.p.n) return;
+    a.contactStart[i + 1] = forEachContact(a, i, [](int64_t) {});
+}
+
+template <class Real>
+__global__ void fillContactsKernel(ContactArgs<Real> a) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.p.n) return;
+    int64_t slot = a.contactStart[i];
+    forEachContact(a, i, [&](int64_t partner) { a.partner[slot++] = partner; });
+}
+
+__device__ void atomicMaxNonNegative(unsigned long long* target, double value) {
+    atomicMax(target, static_cast<unsigned long long>(__double_as_longlong(value)));
+}
+
+template <class Real>
+__global__ void sweepKernel(ContactArgs<Real> a) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.p.n) return;
+    const int64_t first = a.contactStart[i];
+    const int count = int(a.contactStart[i + 1] - first);
+    ContactResidual<Real> r{0, 0};
+    auto contactsOf = [&](int64_t j) { return int(a.contactStart[j + 1] - a.contactStart[j]); };
+    relaxParticle(i, count, [&](int c) { return a.partner[first + c]; }, contactsOf, a.p.x, a.p.v, a.p.species, a.table.mass,
+                  a.table.radius, a.box, a.up, a.dv[i], a.dx[i], r);
+    if (r.approachSpeed > Real(0)) atomicMaxNonNegative(&a.residual[0], double(r.approachSpeed));
+    if (r.overlap > Real(0)) atomicMaxNonNegative(&a.residual[1], double(r.overlap));
+}
+
+template <class Real>
+__global__ void applySweepKernel(ContactArgs<Real> a) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.p.n) return;
+    a.p.v[i] += a.dv[i];
+    a.p.x[i] += a.dx[i];
+}
+
+template <class Real>
+__global__ void liftWorkKernel(ParticleArrays<Real> p, SpeciesTable<Real> table, Vec3<Real> gravity, const Vec3<Real>* xListed,
+                               double* row) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= p.n) return;
+    const double m = double(table.mass[p.species[i]]);
+    row[i] = -m * dot(vec3Cast<double>(gravity), vec3Cast<double>(p.x[i]) - vec3Cast<double>(xListed[i]));
+}
+
+}  // namespace
+
+template <class Real>
+void launchCountContacts(const ContactArgs<Real>& a, cudaStream_t stream) {
+    countContactsKernel<Real><<<blocksFor(a.p.n > 0 ? a.p.n : 1), kBlock, 0, stream>>>(a);
+    checkLaunch("contact count kernel");
+}
+
+size_t contactScanScratchBytes(int64_t n) {
+    size_t bytes = 0;
+    cub::DeviceScan::InclusiveSum(nullptr, bytes, static_cast<int64_t*>(nullptr), static_cast<int64_t*>(nullptr), n + 1);
+    return bytes;
+}
+
+void scanContactCounts(int64_t* contactStart, int64_t n, void* scratch, size_t scratchBytes, cudaStream_t stream) {
+    // contactStart[0] = 0 and contactStart[i + 1] = count_i: the inclusive sum gives the offsets.
+    cub::DeviceScan::InclusiveSum(scratch, scratchBytes, contactStart, contactStart, n + 1, stream);
+    checkLaunch("contact scan");
+}
+
+template <class Real>
+void launchFillContacts(const ContactArgs<Real>& a, cudaStream_t stream) {
+    if (a.p.n == 0) return;
+    fillContactsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+    checkLaunch("contact fill kernel");
+}
+
+template <class Real>
+void launchRelaxContacts(const ContactArgs<Real>& a, int sweeps, cudaStream_t stream) {
+    if (a.p.n == 0) return;
+    for (int sweep = 0; sweep < sweeps; ++sweep) {
+        // The residual of the last sweep only: cleared before it.
+        if (sweep == sweeps - 1) cudaMemsetAsync(a.residual, 0, 2 * sizeof(unsigned long long), stream);
+        sweepKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+        checkLaunch("contact sweep kernel");
+        applySweepKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+        checkLaunch("contact update kernel");
+    }
+}
+
+template <class Real>
+void launchLiftWorkRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, Vec3<Real> gravity, const Vec3<Real>* xListed,
+                       double* row, cudaStream_t stream) {
+    if (p.n == 0) return;
+    liftWorkKernel<Real><<<blocksFor(p.n), kBlock, 0, stream>>>(p, table, gravity, xListed, row);
+    checkLaunch("lift work kernel");
+}
+
+#define COREBOX_INSTANTIATE(Real)                                                                                  \
+    template void launchCountContacts<Real>(const ContactArgs<Real>&, cudaStream_t);                               \
+    template void launchFillContacts<Real>(const ContactArgs<Real>&, cudaStream_t);                                \
+    template void launchRelaxContacts<Real>(const ContactArgs<Real>&, int, cudaStream_t);                          \
+    template void launchLiftWorkRow<Real>(const ParticleArrays<Real>&, SpeciesTable<Real>, Vec3<Real>, const Vec3<Real>*, double*, \
+                                          cudaStream_t);
+COREBOX_INSTANTIATE(float)
+COREBOX_INSTANTIATE(double)
+#undef COREBOX_INSTANTIATE
+
+}  // namespace corebox::gpu

@@ -1,0 +1,230 @@
+// Resting and dense contact: the second phase of the collision stage (DESIGN.md sec. 2), shared by
+// the CPU backend and the CUDA kernels.
+//
+// Why a second phase. The a posteriori rounds of collision_resolution.h resolve impacts one
+// matching at a time. In a pile every ball presses on its supports at every step: gravity moves the
+// whole pile down by g dt^2 / 2 during the integration, every contact overlaps a little again, and
+// the rounds must carry the support from the floor to the top one layer per round. A pile of 40
+// layers needs more rounds per step than any cap allows, and a capped step leaves overlaps that the
+// next step rewinds as if they were new collisions (energy from nowhere). So the stage is split:
+//   1. impacts: contacts that began within this step (rewind time <= dt) and approach faster than
+//      the resting speed (a few g dt) are collisions, resolved as before with restitution e;
+//   2. contacts: every remaining overlapping pair and wall, and every resting one (touching and
+//      approaching slower than the resting speed), is relaxed with restitution 0 over a contact list,
+//      on two levels (below). The list is made again when deep overlaps moved particles into
+//      neighbours it did not hold (collision_rounds.cpp).
+// Slow contacts with e = 0 are what every rigid-body engine does below its restitution threshold,
+// and what stops inelastic collapse; the elastic-below-speed rule of phase 1 still applies to
+// impacts.
+//
+// The two levels of a contact:
+//   - velocity: a contact approaching at normal speed vn < 0 is stopped (impulse -mu vn); each such
+//     update alone removes kinetic energy mu vn^2 / 2; the core measures the kinetic energy before
+//     and after the phase and books the difference as dissipated, exactly.
+//   - position: an overlap is removed by moving the pair apart along the line of centres
+//     (overlapShare: the heavier less; under gravity the upper one more, so one bottom-up pass lifts
+//     a stack out of its supports); a wall pushes its particle out. Velocities are not changed by
+//     this level (split impulse): removing an overlap never adds kinetic energy, and momentum is
+//     untouched. The backend reports the work done against gravity by the moves (sum of -m g . dx)
+//     and the core books it too, so E_kin + E_pot + E_dissipated stays exact.
+// Two schedules of the same contact arithmetic:
+//   - Gauss-Seidel (the CPU): one contact at a time in a fixed order, bottom-up against gravity, with
+//     the latest values of both particles and an accumulated impulse lambda >= 0 per contact
+//     (sequential impulses). Support reaches the top of a pile within a sweep.
+//   - Jacobi (the GPU, relaxParticle): each particle from the previous sweep's values only, with the
+//     relaxation w = 1 / max(k_i, k_j) (k: listed contacts; mass splitting) so that the sum of a
+//     particle's updates does not overshoot. The same result in any thread order; it converges more
+//     slowly than Gauss-Seidel in deep piles (a graph-coloured Gauss-Seidel is the next step there).
+// Evidence (2,000 balls dropped into a 30 x 60 x 30 box, e = 0.5, g = 9.81, dt = 1/240, 10 s):
+// the old rounds alone hit their cap on most steps once the pile formed and failed at t = 4.6 s with
+// a ball thrown out of the box; with the two phases the pile comes to rest (kinetic energy 3e-5 of
+// the potential energy released) with the conserved sum within 6e-6 (CPU, fp64) and 1e-6 (H200,
+// fp64 and fp32) of its start.
+#pragma once
+
+#include <cstdint>
+
+#include "collision.h"
+#include "hd.h"
+#include "vec3.h"
+
+namespace corebox {
+
+// A contact of particle i: another particle (partner >= 0) or a wall, -1 - (2 axis + side).
+COREBOX_HD inline bool isWallContact(int64_t partner) { return partner < 0; }
+
+// Which touching (not overlapping) contacts rest: those approaching slower than `speed` (a few g dt)
+// and closer than `gap` (what that speed closes in a step). Both 0 without gravity: then only
+// overlaps are relaxed and every approach is left to the impacts, with its restitution.
+template <class Real>
+struct RestingContact {
+    Real speed;
+    Real gap;
+};
+
+// A listed contact is one the relaxation acts on: overlapping beyond the contact slack of
+// collision.h (phase 1 sees the same), or resting. A faster touching approach is an impact of the
+// next step, with its restitution; a centre beyond a wall plane has escaped (the health check reports
+// it) and is not an overlap to smooth away.
+template <class Real>
+COREBOX_HD inline bool pairContactActive(Vec3<Real> xi, Vec3<Real> vi, Vec3<Real> xj, Vec3<Real> vj, Real d, RestingContact<Real> resting) {
+    const Vec3<Real> r = xi - xj;
+    const Real r2 = norm2(r);
+    const Real reach = d + resting.gap;
+    if (!(r2 < reach * reach)) return false;
+    const Real dist = realSqrt(r2);
+    const Real gap = d * (Real(1) - contactSlack<Real>()) - dist;
+    if (gap > Real(0)) return true;
+    const Real vn = dist > Real(0) ? dot(vi - vj, r) / dist : Real(0);
+    return vn < Real(0) && -vn < resting.speed;
+}
+
+// Distance from the wall plane (positive inside).
+template <class Real>
+COREBOX_HD inline Real wallClearance(Real position, Real radius, Real boxLength, int side) {
+    return side == 0 ? position - radius : (boxLength - radius) - position;
+}
+
+// Penetration beyond the contact slack of collision.h (phase 1 sees the same).
+template <class Real>
+COREBOX_HD inline Real wallDepth(Real position, Real radius, Real boxLength, int side) {
+    return -wallClearance(position, radius, boxLength, side) - contactSlack<Real>() * (radius > Real(1) ? radius : Real(1));
+}
+
+template <class Real>
+COREBOX_HD inline bool wallContactActive(Real position, Real velocity, Real radius, Real boxLength, int side, RestingContact<Real> resting) {
+    if (!(wallClearance(position, radius, boxLength, side) > -radius)) return false;  // escaped (or not finite)
+    const Real depth = wallDepth(position, radius, boxLength, side);
+    if (depth > Real(0)) return true;
+    const Real vn = side == 0 ? velocity : -velocity;
+    return vn < Real(0) && -vn < resting.speed && -depth < resting.gap;
+}
+
+// The largest approach speed and relative overlap a sweep saw: how far from converged it is.
+template <class Real>
+struct ContactResidual {
+    Real approachSpeed;  // max over contacts of -vn (0 when none approaches)
+    Real overlap;        // max over contacts of depth / contact distance (0 when none overlaps)
+};
+
+// The unit vector against gravity, or 0 without gravity.
+template <class Real>
+COREBOX_HD inline Vec3<Real> upOf(Vec3<Real> gravity) {
+    const Real g = realSqrt(norm2(gravity));
+    return g > Real(0) ? (Real(-1) / g) * gravity : Vec3<Real>{0, 0, 0};
+}
+
+// The fraction of a pair's overlap that particle i takes when the pair is pushed apart along n (from
+// j to i). Without gravity (up = 0) the heavier moves less, m_j / (m_i + m_j): the pair's centre of
+// mass stays put. Under gravity a support holds: the share of the upper particle grows with how
+// vertical the contact is, up to all of it for one particle resting on top of another, so one
+// bottom-up sweep lifts a whole stack out of its supports (symmetric moves would push each support
+// back down and need many sweeps per layer). The lift is work against gravity, which the backend
+// reports and the core books.
+template <class Real>
+COREBOX_HD inline Real overlapShare(Real mi, Real mj, Vec3<Real> n, Vec3<Real> up) {
+    const Real massShare = mj / (mi + mj);
+    const Real vertical = dot(n, up);  // > 0: i is above j
+    if (vertical > Real(0)) return massShare + (Real(1) - massShare) * vertical;
+    return massShare * (Real(1) + vertical);
+}
+
+// Velocity and position changes of particle i from one sweep over its listed contacts. `partner(c)`
+// gives its c-th contact; `contactsOf(j)` the contact count k_j of particle j (k_i = count).
+template <class Real, class Partner, class ContactsOf>
+COREBOX_HD inline void relaxParticle(int64_t i, int count, Partner&& partner, ContactsOf&& contactsOf, const Vec3<Real>* x,
+                                     const Vec3<Real>* v, const int32_t* species, const Real* mass, const Real* radius, Vec3<Real> box,
+                                     Vec3<Real> up, Vec3<Real>& dv, Vec3<Real>& dx, ContactResidual<Real>& residual) {
+    const Vec3<Real> xi = x[i], vi = v[i];
+    const int si = species[i];
+    const Real mi = mass[si], ai = radius[si];
+    dv = Vec3<Real>{0, 0, 0};
+    dx = Vec3<Real>{0, 0, 0};
+    for (int c = 0; c < count; ++c) {
+        const int64_t j = partner(c);
+        if (isWallContact(j)) {
+            const int code = int(-1 - j), axis = code / 2, side = code % 2;
+            const Real w = Real(1) / Real(count);
+            const Real inward = side == 0 ? Real(1) : Real(-1);  // the wall's normal, into the box
+            const Real vn = inward * vi[axis];
+            if (vn < Real(0)) {
+                dv[axis] -= w * vn * inward;
+                if (-vn > residual.approachSpeed) residual.approachSpeed = -vn;
+            }
+            const Real depth = wallDepth(xi[axis], ai, box[axis], side);
+            if (depth > Real(0)) {
+                dx[axis] += w * depth * inward;
+                if (depth / (Real(2) * ai) > residual.overlap) residual.overlap = depth / (Real(2) * ai);
+            }
+            continue;
+        }
+        const int sj = species[j];
+        const Real mj = mass[sj], d = ai + radius[sj];
+        const Vec3<Real> r = xi - x[j];
+        const Real dist = realSqrt(norm2(r));
+        if (!(dist > Real(0))) continue;  // coincident centres carry no direction
+        const Vec3<Real> n = (Real(1) / dist) * r;
+        const int kj = contactsOf(j);
+        const Real w = Real(1) / Real(count > kj ? count : kj);
+        const Real vn = dot(vi - v[j], n);
+        if (vn < Real(0)) {
+            const Real mu = mi * mj / (mi + mj);
+            dv += (-w * mu * vn / mi) * n;
+            if (-vn > residual.approachSpeed) residual.approachSpeed = -vn;
+        }
+        const Real gap = d * (Real(1) - contactSlack<Real>()) - dist;  // overlap beyond the contact slack
+        if (gap > Real(0)) {
+            dx += (w * gap * overlapShare(mi, mj, n, up)) * n;
+            if (gap / d > residual.overlap) residual.overlap = gap / d;
+        }
+    }
+}
+
+// ---- Gauss-Seidel form (the CPU's schedule): one contact at a time, in a fixed order ----
+//
+// The same two levels as relaxParticle, applied to one contact with the latest values of both
+// particles, so support travels from the floor to the top of a pile within one sweep when contacts
+// are ordered bottom-up. The velocity level keeps the contact's accumulated impulse lambda >= 0
+// (sequential impulses): an update may take back part of an earlier push, never pull; every update
+// moves vn towards 0, so each one removes kinetic energy.
+
+// Stops the approach of particles i, j along n (from j to i) as far as lambda >= 0 allows.
+template <class Real>
+COREBOX_HD inline void stopPairContact(Vec3<Real>& vi, Vec3<Real>& vj, Real mi, Real mj, Vec3<Real> n, Real& lambda,
+                                       ContactResidual<Real>& residual) {
+    const Real vn = dot(vi - vj, n);
+    if (-vn > residual.approachSpeed) residual.approachSpeed = -vn;
+    const Real mu = mi * mj / (mi + mj);
+    const Real next = lambda - mu * vn > Real(0) ? lambda - mu * vn : Real(0);
+    const Real impulse = next - lambda;
+    lambda = next;
+    vi += (impulse / mi) * n;
+    vj -= (impulse / mj) * n;
+}
+
+// The same against a wall with inward normal `inward` (+1 low wall, -1 high wall) on `axis`.
+template <class Real>
+COREBOX_HD inline void stopWallContact(Real& v, Real inward, Real& lambda, ContactResidual<Real>& residual) {
+    const Real vn = inward * v;
+    if (-vn > residual.approachSpeed) residual.approachSpeed = -vn;
+    const Real next = lambda - vn > Real(0) ? lambda - vn : Real(0);  // impulse per unit mass
+    v += (next - lambda) * inward;
+    lambda = next;
+}
+
+// Removes the overlap of i and j, shared as overlapShare says.
+template <class Real>
+COREBOX_HD inline void separatePair(Vec3<Real>& xi, Vec3<Real>& xj, Real mi, Real mj, Real d, Vec3<Real> up,
+                                    ContactResidual<Real>& residual) {
+    const Vec3<Real> r = xi - xj;
+    const Real dist = realSqrt(norm2(r));
+    const Real gap = d * (Real(1) - contactSlack<Real>()) - dist;
+    if (!(gap > Real(0)) || !(dist > Real(0))) return;
+    if (gap / d > residual.overlap) residual.overlap = gap / d;
+    const Vec3<Real> n = (Real(1) / dist) * r;
+    const Real share = overlapShare(mi, mj, n, up);
+    xi += (gap * share) * n;
+    xj -= (gap * (Real(1) - share)) * n;
+}
+
+}  // namespace corebox

@@ -1,0 +1,118 @@
+// Dense contact (collision_rounds.h, kernels/contact_relaxation.h), on every backend:
+// - a random configuration full of overlaps handed to the collision stage: kinetic plus potential
+//   energy never rises, the overlaps are gone to the relaxation's tolerance, and momentum is exact
+//   (away from the walls, which are the only external impulses);
+// - a ball resting on the floor and a column of ten balls stay put for 10^4 steps under gravity: no
+//   creep sideways, no sinking, no overlap, and the energy they lose is what the conserved sum books.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "physics_fixtures.h"
+
+using namespace corebox;
+using namespace corebox::testing;
+
+namespace {
+
+class DenseContact : public OnEveryBackend {};
+
+// Largest overlap as a fraction of the contact distance (equal radii a), and penetration of walls.
+double worstOverlap(const ParticleState& st, double radius, const std::array<double, 3>& box) {
+    double worst = 0;
+    for (size_t i = 0; i < st.size(); ++i) {
+        for (size_t j = i + 1; j < st.size(); ++j) {
+            worst = std::max(worst, 1.0 - std::sqrt(norm2(st.position[i] - st.position[j])) / (2 * radius));
+        }
+        for (int a = 0; a < 3; ++a) {
+            worst = std::max(worst, (radius - st.position[i][a]) / (2 * radius));
+            worst = std::max(worst, (st.position[i][a] - (box[size_t(a)] - radius)) / (2 * radius));
+        }
+    }
+    return worst;
+}
+
+Vec3<double> momentum(const ParticleState& st) {
+    Vec3<double> p{0, 0, 0};
+    for (const Vec3<double>& v : st.velocity) p += v;  // unit masses
+    return p;
+}
+
+}  // namespace
+
+INSTANTIATE_TEST_SUITE_P(Backends, DenseContact, ::testing::ValuesIn(backendNames()), backendInstanceName);
+
+TEST_P(DenseContact, OverlapsHandedToTheStageAddNoEnergyAndKeepMomentum) {
+    // 300 balls of radius 0.5 dropped at random into the middle 8^3 of a 20^3 box (packing fraction
+    // 0.3 there: most overlap several neighbours), random velocities, no forces, no gravity. One step
+    // of 1e-6 moves nothing by itself; the collision stage must sort the overlaps out.
+    for (uint64_t seed = 1; seed <= 8; ++seed) {
+        Scene scene = hardSphereScene(300, 20.0, Method::Verlet, 1e-6);
+        scene.interaction.restitution = 0.5;
+        std::mt19937_64 rng(seed);
+        std::uniform_real_distribution<double> where(6.0, 14.0), speed(-1.0, 1.0);
+        ParticleState st;
+        st.resize(300);
+        for (size_t i = 0; i < st.size(); ++i) {
+            st.position[i] = {where(rng), where(rng), where(rng)};
+            st.velocity[i] = {speed(rng), speed(rng), speed(rng)};
+            st.species[i] = 0;
+        }
+        auto sim = makeSimulation(backendName(), scene, st);
+        const ObservablesRow before = sim->observe();
+        const double overlapBefore = worstOverlap(st, 0.5, scene.box.size);
+        ASSERT_GT(overlapBefore, 0.3) << "the test needs deep overlaps";
+        const StepReport report = sim->step();
+        const ObservablesRow after = sim->observe();
+        const ParticleState end = sim->state();
+        // No external impulse: the particles stay far from the walls (a move of at most an overlap).
+        const Vec3<double> dp = momentum(end) - momentum(st);
+        EXPECT_LT(std::sqrt(norm2(dp)), 1e-12 * 300) << "seed " << seed;
+        // E_kin + E_pot may only fall; the conserved sum books what fell (dissipated) exactly.
+        EXPECT_LE(after.kinetic + after.potential, before.kinetic + before.potential + 1e-12) << "seed " << seed;
+        EXPECT_NEAR(after.conserved(), before.conserved(), 1e-10) << "seed " << seed;
+        EXPECT_GT(report.contacts, 0);
+        // The relaxation's tolerance (1e-3 of a diameter) is met or the sweep cap says it was not.
+        const double overlapAfter = worstOverlap(end, 0.5, scene.box.size);
+        RecordProperty("overlap_after_seed_" + std::to_string(seed), std::to_string(overlapAfter));
+        EXPECT_LT(overlapAfter, 0.01) << "seed " << seed << ", " << report.contactSweeps << " sweeps";
+    }
+}
+
+TEST_P(DenseContact, ABallOnTheFloorAndAColumnOfTenStayPut) {
+    // Balls of radius 0.5 touching the floor (y = 0.5) and each other, gravity -9.81 along y,
+    // restitution 0.5, dt = 1/240: 10^4 steps (42 s).
+    for (int count : {1, 10}) {
+        Scene scene = hardSphereScene(count, 12.0, Method::Verlet, 1.0 / 240);
+        scene.interaction.gravity = {0, -9.81, 0};
+        scene.interaction.restitution = 0.5;
+        scene.box.wallRestitution = 0.5;
+        ParticleState st;
+        st.resize(size_t(count));
+        for (int i = 0; i < count; ++i) {
+            st.position[size_t(i)] = {6.0, 0.5 + 1.0 * i, 6.0};
+            st.velocity[size_t(i)] = {0, 0, 0};
+            st.species[size_t(i)] = 0;
+        }
+        auto sim = makeSimulation(backendName(), scene, st);
+        const double conserved0 = sim->observe().conserved();
+        for (int s = 0; s < 10000; ++s) sim->step();
+        const ParticleState end = sim->state();
+        const ObservablesRow row = sim->observe();
+        double drift = 0, sink = 0;
+        for (int i = 0; i < count; ++i) {
+            const Vec3<double> d = end.position[size_t(i)] - st.position[size_t(i)];
+            drift = std::max(drift, std::sqrt(d.x * d.x + d.z * d.z));
+            sink = std::max(sink, std::fabs(d.y));
+        }
+        RecordProperty("sink_" + std::to_string(count), std::to_string(sink));
+        EXPECT_LT(drift, 1e-9) << count << " balls crept sideways";
+        // Each step gravity moves the column by g dt^2 / 2 = 8.5e-5 before the stage lifts it back.
+        EXPECT_LT(sink, 2e-4) << count << " balls sank or rose";
+        EXPECT_LT(worstOverlap(end, 0.5, scene.box.size), 2e-4) << count;
+        EXPECT_LT(row.kinetic, 1e-3 * count) << count << " balls are not at rest";
+        EXPECT_NEAR(row.conserved(), conserved0, 1e-9 * std::fabs(conserved0)) << count;
+    }
+}
