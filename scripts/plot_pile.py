@@ -70,7 +70,7 @@ def main():
             r = dict(r, met=meets_targets(r, tolerance))
             series.setdefault(series_name(r), []).append(r)
 
-    fig, ax = plt.subplots(figsize=(9, 6.2))
+    fig, ax = plt.subplots(figsize=(12, 6.2))
     for name in sorted(series, key=lambda s: (s.startswith("Bullet"), s)):
         runs = sorted(series[name], key=lambda r: r["n"])
         st = style(name)
@@ -80,8 +80,8 @@ def main():
             x, y = r["n"], r["ms_per_frame_mean"]
             if r["outcome"] != "ok":
                 ax.plot(x, y, marker="x", markersize=11, markeredgewidth=2.5, color=st["color"], zorder=3)
-                ax.annotate(f"{r['outcome']} at t = {r['seconds_simulated']:.2f} s", (x, y), textcoords="offset points",
-                            xytext=(-10, 6), ha="right", fontsize=8, color=st["color"])
+                ax.annotate(f"failed at t = {r['seconds_simulated']:.2f} s", (x, y), textcoords="offset points",
+                            xytext=(7, -13), ha="left", fontsize=8, color=st["color"])
             else:
                 face = st["color"] if r["met"] else "white"
                 ax.plot(x, y, marker=st["marker"], markersize=7, color=st["color"], markerfacecolor=face, zorder=3)
@@ -91,7 +91,7 @@ def main():
                 fontsize=8, color="grey", va="bottom", ha="right")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.margins(x=0.15)
+    ax.margins(x=0.25)
     ax.set_xlabel("balls N")
     ax.set_ylabel("ms per 1/60 s frame (4 steps), mean over the run")
     ax.set_title("Ball pile: balls dropped into a 30 x 30 x 60 box (e = 0.5, g = 9.81, dt = 1/240)")
@@ -102,9 +102,9 @@ def main():
                 plt.Line2D([], [], marker="x", color="grey", markeredgewidth=2.5, linestyle="")]
     labels += ["at rest, no escape, overlap < 1%, no energy gain", "finished, but a goal missed",
                "failed (instability): time over the frames completed"]
-    ax.legend(handles, labels, fontsize=8, loc="upper left")
+    ax.legend(handles, labels, fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
     fig.text(0.01, 0.01, "\n".join(notes), fontsize=6.5, family="monospace", va="bottom")
-    fig.subplots_adjust(bottom=0.1 + 0.045 * len(notes), top=0.93, right=0.97)
+    fig.subplots_adjust(left=0.07, bottom=0.1 + 0.045 * len(notes), top=0.93, right=0.68)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(args.out, dpi=120)
     print(f"wrote {args.out.relative_to(ROOT) if args.out.is_relative_to(ROOT) else args.out}")

@@ -1,57 +1,15 @@
-// The ball pile: assets/pile.toml is the scene `corebox bench pile` builds in code (bench_scenes.h) at
-// the preset's N, every benchmark size fits its box, and the measures both engines are judged by
-// (pile_measures.h) say what they claim.
+// The ball pile of `corebox bench pile`: every benchmark size fits its box (bench_scenes.h), and the
+// measures both engines are judged by (pile_measures.h) say what they claim. That assets/pile.toml is
+// the benchmark's scene is checked with the other presets (test_scene_io.cpp).
 #include <gtest/gtest.h>
 
-#include <string>
 #include <vector>
 
 #include "bench_scenes.h"
 #include "packing.h"
 #include "pile_measures.h"
-#include "scene_io.h"
 
 using namespace corebox;
-
-namespace {
-
-std::string pilePath() { return std::string(COREBOX_SOURCE_DIR) + "/assets/pile.toml"; }
-
-}  // namespace
-
-TEST(PilePreset, IsTheBenchmarkSceneAtTenThousandBalls) {
-    const Scene file = loadScene(pilePath());
-    const Scene code = pileScene(kPile.presetCount, Precision::Fp64);
-    EXPECT_EQ(file.particleCount(), 10000);
-    EXPECT_EQ(file.box.size, code.box.size);
-    EXPECT_EQ(file.box.wallRestitution, code.box.wallRestitution);
-    ASSERT_EQ(file.species.size(), 1u);
-    const SpeciesDef& a = file.species[0];
-    const SpeciesDef& b = code.species[0];
-    EXPECT_EQ(a.name, b.name);
-    EXPECT_EQ(a.count, b.count);
-    EXPECT_EQ(a.mass, b.mass);
-    EXPECT_EQ(a.radius, b.radius);
-    EXPECT_EQ(a.sigma, b.sigma);
-    EXPECT_EQ(a.epsilon, 0.0);
-    EXPECT_EQ(a.epsilon, b.epsilon);
-    EXPECT_EQ(a.color, b.color);
-    EXPECT_EQ(file.interaction.restitution, code.interaction.restitution);
-    EXPECT_EQ(file.interaction.gravity, code.interaction.gravity);
-    EXPECT_EQ(file.interaction.elasticBelowSpeed, code.interaction.elasticBelowSpeed);
-    EXPECT_EQ(file.interaction.maxCollisionRounds, code.interaction.maxCollisionRounds);
-    EXPECT_EQ(file.integrator.method, code.integrator.method);
-    EXPECT_EQ(file.integrator.dt, 1.0 / 240.0);  // the decimal in the file is 1/240 to the last bit
-    EXPECT_EQ(file.integrator.dt, code.integrator.dt);
-    EXPECT_EQ(file.integrator.precision, code.integrator.precision);
-    EXPECT_EQ(file.thermostat.kind, ThermostatKind::None);
-    EXPECT_EQ(file.init.temperature, code.init.temperature);
-    EXPECT_EQ(file.init.seed, code.init.seed);
-    EXPECT_EQ(file.init.placement, code.init.placement);
-    // Gravity along the tall axis.
-    EXPECT_EQ(file.box.size[2], 60.0);
-    EXPECT_LT(file.interaction.gravity[2], 0.0);
-}
 
 TEST(PilePreset, EveryBenchmarkSizeFitsItsBox) {
     for (int64_t n : {200, 2000, 10000, 40000}) {
