@@ -70,6 +70,7 @@ struct PileRunResult {
     std::string finalState;            // "end" or "last_good" (the state before the failing step)
     std::string outcome;               // ok | instability | device_error | error
     std::string message;
+    std::vector<double> frameMs;  // each frame's wall time: compares a failed run with Bullet over its frames
 };
 
 std::vector<PileRunResult> runPileBenchmark(const PileBenchmarkOptions& options);
