@@ -92,6 +92,44 @@ def throughput_tables(data):
     return "\n".join(parts)
 
 
+def pile_tables(data):
+    """`corebox bench pile`: one row per run, corebox and Bullet side by side, and the issue's targets."""
+    lines = [
+        f"### Ball pile: {data['backend']} on {data['device']}",
+        "",
+        f"- scene: {data['scene']['description']}; box {data['scene']['box_rule']}; {data['scene']['placement']};"
+        f" {data['scene']['frame']}",
+        f"- rest: {data['scene']['rest']}; energy: {data['scene']['energy']}",
+        f"- Bullet: {data['bullet']}",
+        f"- host: {data['host']['cpu']}, {data['host']['hardware_threads']} hardware threads",
+        f"- command: `{data['command']}`",
+        f"- measured: {data['timestamp']}",
+        "- chart: `docs/images/pile_benchmark.png` (`scripts/plot_pile.py`)",
+        "",
+        "| engine | precision | N | outcome | simulated s | ms / frame | ms / frame, last s | max overlap | outside |"
+        " energy change | time to rest s | round-cap hits |",
+        "|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for r in data["results"]:
+        engine = "Bullet" if r["engine"] == "bullet" else f"corebox {r['backend']}"
+        rest = f"{r['time_to_rest']:.2f}" if r["time_to_rest"] is not None else "not reached"
+        caps = "" if r["round_cap_hits"] is None else str(r["round_cap_hits"])
+        lines.append(
+            f"| {engine} | {r['precision']} | {r['n']} | {r['outcome']} | {r['seconds_simulated']:.2f} |"
+            f" {r['ms_per_frame_mean']:.1f} | {r['ms_per_frame_last_second']:.1f} | {r['max_overlap_fraction']:.4f} |"
+            f" {r['outside']} | {r['energy_change_relative']:+.2e} | {rest} | {caps} |"
+        )
+    failures = [r for r in data["results"] if r["outcome"] != "ok"]
+    if failures:
+        lines += ["", "Failures:", ""]
+        lines += [f"- corebox {r['backend']} {r['precision']} N = {r['n']}: {r['message']}" for r in failures]
+    lines += ["", "#### Targets", "", "| target | run | measured | met |", "|---|---|---|---|"]
+    for t in data["targets"]:
+        lines.append(f"| {t['target']} | {t['backend']} {t['precision']} N = {t['n']} | {t['measured']} |"
+                     f" {'yes' if t['met'] else 'no'} |")
+    return "\n".join(lines) + "\n"
+
+
 def main():
     sections = []
     for path in sorted(RESULTS.glob("*.json")):
@@ -100,6 +138,8 @@ def main():
             sections.append(force_table(data) + f"\nSource: `docs/results/{path.name}`\n")
         elif data.get("benchmark") == "throughput":
             sections.append(throughput_tables(data) + f"\nSource: `docs/results/{path.name}`\n")
+        elif data.get("benchmark") == "pile":
+            sections.append(pile_tables(data) + f"\nSource: `docs/results/{path.name}`\n")
     if not sections:
         print("no results in docs/results; run a benchmark first", file=sys.stderr)
         return 1

@@ -1,4 +1,4 @@
-// corebox command line (DESIGN.md sec. 3): `run`, `bench forces|throughput`, and no subcommand for
+// corebox command line (DESIGN.md sec. 3): `run`, `bench forces|throughput|pile`, and no subcommand for
 // the default scene in a window. Named choices (method, precision, backend, colour mode, frame size)
 // are read, checked and listed in --help from their vocabulary tables; every error, the parser's
 // own included, leaves through reportError (error_report.h).
@@ -13,6 +13,7 @@
 #include "errors.h"
 #include "force_benchmark.h"
 #include "glfw_window.h"
+#include "pile_benchmark.h"
 #include "run_command.h"
 #include "throughput_benchmark.h"
 
@@ -161,6 +162,28 @@ int main(int argc, char** argv) {
     throughputCmd->add_option("--min-seconds", throughput.minSeconds, "Repeat each measurement at least this long")->capture_default_str();
     throughputCmd->add_option("--out", throughput.outputPrefix, "Write OUT.csv and OUT.json");
 
+    PileBenchmarkOptions pile;
+    CLI::App* pileCmd = benchCmd->add_subcommand(
+        "pile", "Balls dropped into a box (assets/pile.toml at N balls): ms per 1/60 s frame, overlap, energy, "
+                "time to rest; Bullet beside the CPU backend");
+    pileCmd->add_option("--backend", pile.backend, "Backend: one of " + backendTable().list())
+        ->check(oneOf(backendTable()))
+        ->capture_default_str();
+    pileCmd->add_option("--n", pile.sizes, "Ball counts (default: 2000,10000,40000 on cpu; 10^4,10^5,10^6 on cuda)")
+        ->delimiter(',')
+        ->check(CLI::PositiveNumber);
+    addChoices(pileCmd, "--precision", precisionTable(), "Precisions", pile.precisions);
+    pileCmd->add_option("--seconds", pile.seconds, "Simulated time per run")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    pileCmd->add_option("--substeps", pile.substeps, "Steps per 1/60 s frame (dt = 1/(60 substeps))")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    pileCmd->add_option("--threads", pile.threads, "CPU threads (0: all cores)")->capture_default_str();
+    pileCmd->add_option("--bullet", pile.bulletPath,
+                        "The Bullet driver (default: corebox_bullet_pile beside corebox when built; none: no Bullet)");
+    pileCmd->add_option("--out", pile.outputPrefix, "Write OUT.csv and OUT.json");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {  // --help, --version
@@ -185,6 +208,10 @@ int main(int argc, char** argv) {
         throughput.frameHeight = frameSize.height;
         throughput.commandLine = commandLine(argc, argv);
         return runReportingErrors([&] { runThroughputBenchmark(throughput); });
+    }
+    if (*pileCmd) {
+        pile.commandLine = commandLine(argc, argv);
+        return runReportingErrors([&] { runPileBenchmark(pile); });
     }
     if (*forcesCmd) {
         forces.commandLine = commandLine(argc, argv);

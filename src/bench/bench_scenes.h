@@ -1,6 +1,10 @@
-// Scenes the benchmarks measure, shared so the force pass and the full steps describe one model.
+// Scenes the benchmarks measure, shared so the force pass and the full steps describe one model, and
+// so that the ball pile the benchmark builds in code is the scene assets/pile.toml loads (a unit test,
+// tests/unit/test_pile_preset.cpp, holds the two equal at the preset's N).
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 
@@ -25,6 +29,69 @@ inline Scene throughputScene(int64_t n, double density, Precision precision, Met
     scene.integrator.precision = precision;
     scene.thermostat.kind = ThermostatKind::None;
     scene.init.temperature = 1.5;
+    return scene;
+}
+
+// ---- the ball pile (the game programmer's scene) ---------------------------------------------------
+//
+// Balls dropped into a box under gravity: radius 0.5, mass 1, restitution 0.5 with each other and the
+// walls, g = 9.81, a 30 x 30 x 60 box (z up, as the renderer draws it), dt = 1/240, no pair force, no
+// thermostat. Lattice placement spreads the balls over the whole box, so the top layer falls ~50
+// diameters and lands ~3.2 s in (sqrt(2 * 50 / 9.81)); the pile then settles in about a second.
+struct PileParameters {
+    double radius = 0.5;                          // [sigma]
+    double mass = 1.0;                            // [m]
+    double restitution = 0.5;                     // ball-ball e
+    double wallRestitution = 0.5;                 // ball-wall e_w
+    double gravity = 9.81;                        // along -z [sigma / tau^2]
+    std::array<double, 3> box{30.0, 30.0, 60.0};  // z is the tall axis
+    double dt = 1.0 / 240.0;                      // [tau]
+    int maxCollisionRounds = 64;
+    double initTemperature = 0.1;  // a little random motion, so the lattice does not fall as a block
+    uint64_t seed = 7;
+    int64_t presetCount = 10000;  // assets/pile.toml
+    // Most balls the 30 x 30 x 60 box takes: a lattice spacing of ~1.07 diameters, hard-core packing
+    // fraction 0.39 (packing.h refuses more than 0.45), and a pile ~36 diameters high at rest.
+    int64_t fullBoxCount = 40000;
+};
+
+inline constexpr PileParameters kPile{};
+
+// The box for n balls: 30 x 30 x 60 up to kPile.fullBoxCount balls; beyond, the horizontal edges grow
+// together to 30 sqrt(n / fullBoxCount), rounded up to a tenth, keeping the height and at most that
+// density, so the lattice keeps its spacing and the pile at rest its height.
+inline std::array<double, 3> pileBox(int64_t n) {
+    std::array<double, 3> box = kPile.box;
+    if (n > kPile.fullBoxCount) {
+        const double edge = std::ceil(10.0 * box[0] * std::sqrt(double(n) / double(kPile.fullBoxCount))) / 10.0;
+        box[0] = box[1] = edge;
+    }
+    return box;
+}
+
+inline Scene pileScene(int64_t n, Precision precision) {
+    Scene scene;
+    scene.box.size = pileBox(n);
+    scene.box.wallRestitution = kPile.wallRestitution;
+    SpeciesDef ball;
+    ball.name = "ball";
+    ball.count = n;
+    ball.mass = kPile.mass;
+    ball.radius = kPile.radius;
+    ball.sigma = 2 * kPile.radius;
+    ball.epsilon = 0.0;  // no pair force: balls only collide
+    ball.color = {float(0x3d) / 255.0f, float(0x8f) / 255.0f, float(0xd9) / 255.0f};  // "#3d8fd9"
+    scene.species = {ball};
+    scene.interaction.restitution = kPile.restitution;
+    scene.interaction.gravity = {0.0, 0.0, -kPile.gravity};
+    scene.interaction.maxCollisionRounds = kPile.maxCollisionRounds;
+    scene.integrator.method = Method::Verlet;  // constant gravity: exact, and the cheapest
+    scene.integrator.dt = kPile.dt;
+    scene.integrator.precision = precision;
+    scene.thermostat.kind = ThermostatKind::None;
+    scene.init.temperature = kPile.initTemperature;
+    scene.init.seed = kPile.seed;
+    scene.init.placement = Placement::Lattice;
     return scene;
 }
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Command-line contract of `corebox run`: exit codes, messages that name file, line and key, no
-# partial output files on errors, blow-up reporting with the last good state, and a normal run.
+# partial output files on errors, blow-up reporting with the last good state, and a normal run; and
+# the files of `corebox bench pile`.
 # Needs COREBOX (the binary) and SRC (the source tree) in the environment.
 set -u
 : "${COREBOX:?}" "${SRC:?}"
@@ -152,6 +153,50 @@ printf '2 screenshot %s\n' "$work/missing_dir/shot.png" >"$work/shot.script"
 expect "unwritable screenshot" 2 "cannot write '$work/missing_dir/shot.png'" -- \
     run "$SRC/assets/hard_spheres.toml" --headless --software-gl --frames 3 --steps-per-frame 2 --size 64x64 \
     --out "$work/out/shots" --script "$work/shot.script"
+
+# `corebox bench pile` on a tiny pile (200 balls, 0.2 s): CSV and JSON written with their columns and
+# keys, one corebox row per precision and a Bullet row where the driver was built, whatever the runs'
+# outcome (a blow-up is a recorded result, not an exit code 3).
+rm -rf "$work/out" && mkdir -p "$work/out"
+pile="$work/out/pile"
+if "$COREBOX" bench pile --n 200 --seconds 0.2 --precision fp32,fp64 --out "$pile" >/dev/null 2>"$work/err"; then
+    pass
+    columns='engine,backend,device,precision,threads,n,box_x,box_y,box_z,box_grown,substeps,dt,seconds_requested,'
+    columns+='seconds_simulated,frames,ms_per_frame_mean,ms_per_frame_last_second,max_overlap_fraction,'
+    columns+='max_wall_penetration_fraction,outside,energy_start,energy_end,energy_change_relative,potential_released,'
+    columns+='dissipated,time_to_rest,round_cap_hits,max_rounds,final_state,outcome,message'
+    head -1 "$pile.csv" | grep -q '^# corebox bench pile --n 200' && pass || fail "pile CSV does not start with the command"
+    [ "$(sed -n 2p "$pile.csv")" = "$columns" ] && pass || fail "pile CSV header: $(sed -n 2p "$pile.csv")"
+    corebox_rows=$(grep -cE '^corebox,cpu,.*,(fp32|fp64),[0-9]+,200,' "$pile.csv")
+    [ "$corebox_rows" -eq 2 ] && pass || fail "pile CSV: $corebox_rows corebox rows, expected one per precision"
+    bullet_rows=$(grep -c '^bullet,' "$pile.csv")
+    if [ -x "$(dirname "$COREBOX")/corebox_bullet_pile" ]; then expected_bullet=1; else expected_bullet=0; fi
+    [ "$bullet_rows" -eq "$expected_bullet" ] && pass || fail "pile CSV: $bullet_rows Bullet rows, expected $expected_bullet"
+    if python3 - "$pile.json" "$expected_bullet" <<'PY'
+import json, sys
+data = json.load(open(sys.argv[1]))
+assert data["benchmark"] == "pile" and data["command"].startswith("corebox bench pile"), "benchmark, command"
+assert {"cpu", "hardware_threads"} <= data["host"].keys() and data["device"], "host, device"
+assert data["scene"]["box"] == [30, 30, 60] and data["scene"]["restitution"] == 0.5, "scene"
+keys = {"engine", "backend", "precision", "n", "box", "ms_per_frame_mean", "ms_per_frame_last_second",
+        "max_overlap_fraction", "outside", "energy_start", "energy_end", "energy_change_relative", "time_to_rest",
+        "round_cap_hits", "outcome", "message"}
+for r in data["results"]:
+    assert keys <= r.keys(), f"result keys missing: {keys - r.keys()}"
+    assert r["outcome"] in ("ok", "instability", "device_error", "error"), r["outcome"]
+corebox = [r for r in data["results"] if r["engine"] == "corebox"]
+assert sorted(r["precision"] for r in corebox) == ["fp32", "fp64"], "corebox runs"
+assert all(r["n"] == 200 for r in corebox), "corebox sizes"
+assert len([r for r in data["results"] if r["engine"] == "bullet"]) == int(sys.argv[2]), "bullet runs"
+assert len(data["targets"]) >= 2, "targets"
+PY
+    then pass; else fail "pile JSON"; fi
+else
+    fail "bench pile failed: $(cat "$work/err")"
+fi
+expect "bench pile: missing Bullet driver" 2 "--bullet: no program at '$work/none'" -- \
+    bench pile --n 200 --seconds 0.1 --bullet "$work/none"
+expect "bench pile: zero balls" 2 "--n" -- bench pile --n 0 --seconds 0.1
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_scenes.h"  // pileScene: the scene of `corebox bench pile`
 #include "errors.h"
 #include "scene_io.h"
 
@@ -143,6 +144,20 @@ TEST(SceneIoPresets, PresetsSetTheirDefiningPhysics) {
     EXPECT_EQ(bouncing.interaction.restitution, 0.9);
     EXPECT_EQ(bouncing.species.at(0).epsilon, 0.0);
     EXPECT_EQ(bouncing.thermostat.kind, ThermostatKind::None);
+}
+
+// assets/pile.toml (10^4 balls, not cheap: outside kPresets) is the scene the pile benchmark builds in
+// code at that N, field for field, so the preset and the benchmark measure one scene.
+TEST(SceneIoPresets, PileIsTheBenchmarkScene) {
+    const Scene pile = loadScene(presetPath("pile"));
+    expectSameScene(pile, pileScene(kPile.presetCount, Precision::Fp64));
+    EXPECT_EQ(pile.particleCount(), 10000);
+    EXPECT_EQ(pile.integrator.dt, 1.0 / 240.0);  // the decimal in the file is 1/240 to the last bit
+    EXPECT_EQ(pile.box.size[2], 60.0);           // gravity along the tall axis
+    EXPECT_LT(pile.interaction.gravity[2], 0.0);
+    EXPECT_EQ(pile.species.at(0).epsilon, 0.0);
+    EXPECT_EQ(pile.thermostat.kind, ThermostatKind::None);
+    expectSameScene(parseScene(sceneToToml(pile), "round_trip.toml"), pile);
 }
 
 // ---- round trip -----------------------------------------------------------------------------------
