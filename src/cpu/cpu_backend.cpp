@@ -189,17 +189,27 @@ public:
         // Cells wide enough for resting pairs a resting gap apart: every listed pair in neighbouring cells.
         m_grid.build(m_x, m_boxLength, 2.0 * m_model.maxRadius() + resting.gap);
         const Vec3<double> up = vec3Cast<double>(upOf(m_gravity));
-        std::vector<std::vector<Contact>> perParticle(static_cast<size_t>(n));
+        // Each pair once, from its lower index: counted, offsets, then filled in place (no allocation
+        // per particle in this per-step path).
+        auto ownContact = [&](int64_t i, int64_t partner) { return partner < 0 || partner > i; };
+        m_contactStart.assign(size_t(n) + 1, 0);
         parallelFor(m_threads, n, [&](int64_t i) {
+            int64_t count = 0;
+            forEachContactOf(i, rest, [&](int64_t partner) { count += ownContact(i, partner); });
+            m_contactStart[size_t(i) + 1] = count;
+        });
+        for (int64_t i = 0; i < n; ++i) m_contactStart[size_t(i) + 1] += m_contactStart[size_t(i)];
+        m_contacts.resize(size_t(m_contactStart[size_t(n)]));
+        parallelFor(m_threads, n, [&](int64_t i) {
+            int64_t slot = m_contactStart[size_t(i)];
+            const double height = dot(up, vec3Cast<double>(m_x[size_t(i)]));
             forEachContactOf(i, rest, [&](int64_t partner) {
-                if (partner >= 0 && partner < i) return;  // each pair once, from its lower index
-                Contact c{i, partner, dot(up, vec3Cast<double>(m_x[size_t(i)])), Real(0)};
+                if (!ownContact(i, partner)) return;
+                Contact c{i, partner, height, Real(0)};
                 if (partner >= 0) c.height = std::min(c.height, dot(up, vec3Cast<double>(m_x[size_t(partner)])));
-                perParticle[size_t(i)].push_back(c);
+                m_contacts[size_t(slot++)] = c;
             });
         });
-        m_contacts.clear();
-        for (const std::vector<Contact>& list : perParticle) m_contacts.insert(m_contacts.end(), list.begin(), list.end());
         // Bottom-up; at one height the walls first, since they are what holds everything else.
         std::stable_sort(m_contacts.begin(), m_contacts.end(), [](const Contact& a, const Contact& b) {
             return a.height < b.height || (a.height == b.height && isWallContact(a.partner) && !isWallContact(b.partner));
@@ -210,6 +220,7 @@ public:
 
     ContactResidual<double> relaxContacts(int sweeps) override {
         ContactResidual<Real> r{0, 0};
+        const Vec3<Real> up = upOf(m_gravity);
         for (int sweep = 0; sweep < sweeps; ++sweep) {
             r = ContactResidual<Real>{0, 0};
             for (Contact& c : m_contacts) {
@@ -238,7 +249,7 @@ public:
                 }
                 const size_t j = size_t(c.partner);
                 separatePair(m_x[i], m_x[j], m_mass[size_t(m_species[i])], m_mass[size_t(m_species[j])], ai + m_radius[size_t(m_species[j])],
-                             upOf(m_gravity), r);
+                             up, r);
             }
         }
         return ContactResidual<double>{double(r.approachSpeed), double(r.overlap)};
@@ -476,7 +487,8 @@ private:
     ImpactWindow<Real> m_window{0, 0};
     CellList m_grid;
 
-    std::vector<Contact> m_contacts;  // bottom-up
+    std::vector<int64_t> m_contactStart;  // per particle: its first contact in m_contacts before sorting
+    std::vector<Contact> m_contacts;      // bottom-up
     std::vector<Vec3<Real>> m_xListed;
 
     Clock::time_point m_phaseStart[3] = {};
