@@ -64,6 +64,12 @@ struct InitDef {
     std::string particlesFile;  // CSV id,species,x,y,z,vx,vy,vz; overrides placement and velocities
 };
 
+// How many GPUs run a CUDA scene and how they share positions (ignored by the CPU backend).
+struct DevicesDef {
+    int gpus = 0;                      // 1 .. the GPUs visible; 0: auto (the measured crossover for N)
+    Exchange exchange = Exchange::Auto;
+};
+
 struct Scene {
     std::string sourcePath;  // file the scene came from ("" when built in code); names errors
     BoxDef box;
@@ -72,6 +78,7 @@ struct Scene {
     IntegratorDef integrator;
     ThermostatDef thermostat;
     InitDef init;
+    DevicesDef devices;
 
     int64_t particleCount() const;
     double mixing(size_t i, size_t j) const;

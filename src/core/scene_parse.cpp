@@ -25,7 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char* const kRootKeys[] = {"box", "species", "interaction", "integrator", "thermostat", "init"};
+const char* const kRootKeys[] = {"box", "species", "interaction", "integrator", "thermostat", "init", "devices"};
 const char* const kBoxKeys[] = {"size", "wall_restitution"};
 const char* const kSpeciesKeys[] = {"name", "count", "mass", "radius", "sigma", "epsilon", "color"};
 const char* const kInteractionKeys[] = {"mixing",      "cutoff",  "shift", "restitution", "gravity", "elastic_below_speed",
@@ -33,6 +33,7 @@ const char* const kInteractionKeys[] = {"mixing",      "cutoff",  "shift", "rest
 const char* const kIntegratorKeys[] = {"method", "dt", "precision", "adaptive", "tolerance"};
 const char* const kThermostatKeys[] = {"kind", "temperature", "tau"};
 const char* const kInitKeys[] = {"temperature", "seed", "placement", "particles"};
+const char* const kDevicesKeys[] = {"gpus", "exchange"};
 
 // Colours for species that give none, by position: distinct under the renderer's shading.
 const char* const kPalette[] = {"#cc4d33", "#3373cc", "#4dad4d", "#d9a626", "#8c4dbf", "#33b3b3"};
@@ -77,6 +78,7 @@ public:
         readIntegrator(table(root, "integrator"), &scene.integrator);
         readThermostat(table(root, "thermostat"), &scene.thermostat);
         readInit(table(root, "init"), &scene.init);
+        readDevices(table(root, "devices"), &scene.devices);
         return scene;
     }
 
@@ -106,6 +108,7 @@ private:
         if (name == "interaction") return {kInteractionKeys, std::size(kInteractionKeys)};
         if (name == "integrator") return {kIntegratorKeys, std::size(kIntegratorKeys)};
         if (name == "thermostat") return {kThermostatKeys, std::size(kThermostatKeys)};
+        if (name == "devices") return {kDevicesKeys, std::size(kDevicesKeys)};
         return {kInitKeys, std::size(kInitKeys)};
     }
 
@@ -291,6 +294,22 @@ private:
         init->seed = static_cast<uint64_t>(seedValue);
         readChoice(field(t, "init", "placement"), placementTable(), &init->placement);
         readString(field(t, "init", "particles"), &init->particlesFile);
+    }
+
+    void readDevices(const toml::table& t, DevicesDef* devices) const {
+        const Field gpus = field(t, "devices", "gpus");
+        if (gpus.node) {
+            if (auto text = gpus.node->value_exact<std::string>()) {
+                check(gpus, *text == "auto", "must be a GPU count (1, 2, ...) or \"auto\"");
+                devices->gpus = 0;
+            } else {
+                int64_t count = 0;
+                readInteger(gpus, &count);
+                check(gpus, count >= 1 && count <= 1024, "must be a GPU count from 1 up (or \"auto\")");
+                devices->gpus = int(count);
+            }
+        }
+        readChoice(field(t, "devices", "exchange"), exchangeTable(), &devices->exchange);
     }
 
     SceneLocations& m_where;

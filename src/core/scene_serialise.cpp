@@ -127,6 +127,10 @@ std::string sceneToToml(const Scene& scene) {
         << "seed = " << scene.init.seed << "\n"
         << "placement = " << quoted(placementTable().name(scene.init.placement)) << "\n";
     if (!scene.init.particlesFile.empty()) out << "particles = " << quoted(scene.init.particlesFile) << "\n";
+
+    out << "\n[devices]\n"
+        << "gpus = " << (scene.devices.gpus > 0 ? std::to_string(scene.devices.gpus) : quoted("auto")) << "\n"
+        << "exchange = " << quoted(exchangeName(scene.devices.exchange)) << "\n";
     return out.str();
 }
 

@@ -20,6 +20,11 @@ constexpr Term<ThermostatKind> kThermostats[] = {
 constexpr Term<CutoffShift> kShifts[] = {
     {CutoffShift::None, "none", ""}, {CutoffShift::Energy, "energy", ""}, {CutoffShift::Force, "force", ""}};
 constexpr Term<Placement> kPlacements[] = {{Placement::Lattice, "lattice", ""}, {Placement::Random, "random", ""}};
+constexpr Term<Exchange> kExchanges[] = {{Exchange::Auto, "auto", "the fastest measured"},
+                                         {Exchange::Dts, "dts", "synchronous peer copies"},
+                                         {Exchange::Dta, "dta", "asynchronous peer copies"},
+                                         {Exchange::Da, "da", "direct access to peer memory"},
+                                         {Exchange::Nccl, "nccl", "NCCL all-gather"}};
 
 constexpr Vocabulary<Method> kMethodTable("method", kMethods);
 constexpr Vocabulary<Precision> kPrecisionTable("precision", kPrecisions);
@@ -27,6 +32,7 @@ constexpr Vocabulary<BackendKind> kBackendTable("backend", kBackends);
 constexpr Vocabulary<ThermostatKind> kThermostatTable("thermostat kind", kThermostats);
 constexpr Vocabulary<CutoffShift> kShiftTable("shift", kShifts);
 constexpr Vocabulary<Placement> kPlacementTable("placement", kPlacements);
+constexpr Vocabulary<Exchange> kExchangeTable("exchange", kExchanges);
 
 }  // namespace
 
@@ -36,11 +42,13 @@ const Vocabulary<BackendKind>& backendTable() { return kBackendTable; }
 const Vocabulary<ThermostatKind>& thermostatTable() { return kThermostatTable; }
 const Vocabulary<CutoffShift>& shiftTable() { return kShiftTable; }
 const Vocabulary<Placement>& placementTable() { return kPlacementTable; }
+const Vocabulary<Exchange>& exchangeTable() { return kExchangeTable; }
 
 const char* methodName(Method method) { return methodTable().name(method); }
 bool parseMethod(const std::string& text, Method* method) { return methodTable().parse(text, method); }
 const char* precisionName(Precision precision) { return precisionTable().name(precision); }
 const char* thermostatName(ThermostatKind kind) { return thermostatTable().name(kind); }
 const char* shiftName(CutoffShift shift) { return shiftTable().name(shift); }
+const char* exchangeName(Exchange exchange) { return exchangeTable().name(exchange); }
 
 }  // namespace corebox

@@ -24,6 +24,10 @@ enum class ThermostatKind { Bussi, Rescale, None };
 enum class Placement { Lattice, Random };
 // What --backend asks for; the backend factory (src/app/backend_factory.h) makes it.
 enum class BackendKind { Cpu, Cuda, Auto };
+// How several GPUs share positions before each force pass (DESIGN.md sec. 4): the report's
+// synchronous peer copies (DT-S), asynchronous peer copies (DT-A), direct access (DA), or an NCCL
+// all-gather; Auto: the fastest measured for the device count (cuda_backend.h: fastestExchange).
+enum class Exchange { Auto, Dts, Dta, Da, Nccl };
 
 template <class Enum>
 struct Term {
@@ -92,6 +96,7 @@ const Vocabulary<BackendKind>& backendTable();
 const Vocabulary<ThermostatKind>& thermostatTable();
 const Vocabulary<CutoffShift>& shiftTable();
 const Vocabulary<Placement>& placementTable();
+const Vocabulary<Exchange>& exchangeTable();
 
 // Shorthands for the tables above, kept for their many callers.
 const char* methodName(Method method);
@@ -99,5 +104,6 @@ bool parseMethod(const std::string& text, Method* method);
 const char* precisionName(Precision precision);
 const char* thermostatName(ThermostatKind kind);
 const char* shiftName(CutoffShift shift);
+const char* exchangeName(Exchange exchange);
 
 }  // namespace corebox

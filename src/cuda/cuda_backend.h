@@ -14,7 +14,9 @@ namespace corebox {
 
 struct CudaBackendOptions {
     Precision precision = Precision::Fp64;
-    int device = 0;
+    int device = 0;  // the first GPU: it renders, resolves collisions and holds the whole state
+    int gpus = 1;    // GPUs device, device + 1, ...: each owns a contiguous slice of the particles
+    Exchange exchange = Exchange::Auto;  // how the slices share positions (Auto: fastestExchange)
 };
 
 // Number of usable CUDA devices; 0 when there is no driver or no GPU (never throws).
@@ -22,7 +24,14 @@ int cudaDeviceCount();
 // "NVIDIA H200 (driver 580.xx, CUDA runtime 13.0)" for logs and benchmark records.
 std::string cudaDeviceDescription(int device);
 
-// Throws DeviceError when the device cannot be used.
+// The GPU count `--gpus auto` picks for n particles out of `visible` GPUs: the measured crossover
+// (docs/table1.md), one GPU where splitting costs more than it saves.
+int gpusFor(int64_t n, int visible);
+// What Exchange::Auto means for `gpus` GPUs: the fastest method measured by `corebox bench table1`.
+Exchange fastestExchange(int gpus);
+
+// Throws DeviceError when the device cannot be used (a device missing, more GPUs asked for than
+// exist, DA between GPUs without peer access), naming the devices found.
 std::unique_ptr<Backend> makeCudaBackend(const CudaBackendOptions& options);
 
 }  // namespace corebox

@@ -1,5 +1,7 @@
 #include "backend_factory.h"
 
+#include <algorithm>
+
 #include "cpu_backend.h"
 #include "errors.h"
 #if COREBOX_WITH_CUDA
@@ -23,7 +25,12 @@ std::unique_ptr<Backend> makeBackend(const BackendChoice& choice) {
     const bool cuda = choice.name == "cuda" || (choice.name == "auto" && cudaAvailable());
     if (!cuda) return makeCpuBackend(CpuBackendOptions{choice.precision, choice.threads});
 #if COREBOX_WITH_CUDA
-    return makeCudaBackend(CudaBackendOptions{choice.precision, choice.device});
+    CudaBackendOptions options;
+    options.precision = choice.precision;
+    options.device = choice.device;
+    options.gpus = choice.gpus > 0 ? choice.gpus : gpusFor(choice.particleCount, std::max(cudaDeviceCount() - choice.device, 1));
+    options.exchange = choice.exchange;
+    return makeCudaBackend(options);
 #else
     throw DeviceError("--backend cuda: this build of corebox has no CUDA backend (built without nvcc); use --backend cpu");
 #endif

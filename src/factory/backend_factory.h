@@ -13,7 +13,10 @@ struct BackendChoice {
     std::string name = "auto";
     Precision precision = Precision::Fp64;
     int threads = 0;  // CPU threads; 0: all
-    int device = 0;   // CUDA device ordinal
+    int device = 0;   // first CUDA device ordinal
+    int gpus = 0;     // CUDA devices used; 0: auto (the measured crossover for particleCount)
+    Exchange exchange = Exchange::Auto;
+    int64_t particleCount = 0;  // what gpus = auto decides on
 };
 
 // True when this build has the CUDA backend and a GPU is present.
