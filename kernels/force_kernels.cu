@@ -9,6 +9,8 @@
 // - with one species the pair coefficients live in registers; with several they come from a
 //   shared-memory table;
 // - without a cutoff the loop calls ljForceOverR directly (what pairForceOverR reduces to then);
+// - with several GPUs each computes its slice of rows [begin, end) against all n positions, read
+//   from its own copy or, with direct access (DA), from the owning GPU's memory (PeerSources);
 // - when the rows alone give too few blocks to fill the GPU (N below a few hundred thousand), the
 //   j range is split into chunks computed by separate blocks; their partial forces are added by a
 //   second kernel in chunk order, so the result does not depend on scheduling (no atomics).
@@ -93,7 +95,7 @@ __global__ void __launch_bounds__(kBlock) forceKernel(ForceArgs<Real> a, int64_t
         __syncthreads();
         const int64_t j = start + threadIdx.x;
         if (j < jEnd) {
-            const Vec3<Real> xj = a.x[j];
+            const Vec3<Real> xj = a.peers.count > 0 ? a.peers.x[j / a.peers.chunk][j] : a.x[j];
             tile[threadIdx.x] = TileEntry<Real>{xj.x, xj.y, xj.z, a.species[j]};
         }
         __syncthreads();
@@ -113,8 +115,8 @@ __global__ void __launch_bounds__(kBlock) forceKernel(ForceArgs<Real> a, int64_t
             partialForce[slot] = force[r];
             if (kEnergy) partialEnergy[slot] = energy[r];
         } else {
-            a.acceleration[i] = a.table.invMass[si[r]] * force[r] + a.gravity;
-            if (kEnergy) a.pairEnergy[i] = energy[r];
+            a.acceleration[i - a.begin] = a.table.invMass[si[r]] * force[r] + a.gravity;
+            if (kEnergy) a.pairEnergy[i - a.begin] = energy[r];
         }
     }
 }
@@ -132,16 +134,16 @@ __global__ void combineChunksKernel(ForceArgs<Real> a, int chunks, const Vec3<Re
         if (partialEnergy) energy += partialEnergy[int64_t(c) * rows + row];
     }
     const int64_t i = a.begin + row;
-    a.acceleration[i] = a.table.invMass[a.species[i]] * force + a.gravity;
-    if (partialEnergy) a.pairEnergy[i] = energy;
+    a.acceleration[row] = a.table.invMass[a.species[i]] * force + a.gravity;
+    if (partialEnergy) a.pairEnergy[row] = energy;
 }
 
 template <class Real>
 __global__ void gravityOnlyKernel(ForceArgs<Real> a) {
     const int64_t i = a.begin + int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.end) return;
-    a.acceleration[i] = a.gravity;
-    if (a.pairEnergy) a.pairEnergy[i] = 0;
+    a.acceleration[i - a.begin] = a.gravity;
+    if (a.pairEnergy) a.pairEnergy[i - a.begin] = 0;
 }
 
 template <class Real, bool kEnergy, bool kSingle>

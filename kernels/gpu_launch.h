@@ -35,6 +35,18 @@ struct SpeciesTable {
 };
 
 // ---- forces (force_kernels.cu) ----
+// Most GPUs one simulation spreads over (the size of PeerSources below, passed by value to kernels).
+constexpr int kMaxGpus = 64;
+
+// Direct access (DA) between GPUs: the positions of particle j are read from x[j / chunk], the array
+// of the GPU owning j (peer memory over unified addressing). count 0: every position from ForceArgs::x.
+template <class Real>
+struct PeerSources {
+    const Vec3<Real>* x[kMaxGpus];
+    int64_t chunk;
+    int count;
+};
+
 template <class Real>
 struct ForceArgs {
     const Vec3<Real>* x;
@@ -45,10 +57,11 @@ struct ForceArgs {
     Vec3<Real> gravity;
     bool anyPairForce;
     bool hasCutoff;
-    Vec3<Real>* acceleration;  // out, indexed by particle
-    double* pairEnergy;        // out when not null: sum_j U_ij per particle
+    Vec3<Real>* acceleration;  // out: row i at acceleration[i - begin]
+    double* pairEnergy;        // out when not null: sum_j U_ij of row i at pairEnergy[i - begin]
     void* scratch;             // per-chunk partial sums, forceScratchBytes large (owned by the caller)
     size_t scratchBytes;
+    PeerSources<Real> peers;   // DA: where the positions are read (count 0: from x)
 };
 template <class Real>
 void launchForces(const ForceArgs<Real>& args, cudaStream_t stream);

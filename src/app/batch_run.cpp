@@ -18,9 +18,7 @@ int runBatch(const RunOptions& options, const Scene& scene) {
     std::unique_ptr<AtomicFile> observablesFile;
     auto body = [&] {
         const ParticleState initial = makeInitialState(scene);
-        BackendChoice choice = options.backend;
-        choice.precision = scene.integrator.precision;
-        std::unique_ptr<Backend> backend = makeBackend(choice);
+        std::unique_ptr<Backend> backend = makeBackend(backendChoiceFor(scene, options.backend));
         std::fprintf(stderr, "[corebox] %s: %lld particles, %zu species, %s %s dt = %g, backend %s (%s), %lld steps\n",
                      options.scenePath.c_str(), (long long)initial.size(), scene.species.size(), methodName(scene.integrator.method),
                      precisionName(scene.integrator.precision), scene.integrator.dt, backend->name().c_str(),

@@ -109,6 +109,30 @@ int main(int argc, char** argv) {
         ->check(oneOf(backendTable()))
         ->capture_default_str();
     runCmd->add_option("--threads", run.backend.threads, "CPU threads (0: all cores)")->capture_default_str();
+    runCmd->add_option_function<std::string>(
+              "--gpus",
+              [&](const std::string& text) {
+                  if (text == "auto") run.gpus = 0;
+                  else run.gpus = std::stoi(text);
+              },
+              "CUDA: GPUs to spread the particles over, 1 .. the GPUs visible, or auto (the default, or the scene's "
+              "[devices] gpus): one GPU below the measured crossover in N, more above it")
+        ->check(CLI::Validator(
+            [](std::string& text) {
+                if (text == "auto") return std::string();
+                try {
+                    size_t used = 0;
+                    const int p = std::stoi(text, &used);
+                    if (used == text.size() && p >= 1) return std::string();
+                } catch (const std::exception&) {
+                }
+                return "--gpus: '" + text + "' is not a GPU count (1, 2, ...) or auto";
+            },
+            "P|auto", "gpu count"));
+    addChoice<Exchange>(runCmd, "--exchange", exchangeTable(),
+                        "CUDA with several GPUs: how they share positions before each force pass: dts (synchronous peer copies), "
+                        "dta (asynchronous peer copies), da (kernels read peer memory), nccl (all-gather); auto: the fastest measured",
+                        [&](Exchange e) { run.exchange = e; });
     addChoice<Precision>(runCmd, "--precision", precisionTable(), "Override the scene's precision",
                          [&](Precision p) { run.precision = p; });
     addChoice<Method>(runCmd, "--method", methodTable(), "Override the integrator", [&](Method m) { run.method = m; });

@@ -27,6 +27,8 @@ void applyOverrides(const RunOptions& options, Scene& scene) {
         if (!(*options.dt > 0)) throw InputError("--dt: must be > 0");
         scene.integrator.dt = *options.dt;
     }
+    if (options.gpus) scene.devices.gpus = *options.gpus;
+    if (options.exchange) scene.devices.exchange = *options.exchange;
     if (options.seed) {
         if (*options.seed < 0) throw InputError("--seed: must be >= 0");
         scene.init.seed = uint64_t(*options.seed);

@@ -39,6 +39,8 @@ struct RunOptions {
     std::optional<Method> method;          // overrides [integrator] method
     std::optional<double> dt;              // overrides [integrator] dt
     std::optional<int64_t> seed;           // overrides [init] seed
+    std::optional<int> gpus;               // overrides [devices] gpus (0: auto)
+    std::optional<Exchange> exchange;      // overrides [devices] exchange
     double maxEnergyDrift = 0.5;
     bool quiet = false;                    // no progress lines
     HeadlessOptions headless;              // frames also bounds a window run

@@ -9,7 +9,7 @@ Session::Session(const Scene& scene, const BackendChoice& backend, SimulationLim
 }
 
 void Session::switchPrecision(Precision precision) {
-    BackendChoice choice = m_backend;
+    BackendChoice choice = backendChoiceFor(m_sim->scene(), m_backend);
     choice.precision = precision;
     m_sim->replaceBackend(makeBackend(choice));
     StepParameters p = stepParametersOf(m_sim->scene());
@@ -20,9 +20,7 @@ void Session::switchPrecision(Precision precision) {
 
 void Session::restart(const Scene& scene) {
     const ParticleState initial = makeInitialState(scene);  // throws InputError before anything changes
-    BackendChoice choice = m_backend;
-    choice.precision = scene.integrator.precision;
-    m_sim = std::make_unique<Simulation>(scene, makeBackend(choice), initial, m_limits);
+    m_sim = std::make_unique<Simulation>(scene, makeBackend(backendChoiceFor(scene, m_backend)), initial, m_limits);
     ++m_generation;
 }
 

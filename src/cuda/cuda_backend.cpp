@@ -30,16 +30,42 @@ std::string cudaDeviceDescription(int device) {
 std::unique_ptr<Backend> makeCudaBackend(const CudaBackendOptions& options) {
     const int count = cudaDeviceCount();
     if (count == 0) throw DeviceError("no CUDA device found (no NVIDIA driver or no GPU); use --backend cpu");
+    auto found = [&] {
+        std::string names;
+        for (int d = 0; d < count; ++d) names += (names.empty() ? "" : "; ") + std::to_string(d) + ": " + cudaDeviceDescription(d);
+        return std::to_string(count) + " found: " + names;
+    };
     if (options.device < 0 || options.device >= count) {
-        throw DeviceError("CUDA device " + std::to_string(options.device) + " is not available (" + std::to_string(count) + " found)");
+        throw DeviceError("CUDA device " + std::to_string(options.device) + " is not available (" + found() + ")");
+    }
+    if (options.gpus < 1 || options.gpus > gpu::kMaxGpus || options.device + options.gpus > count) {
+        throw DeviceError(std::to_string(options.gpus) + " GPU(s) asked for from device " + std::to_string(options.device) +
+                          ", but only devices 0 .. " + std::to_string(count - 1) + " exist (" + found() + ")");
     }
     cudaCheck(cudaSetDevice(options.device), "cudaSetDevice");
     if (options.precision == Precision::Fp32) return std::make_unique<CudaDevice<float>>(options);
     return std::make_unique<CudaDevice<double>>(options);
 }
 
+namespace {
+
+std::vector<int> devicesOf(const CudaBackendOptions& options) {
+    std::vector<int> devices;
+    for (int k = 0; k < options.gpus; ++k) devices.push_back(options.device + k);
+    return devices;
+}
+
+}  // namespace
+
 template <class Real>
-CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_device(options.device), m_partition({options.device}, 0) {
+CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(devicesOf(options), 0) {
+    for (const DeviceSlice& s : m_partition.slices()) {
+        m_replicas.push_back(std::make_unique<Replica<Real>>());
+        m_replicas.back()->device = s.device;
+    }
+    const Exchange exchange = options.exchange == Exchange::Auto ? fastestExchange(options.gpus) : options.exchange;
+    m_exchange = std::make_unique<PeerExchange>(m_partition, exchange);
+    cudaCheck(cudaSetDevice(home().device), "cudaSetDevice");
     for (cudaEvent_t& e : m_phase) cudaCheck(cudaEventCreate(&e), "cudaEventCreate");
     m_counters.resize(2);
     m_kindCounts.resize(3);
@@ -49,8 +75,15 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_device(optio
 
 template <class Real>
 CudaDevice<Real>::~CudaDevice() {
+    cudaSetDevice(home().device);
     for (cudaEvent_t e : m_phase) cudaEventDestroy(e);
     for (cudaEvent_t e : m_timingEvents) cudaEventDestroy(e);
+    // Each replica's buffers are freed with their own GPU current.
+    for (auto& r : m_replicas) {
+        cudaSetDevice(r->device);
+        r.reset();
+    }
+    cudaSetDevice(m_partition.primary().device);
 }
 
 // ---- model and state ----
@@ -59,7 +92,6 @@ template <class Real>
 void CudaDevice<Real>::setModel(const DeviceModel& model) {
     m_model = model;
     const std::vector<PairCoefficients<Real>> pairs = convertPairTable<Real>(model.pairs);
-    m_pairs.upload(pairs.data(), pairs.size());
     const size_t s = model.mass.size();
     m_speciesCount = int(s);
     std::vector<Real> mass(s), invMass(s), radius(s);
@@ -68,9 +100,12 @@ void CudaDevice<Real>::setModel(const DeviceModel& model) {
         invMass[k] = Real(1.0 / model.mass[k]);
         radius[k] = Real(model.radius[k]);
     }
-    m_mass.upload(mass.data(), s);
-    m_invMass.upload(invMass.data(), s);
-    m_radius.upload(radius.data(), s);
+    onEachGpu([&](int, Replica<Real>& r) {
+        r.pairs.upload(pairs.data(), pairs.size());
+        r.mass.upload(mass.data(), s);
+        r.invMass.upload(invMass.data(), s);
+        r.radius.upload(radius.data(), s);
+    });
     m_gravity = vec3Cast<Real>(model.gravity);
     m_box = vec3Cast<Real>(model.box);
 }
@@ -78,31 +113,42 @@ void CudaDevice<Real>::setModel(const DeviceModel& model) {
 template <class Real>
 void CudaDevice<Real>::setTableau(const ButcherTableau& tableau) {
     m_tableau = tableau;
-    m_deviceTableau.upload(&m_tableau, 1);
+    onEachGpu([&](int, Replica<Real>& r) { r.tableau.upload(&m_tableau, 1); });
 }
 
 template <class Real>
 void CudaDevice<Real>::setState(const ParticleState& state) {
+    sync();
     m_n = int64_t(state.size());
     m_partition.resize(m_n);
-    std::vector<Vec3<Real>> x(state.size()), v(state.size());
+    // Full-length arrays are padded to P equal chunks (NCCL); padding rows are never read as particles.
+    const size_t padded = size_t(m_partition.paddedRows());
+    std::vector<Vec3<Real>> x(padded, Vec3<Real>{0, 0, 0}), v(padded, Vec3<Real>{0, 0, 0});
     for (size_t i = 0; i < state.size(); ++i) {
         x[i] = vec3Cast<Real>(state.position[i]);
         v[i] = vec3Cast<Real>(state.velocity[i]);
     }
-    m_x.upload(x.data(), x.size());
-    m_v.upload(v.data(), v.size());
-    m_species.upload(state.species.data(), state.species.size());
+    onEachGpu([&](int k, Replica<Real>& r) {
+        const size_t rows = size_t(slice(k).size());
+        r.x.upload(x.data(), padded);
+        r.v.upload(v.data(), padded);
+        r.species.upload(state.species.data(), state.species.size());
+        for (auto* b : {&r.xStage, &r.vStage}) b->resize(padded);
+        r.acceleration.resize(rows);
+        r.forceScratch.resize(gpu::forceScratchBytes<Real>(int64_t(rows), m_n));
+    });
     m_hostSpecies = state.species;
-    for (auto* b : {&m_acceleration, &m_xStage, &m_vStage, &m_contactAcceleration, &m_snapshotX, &m_snapshotV}) b->resize(size_t(m_n));
-    m_forceScratch.resize(gpu::forceScratchBytes<Real>(m_partition.primary().size(), m_n));
+    for (auto* b : {&m_contactAcceleration, &m_snapshotX, &m_snapshotV}) b->resize(size_t(m_n));
+    m_homeForceScratch.resize(gpu::forceScratchBytes<Real>(m_n, m_n));
+    m_homeCurrent = m_slicesCurrent = true;
 }
 
 template <class Real>
 void CudaDevice<Real>::keepSnapshot() {
+    gatherToHome();
     const size_t bytes = size_t(m_n) * sizeof(Vec3<Real>);
-    cudaCheck(cudaMemcpyAsync(m_snapshotX.data(), m_x.data(), bytes, cudaMemcpyDeviceToDevice, stream()), "snapshot");
-    cudaCheck(cudaMemcpyAsync(m_snapshotV.data(), m_v.data(), bytes, cudaMemcpyDeviceToDevice, stream()), "snapshot");
+    cudaCheck(cudaMemcpyAsync(m_snapshotX.data(), home().x.data(), bytes, cudaMemcpyDeviceToDevice, stream()), "snapshot");
+    cudaCheck(cudaMemcpyAsync(m_snapshotV.data(), home().v.data(), bytes, cudaMemcpyDeviceToDevice, stream()), "snapshot");
 }
 
 template <class Real>
@@ -139,6 +185,7 @@ std::vector<double> CudaDevice<Real>::sumRows(int rows) {
 
 template <class Real>
 double CudaDevice<Real>::kineticEnergy() {
+    gatherToHome();
     m_rows.resize(size_t(m_n));
     gpu::launchKineticRow(arrays(), table(), m_rows.data(), stream());
     return sumRows(1)[0];
@@ -146,14 +193,17 @@ double CudaDevice<Real>::kineticEnergy() {
 
 template <class Real>
 void CudaDevice<Real>::scaleVelocities(double alpha) {
-    gpu::launchScale(m_v.data(), m_n, Real(alpha), stream());
+    gatherToHome();
+    gpu::launchScale(home().v.data(), m_n, Real(alpha), stream());
+    homeChanged();
 }
 
 template <class Real>
 EnergySums CudaDevice<Real>::energies() {
+    gatherToHome();
     m_pairEnergy.resize(size_t(m_n));
     m_scratch.resize(size_t(m_n));
-    gpu::ForceArgs<Real> f = forceArgs(m_x.data(), m_scratch.data());
+    gpu::ForceArgs<Real> f = homeForceArgs(home().x.data(), m_scratch.data());
     f.pairEnergy = m_pairEnergy.data();
     gpu::launchForces(f, stream());
     const int s = m_speciesCount;
@@ -170,6 +220,7 @@ EnergySums CudaDevice<Real>::energies() {
 
 template <class Real>
 HealthReport CudaDevice<Real>::health() {
+    gatherToHome();
     cudaCheck(cudaMemsetAsync(m_healthCounts.data(), 0, 3 * sizeof(unsigned long long), stream()), "memset");
     gpu::launchHealth(gpu::HealthArgs<Real>{arrays(), m_box, m_healthCounts.data(), m_healthExamples.data()}, stream());
     unsigned long long counts[3];
@@ -189,6 +240,7 @@ HealthReport CudaDevice<Real>::health() {
 
 template <class Real>
 void CudaDevice<Real>::markPhase(StepPhase phase) {
+    if (phase == StepPhase::Collide) gatherToHome();  // the home GPU's stream then waits for every GPU
     if (phase == StepPhase::Integrate) m_forceEvents = 0;
     m_timingForces = phase == StepPhase::Integrate;
     cudaCheck(cudaEventRecord(m_phase[int(phase)], stream()), "event");
@@ -215,13 +267,14 @@ PhaseSeconds CudaDevice<Real>::phaseSeconds() {
 
 template <class Real>
 void CudaDevice<Real>::writeInstances(const InstanceTarget& target) {
+    gatherToHome();  // every slice reaches the render GPU
     if (target.memory == InstanceTarget::Memory::Device) {
-        gpu::launchFillInstances(arrays(), m_radius.data(), target.key, target.instances, stream());
+        gpu::launchFillInstances(arrays(), home().radius.data(), target.key, target.instances, stream());
         sync();  // the caller unmaps the GL buffer next
         return;
     }
     m_instances.resize(size_t(m_n));
-    gpu::launchFillInstances(arrays(), m_radius.data(), target.key, m_instances.data(), stream());
+    gpu::launchFillInstances(arrays(), home().radius.data(), target.key, m_instances.data(), stream());
     sync();
     m_instances.download(target.instances, size_t(m_n));
 }

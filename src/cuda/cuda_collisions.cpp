@@ -1,6 +1,7 @@
 // The CUDA backend's collision rounds: the cell list rebuilt each round, every particle's earliest
 // event (kernels/collision_kernels.cu), end-of-step accelerations of the particles about to be
-// resolved, and the resolution of the mutual-earliest matching. One host read-back per round (the
+// resolved, and the resolution of the mutual-earliest matching. With several GPUs all of it runs on
+// the home GPU on the gathered state (design note in cuda_device.h). One host read-back per round (the
 // counts of findEvents); everything else stays on the stream.
 #include <algorithm>
 #include <cmath>
@@ -34,6 +35,7 @@ gpu::CollisionArgs<Real> CudaDevice<Real>::collisionArgs() {
 
 template <class Real>
 void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
+    gatherToHome();
     m_window = ImpactWindow<Real>{Real(window.maxRewind), Real(window.restingSpeed)};
     const size_t n = size_t(m_n);
     m_events.resize(n);
@@ -52,7 +54,7 @@ template <class Real>
 int64_t CudaDevice<Real>::findEvents(EventScope scope) {
     cudaStream_t s = stream();
     // Cells at least the largest contact distance wide (cell_list.h: the one rule).
-    m_cellList = m_contactCells.build(m_x.data(), m_n, cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_model.maxRadius()), s);
+    m_cellList = m_contactCells.build(home().x.data(), m_n, cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_model.maxRadius()), s);
     const gpu::CollisionArgs<Real> a = collisionArgs();
     if (scope == EventScope::All) cudaCheck(cudaMemsetAsync(m_active.data(), 1, size_t(m_n), s), "memset");
     cudaCheck(cudaMemsetAsync(m_counters.data(), 0, 2 * sizeof(unsigned int), s), "memset");
@@ -68,9 +70,10 @@ template <class Real>
 void CudaDevice<Real>::applyEvents() {
     cudaStream_t s = stream();
     const gpu::CollisionArgs<Real> a = collisionArgs();
-    gpu::launchContactAccelerations(a, forceArgs(m_x.data(), nullptr), int(m_needCount), s);
+    gpu::launchContactAccelerations(a, homeForceArgs(home().x.data(), nullptr), int(m_needCount), s);
     gpu::launchResolve(a, s);
     gpu::launchUpdateActive(a, s);
+    homeChanged();
 }
 
 template <class Real>
@@ -108,10 +111,11 @@ gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
 
 template <class Real>
 int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
+    gatherToHome();
     cudaStream_t s = stream();
     m_resting = RestingContact<Real>{Real(resting.speed), Real(resting.gap)};
     const double reach = 2.0 * m_model.maxRadius() + resting.gap;  // every listed pair in neighbouring cells
-    m_cellList = m_contactCells.build(m_x.data(), m_n, cellGeometry(vec3Cast<double>(m_box), m_n, reach), s);
+    m_cellList = m_contactCells.build(home().x.data(), m_n, cellGeometry(vec3Cast<double>(m_box), m_n, reach), s);
     m_contactStart.resize(size_t(m_n) + 1);
     m_residual.resize(2);
     for (auto* b : {&m_xListed, &m_dv, &m_dx}) b->resize(size_t(m_n));
@@ -123,13 +127,14 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     if (total == 0) return 0;
     m_contactPartner.resize(size_t(total));
     gpu::launchFillContacts(contactArgs(), s);
-    cudaCheck(cudaMemcpyAsync(m_xListed.data(), m_x.data(), size_t(m_n) * sizeof(Vec3<Real>), cudaMemcpyDeviceToDevice, s), "contacts");
+    cudaCheck(cudaMemcpyAsync(m_xListed.data(), home().x.data(), size_t(m_n) * sizeof(Vec3<Real>), cudaMemcpyDeviceToDevice, s), "contacts");
     return total;
 }
 
 template <class Real>
 ContactResidual<double> CudaDevice<Real>::relaxContacts(int sweeps) {
     gpu::launchRelaxContacts(contactArgs(), sweeps, stream());
+    homeChanged();
     unsigned long long bits[2] = {0, 0};
     cudaCheck(cudaMemcpyAsync(bits, m_residual.data(), sizeof bits, cudaMemcpyDeviceToHost, stream()), "contact residual");
     sync();

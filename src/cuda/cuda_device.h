@@ -1,8 +1,23 @@
 // The CUDA backend's class, shared by the files that implement it: cuda_backend.cpp (model, state,
-// reductions, timing, output), cuda_integration.cpp (forces, RK stages, Verlet) and
-// cuda_collisions.cpp (the collision rounds' event search and resolution). Internal to src/cuda.
+// reductions, timing, output), cuda_integration.cpp (forces, RK stages, Verlet), cuda_collisions.cpp
+// (the collision stage) and cuda_replicas.cpp (state movement between GPUs). Internal to src/cuda.
+//
+// Design note: one to P GPUs. Particle rows are split into contiguous slices (DevicePartition), one
+// per GPU; each GPU keeps a Replica: the model tables, the positions of every particle (its own slice
+// authoritative, the others received before each force pass through the chosen PeerExchange) and the
+// integration state of its own slice. Integration operations (kick, drift, RK stages, error norms)
+// run on every GPU over its slice; a force pass first shares the positions, then each GPU computes
+// the accelerations of its rows against all N. Everything that needs the whole state at once (the
+// collision stage, reductions, health, snapshots, state downloads, instances for the renderer) runs
+// on the home GPU (the first, which also renders), after a gather of the slices; whatever it changes
+// is scattered back before the next integration operation. So the collision stage is literally the
+// one-GPU code on the gathered state, and gives one GPU's counts and dissipation by construction;
+// its cost is O(N) on one GPU next to the O(N^2 / P) force passes, and the gather and scatter move
+// 2 x 24 bytes per particle over NVLink (microseconds at N = 65536). With one GPU there is one
+// replica and nothing moves.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "backend.h"
@@ -12,8 +27,24 @@
 #include "device_cell_list.h"
 #include "device_partition.h"
 #include "gpu_launch.h"
+#include "peer_exchange.h"
 
 namespace corebox {
+
+// What one GPU holds. Full-length arrays have partition().paddedRows() rows (an NCCL all-gather moves
+// equal chunks); slice arrays have the slice's rows, indexed from the slice's first row.
+template <class Real>
+struct Replica {
+    int device = 0;
+    DeviceBuffer<PairCoefficients<Real>> pairs;
+    DeviceBuffer<ButcherTableau> tableau;
+    DeviceBuffer<Real> mass, invMass, radius;
+    DeviceBuffer<int32_t> species;                  // full length
+    DeviceBuffer<Vec3<Real>> x, v, xStage, vStage;  // full length
+    DeviceBuffer<Vec3<Real>> acceleration, kx, kv;  // slice (kx, kv: stage-major, stages x slice rows)
+    DeviceBuffer<unsigned char> forceScratch;
+    DeviceBuffer<double> errorRows, errorPartials;  // slice
+};
 
 template <class Real>
 class CudaDevice final : public Backend {
@@ -23,17 +54,17 @@ public:
 
     // ---- identity ----
     std::string name() const override { return "cuda"; }
-    std::string deviceName() const override { return cudaDeviceDescription(m_device); }
+    std::string deviceName() const override;  // "2 x NVIDIA H200 (...), dta exchange" with several GPUs
     Precision precision() const override { return std::is_same<Real, float>::value ? Precision::Fp32 : Precision::Fp64; }
-    int interopDevice() const override { return m_device; }
+    int interopDevice() const override { return home().device; }
 
     // ---- model and state (cuda_backend.cpp) ----
     void setModel(const DeviceModel& model) override;
     void setTableau(const ButcherTableau& tableau) override;
     void setState(const ParticleState& state) override;
-    ParticleState state() const override { return download(m_x, m_v); }
+    ParticleState state() const override;
     void keepSnapshot() override;
-    ParticleState snapshot() const override { return download(m_snapshotX, m_snapshotV); }
+    ParticleState snapshot() const override;
 
     // ---- integration (cuda_integration.cpp) ----
     void computeAccelerations() override;
@@ -65,12 +96,42 @@ public:
     void finish() override { sync(); }
 
 private:
-    cudaStream_t stream() const { return m_partition.primary().stream; }
+    // ---- the home GPU and the replicas (cuda_replicas.cpp) ----
+    Replica<Real>& home() const { return *m_replicas.front(); }
+    cudaStream_t stream() const { return m_partition.primary().stream; }  // the home GPU's stream
     void sync() const { m_partition.synchronize(); }
-    gpu::ParticleArrays<Real> arrays() { return {m_x.data(), m_v.data(), m_species.data(), m_n}; }
-    gpu::SpeciesTable<Real> table() const { return {m_pairs.data(), m_mass.data(), m_invMass.data(), m_radius.data(), m_speciesCount}; }
-    gpu::ForceArgs<Real> forceArgs(const Vec3<Real>* x, Vec3<Real>* out);
-    // Force launches bracketed by timing events, read once the step has finished (no extra syncs).
+    int gpuCount() const { return int(m_replicas.size()); }
+    // Makes the home GPU hold every row of X and V (gathering the slices when the GPUs integrated
+    // since), or every GPU its own slice (scattering what the home GPU changed). Both cheap no-ops
+    // when already so, and always with one GPU.
+    void gatherToHome() const;
+    void scatterFromHome() const;
+    // The home GPU changed X or V (collisions, thermostat): the other GPUs' slices are stale.
+    void homeChanged() const { m_slicesCurrent = gpuCount() == 1; }
+    // Runs body(k, replica) on every GPU k with that GPU current; the home GPU is current after.
+    template <class Body>
+    void onEachGpu(Body body) const {
+        for (int k = 0; k < gpuCount(); ++k) {
+            cudaCheck(cudaSetDevice(m_replicas[size_t(k)]->device), "cudaSetDevice");
+            body(k, *m_replicas[size_t(k)]);
+        }
+        cudaCheck(cudaSetDevice(home().device), "cudaSetDevice");
+    }
+    const DeviceSlice& slice(int k) const { return m_partition.slices()[size_t(k)]; }
+
+    gpu::ParticleArrays<Real> arrays() { return {home().x.data(), home().v.data(), home().species.data(), m_n}; }
+    gpu::SpeciesTable<Real> tableOf(const Replica<Real>& r) const {
+        return {r.pairs.data(), r.mass.data(), r.invMass.data(), r.radius.data(), m_speciesCount};
+    }
+    gpu::SpeciesTable<Real> table() const { return tableOf(home()); }
+    // Force pass of GPU k's rows from the positions `x` (that GPU's copy), into `out` (slice rows).
+    gpu::ForceArgs<Real> forceArgs(int k, const Vec3<Real>* x, Vec3<Real>* out);
+    // Every row on the home GPU alone (energies, contact accelerations): begin 0, end n.
+    gpu::ForceArgs<Real> homeForceArgs(const Vec3<Real>* x, Vec3<Real>* out);
+    // One force pass on every GPU: positions shared by the exchange, then each GPU's rows. `stage`:
+    // -1 for A = a(X), else Kv_stage = a(Xs).
+    void forcePass(int stage);
+    // Force launches on the home GPU bracketed by timing events, read once the step has finished.
     void launchTimedForces(const gpu::ForceArgs<Real>& args);
     ParticleState download(const DeviceBuffer<Vec3<Real>>& x, const DeviceBuffer<Vec3<Real>>& v) const;
     // Sums of `rows` rows of m_rows (each n long); block partials are added on the host in order.
@@ -85,8 +146,11 @@ private:
     gpu::CollisionArgs<Real> collisionArgs();
     gpu::ContactArgs<Real> contactArgs();
 
-    int m_device;
     DevicePartition m_partition;
+    std::vector<std::unique_ptr<Replica<Real>>> m_replicas;  // [0]: the home GPU; pointees mutable (gathers in const calls)
+    std::unique_ptr<PeerExchange> m_exchange;
+    mutable bool m_homeCurrent = true;    // the home GPU holds every row of X and V
+    mutable bool m_slicesCurrent = true;  // every GPU holds its own slice of X and V
     DeviceModel m_model;
     ButcherTableau m_tableau{};
     int m_speciesCount = 0;
@@ -99,12 +163,10 @@ private:
     size_t m_forceEvents = 0;
     bool m_timingForces = false;  // between the Integrate and Collide marks
 
-    DeviceBuffer<PairCoefficients<Real>> m_pairs;
-    DeviceBuffer<ButcherTableau> m_deviceTableau;
-    DeviceBuffer<Real> m_mass, m_invMass, m_radius;
-    DeviceBuffer<Vec3<Real>> m_x, m_v, m_acceleration, m_scratch, m_xStage, m_vStage, m_kx, m_kv, m_contactAcceleration;
+    DeviceBuffer<Vec3<Real>> m_scratch, m_contactAcceleration;
     DeviceBuffer<Vec3<Real>> m_snapshotX, m_snapshotV;
-    DeviceBuffer<int32_t> m_species, m_needList;
+    DeviceBuffer<unsigned char> m_homeForceScratch;  // force passes over every row on the home GPU
+    DeviceBuffer<int32_t> m_needList;
     DeviceCellList<Real> m_contactCells;
     CellListView m_cellList{};  // of the last findEvents or listContacts
     ImpactWindow<Real> m_window{0, 0};
@@ -113,7 +175,6 @@ private:
     DeviceBuffer<Vec3<Real>> m_xListed, m_dv, m_dx;
     DeviceBuffer<unsigned long long> m_residual;  // [approach speed, overlap], double bits
     DeviceBuffer<unsigned char> m_contactScanScratch;
-    DeviceBuffer<unsigned char> m_forceScratch;
     DeviceBuffer<CollisionEvent> m_events;
     DeviceBuffer<char> m_active, m_hasContactAcceleration;
     DeviceBuffer<unsigned int> m_counters;  // [0] particles needing a contact acceleration, [1] particles with an event

@@ -1,15 +1,29 @@
-// The CUDA backend's integration operations: force passes (timed by stream events), Runge-Kutta
-// stages and Verlet's kick and drift, each a launch of kernels/force_kernels.cu or
-// kernels/integrate_kernels.cu on the backend's stream.
+// The CUDA backend's integration operations: force passes (positions shared between GPUs first,
+// timed by stream events on the home GPU), Runge-Kutta stages and Verlet's kick and drift, each a
+// launch of kernels/force_kernels.cu or kernels/integrate_kernels.cu per GPU over its slice.
+#include <cmath>
+
 #include "cuda_device.h"
 
 namespace corebox {
 
 template <class Real>
-gpu::ForceArgs<Real> CudaDevice<Real>::forceArgs(const Vec3<Real>* x, Vec3<Real>* out) {
-    const DeviceSlice& slice = m_partition.primary();
-    return {x,   m_species.data(), m_n,     slice.begin, slice.end, table(), m_gravity, m_model.anyPairForce, m_model.hasCutoff,
-            out, nullptr,          m_forceScratch.data(), m_forceScratch.size()};
+gpu::ForceArgs<Real> CudaDevice<Real>::forceArgs(int k, const Vec3<Real>* x, Vec3<Real>* out) {
+    Replica<Real>& r = *m_replicas[size_t(k)];
+    const DeviceSlice& s = slice(k);
+    gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     s.begin, s.end, tableOf(r), m_gravity, m_model.anyPairForce, m_model.hasCutoff,
+                           out, nullptr,          r.forceScratch.data(), r.forceScratch.size(), {}};
+    f.peers.count = 0;
+    return f;
+}
+
+template <class Real>
+gpu::ForceArgs<Real> CudaDevice<Real>::homeForceArgs(const Vec3<Real>* x, Vec3<Real>* out) {
+    Replica<Real>& r = home();
+    gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     0, m_n, table(), m_gravity, m_model.anyPairForce, m_model.hasCutoff,
+                           out, nullptr,          m_homeForceScratch.data(), m_homeForceScratch.size(), {}};
+    f.peers.count = 0;
+    return f;
 }
 
 template <class Real>
@@ -31,55 +45,115 @@ void CudaDevice<Real>::launchTimedForces(const gpu::ForceArgs<Real>& args) {
 }
 
 template <class Real>
+void CudaDevice<Real>::forcePass(int stage) {
+    scatterFromHome();
+    // The positions: X for A = a(X), the stage positions Xs otherwise; every GPU's copy.
+    auto positions = [&](Replica<Real>& r) { return stage < 0 ? r.x.data() : r.xStage.data(); };
+    std::vector<void*> buffers;
+    for (auto& r : m_replicas) buffers.push_back(positions(*r));
+    m_exchange->share(buffers, sizeof(Vec3<Real>));
+    onEachGpu([&](int k, Replica<Real>& r) {
+        Vec3<Real>* out = stage < 0 ? r.acceleration.data() : r.kv.data() + size_t(stage) * size_t(slice(k).size());
+        gpu::ForceArgs<Real> f = forceArgs(k, positions(r), out);
+        if (m_exchange->method() == Exchange::Da && gpuCount() > 1) {
+            f.peers.count = gpuCount();
+            f.peers.chunk = m_partition.chunk();
+            for (int j = 0; j < gpuCount(); ++j) f.peers.x[j] = positions(*m_replicas[size_t(j)]);
+        }
+        if (k == 0) launchTimedForces(f);
+        else gpu::launchForces(f, slice(k).stream);
+    });
+    m_exchange->readsDone();
+    m_homeCurrent = gpuCount() == 1;
+}
+
+template <class Real>
 void CudaDevice<Real>::computeAccelerations() {
-    launchTimedForces(forceArgs(m_x.data(), m_acceleration.data()));
+    forcePass(-1);
 }
 
 template <class Real>
 void CudaDevice<Real>::kick(double h) {
-    gpu::launchVerletKick(m_v.data(), m_acceleration.data(), m_n, Real(h), stream());
+    scatterFromHome();
+    onEachGpu([&](int k, Replica<Real>& r) {
+        const DeviceSlice& s = slice(k);
+        gpu::launchVerletKick(r.v.data() + s.begin, r.acceleration.data(), s.size(), Real(h), s.stream);
+    });
+    m_homeCurrent = gpuCount() == 1;
 }
 
 template <class Real>
 void CudaDevice<Real>::drift(double dt) {
-    gpu::launchVerletDrift(m_x.data(), m_v.data(), m_n, Real(dt), stream());
+    scatterFromHome();
+    onEachGpu([&](int k, Replica<Real>& r) {
+        const DeviceSlice& s = slice(k);
+        gpu::launchVerletDrift(r.x.data() + s.begin, r.v.data() + s.begin, s.size(), Real(dt), s.stream);
+    });
+    m_homeCurrent = gpuCount() == 1;
+}
+
+template <class Real>
+gpu::StageArgs<Real> stageArgsOf(Replica<Real>& r, const DeviceSlice& s, int stage, int count, double dt) {
+    return gpu::StageArgs<Real>{r.x.data() + s.begin,      r.v.data() + s.begin,      r.kx.data(), r.kv.data(), r.xStage.data() + s.begin,
+                                r.vStage.data() + s.begin, s.size(),                  stage,       count,       Real(dt),
+                                r.tableau.data()};
 }
 
 template <class Real>
 void CudaDevice<Real>::rkStage(int stage, double dt) {
-    const size_t n = size_t(m_n);
-    m_kx.resize(size_t(m_tableau.stages) * n);
-    m_kv.resize(size_t(m_tableau.stages) * n);
-    const gpu::StageArgs<Real> a{m_x.data(), m_v.data(), m_kx.data(), m_kv.data(), m_xStage.data(), m_vStage.data(), m_n, stage, stage,
-                                 Real(dt), m_deviceTableau.data()};
-    gpu::launchStage(a, stream());
+    scatterFromHome();
+    onEachGpu([&](int k, Replica<Real>& r) {
+        const DeviceSlice& s = slice(k);
+        const size_t rows = size_t(m_tableau.stages) * size_t(s.size());
+        r.kx.resize(rows);
+        r.kv.resize(rows);
+        gpu::launchStage(stageArgsOf(r, s, stage, stage, dt), s.stream);
+    });
+    m_homeCurrent = gpuCount() == 1;
 }
 
 template <class Real>
 void CudaDevice<Real>::stageForces(int stage) {
-    launchTimedForces(forceArgs(m_xStage.data(), m_kv.data() + size_t(stage) * size_t(m_n)));
+    forcePass(stage);
 }
 
 template <class Real>
 void CudaDevice<Real>::rkSolution(int stages, double dt) {
-    const gpu::StageArgs<Real> a{m_x.data(), m_v.data(), m_kx.data(), m_kv.data(), m_xStage.data(), m_vStage.data(), m_n, -1, stages,
-                                 Real(dt), m_deviceTableau.data()};
-    gpu::launchStage(a, stream());
+    onEachGpu([&](int k, Replica<Real>& r) { gpu::launchStage(stageArgsOf(r, slice(k), -1, stages, dt), slice(k).stream); });
+    m_homeCurrent = gpuCount() == 1;
 }
 
 template <class Real>
 double CudaDevice<Real>::rkErrorNorm(double dt, double tolerance) {
-    m_rows.resize(size_t(m_n));
-    const gpu::StageArgs<Real> a{m_x.data(), m_v.data(), m_kx.data(), m_kv.data(), m_xStage.data(), m_vStage.data(), m_n, -1,
-                                 m_tableau.stages, Real(dt), m_deviceTableau.data()};
-    gpu::launchErrorNorm(a, tolerance, m_rows.data(), stream());
-    return std::sqrt(sumRows(1)[0] / double(6 * std::max<int64_t>(m_n, 1)));
+    // Per-GPU block partials, added on the host in GPU and block order: the same sum for any timing.
+    std::vector<std::vector<double>> partials(static_cast<size_t>(gpuCount()));
+    onEachGpu([&](int k, Replica<Real>& r) {
+        const DeviceSlice& s = slice(k);
+        r.errorRows.resize(size_t(s.size()));
+        gpu::launchErrorNorm(stageArgsOf(r, s, -1, m_tableau.stages, dt), tolerance, r.errorRows.data(), s.stream);
+        const int blocks = std::max(gpu::blockSumBlocks(s.size()), 1);
+        r.errorPartials.resize(size_t(blocks));
+        partials[size_t(k)].assign(size_t(blocks), 0.0);
+        if (s.size() == 0) return;
+        gpu::launchBlockSums(r.errorRows.data(), 1, s.size(), r.errorPartials.data(), s.stream);
+        cudaCheck(cudaMemcpyAsync(partials[size_t(k)].data(), r.errorPartials.data(), size_t(blocks) * sizeof(double), cudaMemcpyDeviceToHost,
+                                  s.stream),
+                  "error norm");
+    });
+    sync();
+    double sum = 0;
+    for (const std::vector<double>& p : partials)
+        for (double b : p) sum += b;
+    return std::sqrt(sum / double(6 * std::max<int64_t>(m_n, 1)));
 }
 
 template <class Real>
 void CudaDevice<Real>::acceptStage() {
-    std::swap(m_x, m_xStage);
-    std::swap(m_v, m_vStage);
+    for (auto& r : m_replicas) {
+        std::swap(r->x, r->xStage);
+        std::swap(r->v, r->vStage);
+    }
+    m_homeCurrent = gpuCount() == 1;
 }
 
 template class CudaDevice<float>;

@@ -1,5 +1,7 @@
 #include "device_partition.h"
 
+#include <algorithm>
+
 #include "cuda_check.h"
 
 namespace corebox {
@@ -28,9 +30,10 @@ DevicePartition::~DevicePartition() {
 
 void DevicePartition::resize(int64_t n) {
     const int64_t count = int64_t(m_slices.size());
+    m_chunk = (n + count - 1) / count;
     for (int64_t k = 0; k < count; ++k) {
-        m_slices[size_t(k)].begin = n * k / count;
-        m_slices[size_t(k)].end = n * (k + 1) / count;
+        m_slices[size_t(k)].begin = std::min(n, m_chunk * k);
+        m_slices[size_t(k)].end = std::min(n, m_chunk * (k + 1));
     }
 }
 

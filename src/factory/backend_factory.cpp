@@ -18,6 +18,14 @@ bool cudaAvailable() {
 #endif
 }
 
+BackendChoice backendChoiceFor(const Scene& scene, BackendChoice choice) {
+    choice.precision = scene.integrator.precision;
+    choice.gpus = scene.devices.gpus;
+    choice.exchange = scene.devices.exchange;
+    choice.particleCount = scene.particleCount();
+    return choice;
+}
+
 std::unique_ptr<Backend> makeBackend(const BackendChoice& choice) {
     if (choice.name != "cpu" && choice.name != "cuda" && choice.name != "auto") {
         throw InputError("--backend: unknown backend '" + choice.name + "' (expected cpu, cuda or auto)");

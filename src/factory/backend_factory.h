@@ -22,6 +22,10 @@ struct BackendChoice {
 // True when this build has the CUDA backend and a GPU is present.
 bool cudaAvailable();
 
+// The choice for running `scene`: its precision, its [devices] (GPU count and exchange) and its
+// particle count (what gpus = auto decides on), on the backend, threads and device of `choice`.
+BackendChoice backendChoiceFor(const Scene& scene, BackendChoice choice);
+
 // Throws InputError for an unknown name and DeviceError when the device cannot be used.
 std::unique_ptr<Backend> makeBackend(const BackendChoice& choice);
 

@@ -7,6 +7,14 @@
 #include "cpu_backend.h"
 #include "cuda_backend.h"
 
+// How many GPUs a multi-GPU test needs: skips, visibly, where fewer are visible.
+#define COREBOX_REQUIRE_GPUS(count)                                                                                    \
+    do {                                                                                                              \
+        const int visible = corebox::cudaDeviceCount();                                                                \
+        if (visible < (count))                                                                                        \
+            GTEST_SKIP() << "needs " << (count) << " CUDA devices, " << visible << " visible: multi-GPU test skipped"; \
+    } while (0)
+
 #define COREBOX_REQUIRE_GPU()                                                                  \
     do {                                                                                       \
         if (corebox::cudaDeviceCount() == 0) GTEST_SKIP() << "no CUDA device: GPU test skipped"; \

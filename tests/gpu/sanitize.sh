@@ -1,9 +1,17 @@
 #!/usr/bin/env bash
-# compute-sanitizer TOOL over the small GPU collision scene; exit 77 (ctest: skipped) without a GPU
-# or without compute-sanitizer, non-zero when the tool reports anything.
+# compute-sanitizer TOOL over the small GPU collision scene (one GPU, and two where present); exit 77
+# (ctest: skipped) without a GPU or without compute-sanitizer, non-zero when the tool reports anything.
+# memcheck: every kernel and API call of corebox; the NCCL run apart, with API errors not reported
+# (NCCL's start-up probes kernels of other architectures: its errors, not corebox's), memory errors
+# still reported. racecheck: shared-memory hazards in the kernels, on one GPU and on the direct-access
+# path (the only kernel change with several GPUs); copies and NCCL run no corebox kernel of their own.
 set -u
 tool=$1 binary=$2
 if ! nvidia-smi -L >/dev/null 2>&1; then echo "no GPU: compute-sanitizer $tool skipped"; exit 77; fi
 sanitizer=$(command -v compute-sanitizer || echo /usr/local/cuda/bin/compute-sanitizer)
 if [ ! -x "$sanitizer" ]; then echo "compute-sanitizer not found: $tool skipped"; exit 77; fi
-exec "$sanitizer" --tool "$tool" --error-exitcode 1 "$binary" --gtest_filter='CudaSanitized.*'
+if [ "$tool" = memcheck ]; then
+  "$sanitizer" --tool memcheck --error-exitcode 1 "$binary" --gtest_filter='CudaSanitized.*:-*Nccl*' || exit 1
+  exec "$sanitizer" --tool memcheck --report-api-errors no --error-exitcode 1 "$binary" --gtest_filter='CudaSanitized.*Nccl*'
+fi
+exec "$sanitizer" --tool "$tool" --error-exitcode 1 "$binary" --gtest_filter='CudaSanitized.SmallSceneWithCollisions:CudaSanitized.TwoGpusDirectAccess'

@@ -1,9 +1,14 @@
-// CUDA backend against the CPU oracle on N = 1234 particles (not a multiple of a block): every
-// integrator in fp64 without collisions (positions to 1e-9 relative after 20 steps), collision
-// counts and energies with collisions, fp32 tolerances, identical initial states, and the same
-// observables machinery (energies, health, speed statistics).
+// CUDA backend against the CPU oracle on N = 1234 particles (not a multiple of a block, nor of the
+// GPU counts) and N = 4099: every integrator in fp64 without collisions (positions to 1e-9 relative
+// after 20 steps), collision counts and energies with collisions, fp32 tolerances, identical initial
+// states, and the same observables machinery (energies, health, speed statistics). Every body runs
+// on one GPU and on P = 2, 3, 4 and 8 GPUs with each exchange (named Gpus/CudaConformance.Test/p2_dta
+// and so on); a configuration needing more GPUs than are visible skips with a message.
 #include <cmath>
+#include <map>
+#include <tuple>
 
+#include "errors.h"
 #include "gpu_fixture.h"
 #include "initial_conditions.h"
 #include "simulation.h"
@@ -60,13 +65,38 @@ Scene hardSphereMix(Precision precision) {
     return scene;
 }
 
-std::unique_ptr<Backend> backendFor(const std::string& name, Precision p) {
-    if (name == "cpu") return makeCpuBackend(CpuBackendOptions{p, 0});
-    return makeCudaBackend(CudaBackendOptions{p, 0});
+// The GPU configuration of a test instance.
+struct GpuConfig {
+    int gpus = 1;
+    Exchange exchange = Exchange::Auto;
+};
+
+std::vector<GpuConfig> gpuConfigs() {
+    std::vector<GpuConfig> out{{1, Exchange::Auto}};
+    for (int p : {2, 3, 4, 8})
+        for (Exchange e : {Exchange::Dts, Exchange::Dta, Exchange::Da, Exchange::Nccl}) out.push_back({p, e});
+    return out;
 }
 
-Simulation simulate(const Scene& scene, const std::string& backend, int steps, int64_t* pairs = nullptr, int64_t* walls = nullptr) {
-    Simulation sim(scene, backendFor(backend, scene.integrator.precision), makeInitialState(scene));
+std::string configName(const ::testing::TestParamInfo<GpuConfig>& info) {
+    if (info.param.gpus == 1) return "p1";
+    return "p" + std::to_string(info.param.gpus) + "_" + exchangeName(info.param.exchange);
+}
+
+GpuConfig g_config;  // the running instance's, read by backendFor("cuda")
+
+std::unique_ptr<Backend> backendFor(const std::string& name, Precision p, GpuConfig config = g_config) {
+    if (name == "cpu") return makeCpuBackend(CpuBackendOptions{p, 0});
+    CudaBackendOptions options;
+    options.precision = p;
+    options.gpus = config.gpus;
+    options.exchange = config.exchange;
+    return makeCudaBackend(options);
+}
+
+Simulation simulate(const Scene& scene, const std::string& backend, int steps, int64_t* pairs = nullptr, int64_t* walls = nullptr,
+                    GpuConfig config = g_config) {
+    Simulation sim(scene, backendFor(backend, scene.integrator.precision, config), makeInitialState(scene));
     for (int s = 0; s < steps; ++s) {
         const StepReport r = sim.step();
         if (pairs) *pairs += r.pairCollisions;
@@ -83,10 +113,49 @@ double maxRelativeDifference(const ParticleState& a, const ParticleState& b, dou
     return worst;
 }
 
+// The CPU oracle's state after `steps` steps, computed once per scene (each instance compares with it).
+struct OracleRun {
+    ParticleState state;
+    ObservablesRow row;
+    int64_t pairs = 0, walls = 0;
+    double time = 0;
+};
+const OracleRun& cpuOracle(const std::string& key, const Scene& scene, int steps) {
+    static std::map<std::string, OracleRun> cache;
+    auto found = cache.find(key);
+    if (found != cache.end()) return found->second;
+    OracleRun run;
+    Simulation sim = simulate(scene, "cpu", steps, &run.pairs, &run.walls);
+    run.state = sim.state();
+    run.row = sim.observe();
+    run.time = sim.time();
+    return cache.emplace(key, std::move(run)).first->second;
+}
+
+Scene withCount(Scene scene, int64_t n) {
+    // Keep the species' proportions and the number density: the box grows with the cube root.
+    const int64_t n0 = scene.particleCount();
+    scene.species[1].count = n * scene.species[1].count / n0;
+    scene.species[0].count = n - scene.species[1].count;
+    const double grow = std::cbrt(double(n) / double(n0));
+    for (double& l : scene.box.size) l *= grow;
+    return scene;
+}
+
+class CudaConformance : public ::testing::TestWithParam<GpuConfig> {
+protected:
+    void SetUp() override {
+        COREBOX_REQUIRE_GPUS(GetParam().gpus);
+        g_config = GetParam();
+    }
+    void TearDown() override { g_config = GpuConfig{}; }
+};
+
 }  // namespace
 
-TEST(CudaConformance, SameSeedGivesTheSameInitialStateOnCpuAndCuda) {
-    COREBOX_REQUIRE_GPU();
+INSTANTIATE_TEST_SUITE_P(Gpus, CudaConformance, ::testing::ValuesIn(gpuConfigs()), configName);
+
+TEST_P(CudaConformance, SameSeedGivesTheSameInitialStateOnCpuAndCuda) {
     // Each backend starts its own simulation from the scene (as `corebox run` does); what each holds
     // must be the same state, bit for bit, and a different seed a different one (so equality here
     // is not the comparison of a state with itself).
@@ -109,58 +178,81 @@ TEST(CudaConformance, SameSeedGivesTheSameInitialStateOnCpuAndCuda) {
     EXPECT_GT(differentFromOtherSeed, a.size());
 }
 
-TEST(CudaConformance, EveryMethodMatchesTheCpuInFp64WithoutCollisions) {
-    COREBOX_REQUIRE_GPU();
-    for (Method m : {Method::Euler, Method::Rk2, Method::Rk4, Method::Dp5, Method::Hairer10, Method::Verlet}) {
-        const Scene scene = ljGas(m, Precision::Fp64);
-        int64_t cpuPairs = 0, cudaPairs = 0;
-        Simulation cpu = simulate(scene, "cpu", 20, &cpuPairs);
-        Simulation cuda = simulate(scene, "cuda", 20, &cudaPairs);
-        EXPECT_EQ(cpuPairs, 0);
-        EXPECT_EQ(cudaPairs, 0);
-        const double diff = maxRelativeDifference(cpu.state(), cuda.state(), 16.0);
-        RecordProperty(std::string("fp64_") + methodName(m), std::to_string(diff));
-        EXPECT_LT(diff, 1e-9) << methodName(m);
-        const ObservablesRow a = cpu.observe(), b = cuda.observe();
-        EXPECT_NEAR(a.kinetic, b.kinetic, 1e-9 * std::fabs(a.kinetic)) << methodName(m);
-        EXPECT_NEAR(a.potential, b.potential, 1e-9 * std::fabs(a.potential)) << methodName(m);
+TEST_P(CudaConformance, EveryMethodMatchesTheCpuInFp64WithoutCollisions) {
+    for (int64_t n : {1234, 4099}) {
+        for (Method m : {Method::Euler, Method::Rk2, Method::Rk4, Method::Dp5, Method::Hairer10, Method::Verlet}) {
+            const Scene scene = withCount(ljGas(m, Precision::Fp64), n);
+            const OracleRun& cpu = cpuOracle(std::string("lj_") + methodName(m) + "_" + std::to_string(n), scene, 20);
+            int64_t cudaPairs = 0;
+            Simulation cuda = simulate(scene, "cuda", 20, &cudaPairs);
+            EXPECT_EQ(cpu.pairs, 0);
+            EXPECT_EQ(cudaPairs, 0);
+            const double diff = maxRelativeDifference(cpu.state, cuda.state(), scene.box.size[0]);
+            RecordProperty(std::string("fp64_") + methodName(m) + "_" + std::to_string(n), std::to_string(diff));
+            EXPECT_LT(diff, 1e-9) << methodName(m) << ", N = " << n;
+            const ObservablesRow& a = cpu.row;
+            const ObservablesRow b = cuda.observe();
+            EXPECT_NEAR(a.kinetic, b.kinetic, 1e-9 * std::fabs(a.kinetic)) << methodName(m) << ", N = " << n;
+            EXPECT_NEAR(a.potential, b.potential, 1e-9 * std::fabs(a.potential)) << methodName(m) << ", N = " << n;
+        }
     }
 }
 
-TEST(CudaConformance, AdaptiveDp5TakesTheSameSteps) {
-    COREBOX_REQUIRE_GPU();
+TEST_P(CudaConformance, AdaptiveDp5TakesTheSameSteps) {
     Scene scene = ljGas(Method::Dp5, Precision::Fp64);
     scene.integrator.adaptive = true;
     scene.integrator.tolerance = 1e-7;
     scene.integrator.dt = 1e-2;
-    Simulation cpu = simulate(scene, "cpu", 10);
+    const OracleRun& cpu = cpuOracle("lj_adaptive_dp5", scene, 10);
     Simulation cuda = simulate(scene, "cuda", 10);
-    EXPECT_NEAR(cpu.time(), cuda.time(), 1e-12);
-    EXPECT_LT(maxRelativeDifference(cpu.state(), cuda.state(), 16.0), 1e-9);
+    EXPECT_NEAR(cpu.time, cuda.time(), 1e-12);
+    EXPECT_LT(maxRelativeDifference(cpu.state, cuda.state(), 16.0), 1e-9);
 }
 
-TEST(CudaConformance, CollisionsGiveTheSameCountsAndEnergies) {
-    COREBOX_REQUIRE_GPU();
+TEST_P(CudaConformance, CollisionsGiveTheSameCountsAndEnergies) {
     const Scene scene = hardSphereMix(Precision::Fp64);
-    int64_t cpuPairs = 0, cpuWalls = 0, cudaPairs = 0, cudaWalls = 0;
-    Simulation cpu = simulate(scene, "cpu", 20, &cpuPairs, &cpuWalls);
+    const OracleRun& cpu = cpuOracle("hard_sphere_mix", scene, 20);
+    int64_t cudaPairs = 0, cudaWalls = 0;
     Simulation cuda = simulate(scene, "cuda", 20, &cudaPairs, &cudaWalls);
-    RecordProperty("pair_collisions_cpu", std::to_string(cpuPairs));
+    RecordProperty("pair_collisions_cpu", std::to_string(cpu.pairs));
     RecordProperty("pair_collisions_cuda", std::to_string(cudaPairs));
-    EXPECT_GT(cpuPairs, 100);
-    EXPECT_GT(cpuWalls, 10);
+    EXPECT_GT(cpu.pairs, 100);
+    EXPECT_GT(cpu.walls, 10);
     // Same algorithm, same order of events: the same collisions, and energies to round-off.
-    EXPECT_EQ(cpuPairs, cudaPairs);
-    EXPECT_EQ(cpuWalls, cudaWalls);
-    const ObservablesRow a = cpu.observe(), b = cuda.observe();
+    EXPECT_EQ(cpu.pairs, cudaPairs);
+    EXPECT_EQ(cpu.walls, cudaWalls);
+    const ObservablesRow& a = cpu.row;
+    const ObservablesRow b = cuda.observe();
     EXPECT_NEAR(a.kinetic, b.kinetic, 1e-9 * a.kinetic);
     EXPECT_NEAR(a.potential, b.potential, 1e-9 * std::fabs(a.potential));
     EXPECT_NEAR(a.dissipated, b.dissipated, 1e-9 * a.dissipated);
-    EXPECT_LT(maxRelativeDifference(cpu.state(), cuda.state(), 15.0), 1e-9);
+    EXPECT_LT(maxRelativeDifference(cpu.state, cuda.state(), 15.0), 1e-9);
 }
 
-TEST(CudaConformance, Fp32StaysWithinItsTolerance) {
-    COREBOX_REQUIRE_GPU();
+TEST_P(CudaConformance, SeveralGpusGiveTheOneGpuCollisionsAndExchangesTheSameBytes) {
+    // With P GPUs the collision stage runs on the gathered state: the one-GPU counts and losses. The
+    // exchanges move the same bytes, so for one P every method gives the same state bit for bit
+    // (compared with DT-S, the simplest).
+    if (GetParam().gpus == 1) GTEST_SKIP() << "compares several GPUs with one";
+    for (Precision p : {Precision::Fp64, Precision::Fp32}) {
+        const Scene scene = hardSphereMix(p);
+        int64_t onePairs = 0, oneWalls = 0, pairs = 0, walls = 0, refPairs = 0, refWalls = 0;
+        Simulation one = simulate(scene, "cuda", 20, &onePairs, &oneWalls, GpuConfig{1, Exchange::Auto});
+        Simulation many = simulate(scene, "cuda", 20, &pairs, &walls);
+        Simulation reference = simulate(scene, "cuda", 20, &refPairs, &refWalls, GpuConfig{GetParam().gpus, Exchange::Dts});
+        EXPECT_EQ(pairs, onePairs) << precisionName(p);
+        EXPECT_EQ(walls, oneWalls) << precisionName(p);
+        EXPECT_NEAR(many.observe().dissipated, one.observe().dissipated, 1e-9 * one.observe().dissipated) << precisionName(p);
+        const ParticleState a = many.state(), b = reference.state();
+        size_t differing = 0;
+        for (size_t i = 0; i < a.size(); ++i)
+            for (int k = 0; k < 3; ++k) differing += a.position[i][k] != b.position[i][k] || a.velocity[i][k] != b.velocity[i][k];
+        EXPECT_EQ(differing, 0u) << precisionName(p) << ": " << exchangeName(GetParam().exchange) << " against dts";
+        EXPECT_EQ(pairs, refPairs);
+    }
+}
+
+TEST_P(CudaConformance, Fp32StaysWithinItsTolerance) {
     // fp32 against the fp64 CPU oracle: 20 steps of an LJ gas keep positions within 1e-5 of the
     // box (float round-off ~1e-7 per operation, amplified by the dynamics) and the collision
     // scene's kinetic energy within 1e-3.
@@ -179,8 +271,7 @@ TEST(CudaConformance, Fp32StaysWithinItsTolerance) {
     EXPECT_NEAR(hs32.observe().kinetic, hs64.observe().kinetic, 1e-3 * hs64.observe().kinetic);
 }
 
-TEST(CudaConformance, HealthFindsTheSameBrokenParticlesAsTheCpu) {
-    COREBOX_REQUIRE_GPU();
+TEST_P(CudaConformance, HealthFindsTheSameBrokenParticlesAsTheCpu) {
     const Scene scene = hardSphereMix(Precision::Fp64);
     Simulation cpu = simulate(scene, "cpu", 5);
     Simulation cuda = simulate(scene, "cuda", 5);
@@ -199,8 +290,7 @@ TEST(CudaConformance, HealthFindsTheSameBrokenParticlesAsTheCpu) {
     EXPECT_EQ(b.examples, a.examples);
 }
 
-TEST(CudaConformance, SpeedStatisticsAgreeWithTheCpu) {
-    COREBOX_REQUIRE_GPU();
+TEST_P(CudaConformance, SpeedStatisticsAgreeWithTheCpu) {
     const Scene scene = hardSphereMix(Precision::Fp64);
     Simulation cpu = simulate(scene, "cpu", 5);
     Simulation cuda = simulate(scene, "cuda", 5);
@@ -213,5 +303,19 @@ TEST(CudaConformance, SpeedStatisticsAgreeWithTheCpu) {
         EXPECT_EQ(a.count, b.count);
         EXPECT_EQ(a.histogram, b.histogram) << "species " << species;
         EXPECT_NEAR(a.ksStatistic, b.ksStatistic, 1e-9) << "species " << species;
+    }
+}
+
+TEST(CudaDevices, AskingForMoreGpusThanExistNamesTheDevicesFound) {
+    COREBOX_REQUIRE_GPU();
+    CudaBackendOptions options;
+    options.gpus = cudaDeviceCount() + 1;
+    try {
+        makeCudaBackend(options);
+        FAIL() << "no error for " << options.gpus << " GPUs";
+    } catch (const DeviceError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("found"), std::string::npos) << message;
+        EXPECT_NE(message.find(cudaDeviceDescription(0)), std::string::npos) << message;
     }
 }

@@ -70,3 +70,31 @@ TEST(CudaInterop, InteropFrameEqualsTheCpuUploadFrame) {
         }
     }
 }
+
+// With two GPUs the render GPU's mapped buffer receives every slice (the gather before the fill): the
+// frame equals the one-GPU frame of the same run.
+TEST(CudaInterop, TwoGpusDrawTheOneGpuFrame) {
+    COREBOX_REQUIRE_GPUS(2);
+    EglHeadlessContext context(HeadlessContextOptions{0, false});
+    const Scene scene = loadScene(std::string(COREBOX_SOURCE_DIR) + "/assets/polydisperse.toml");
+    std::vector<Image> frames;
+    for (int gpus : {1, 2}) {
+        CudaBackendOptions options;
+        options.gpus = gpus;
+        Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
+        for (int s = 0; s < 10; ++s) sim.step();
+        ParticleRenderer renderer;
+        renderer.reserve(size_t(scene.particleCount()));
+        CudaGlInterop interop(renderer.instanceBuffer(), 0);
+        {
+            const CudaGlInterop::Mapping mapping(interop);
+            sim.backend().writeInstances(InstanceTarget{InstanceTarget::Memory::Device, mapping.instances(), ColorMode::Species});
+        }
+        renderer.setInstanceCount(size_t(scene.particleCount()));
+        frames.push_back(drawFrame(renderer, scene, ColorMode::Species));
+    }
+    size_t differing = 0;
+    for (size_t k = 0; k < frames[0].rgba.size(); ++k) differing += frames[0].rgba[k] != frames[1].rgba[k];
+    RecordProperty("differing_bytes", std::to_string(differing));
+    EXPECT_EQ(differing, 0u);
+}

@@ -1,0 +1,53 @@
+// The CUDA backend's state movement between GPUs (design note in cuda_device.h): the gather of every
+// slice to the home GPU before whole-state work, the scatter of what the home GPU changed back to
+// the slices' owners, and the downloads that read the gathered state.
+#include "cuda_device.h"
+
+namespace corebox {
+
+template <class Real>
+void CudaDevice<Real>::gatherToHome() const {
+    if (m_homeCurrent) return;
+    std::vector<void*> x, v;
+    for (auto& r : m_replicas) {
+        x.push_back(r->x.data());
+        v.push_back(r->v.data());
+    }
+    m_exchange->gather({x, v}, sizeof(Vec3<Real>));
+    m_homeCurrent = true;
+}
+
+template <class Real>
+void CudaDevice<Real>::scatterFromHome() const {
+    if (m_slicesCurrent) return;
+    std::vector<void*> x, v;
+    for (auto& r : m_replicas) {
+        x.push_back(r->x.data());
+        v.push_back(r->v.data());
+    }
+    m_exchange->scatter({x, v}, sizeof(Vec3<Real>));
+    m_slicesCurrent = true;
+}
+
+template <class Real>
+std::string CudaDevice<Real>::deviceName() const {
+    const std::string one = cudaDeviceDescription(home().device);
+    if (gpuCount() == 1) return one;
+    return std::to_string(gpuCount()) + " x " + one + ", " + exchangeName(m_exchange->method()) + " exchange";
+}
+
+template <class Real>
+ParticleState CudaDevice<Real>::state() const {
+    gatherToHome();
+    return download(home().x, home().v);
+}
+
+template <class Real>
+ParticleState CudaDevice<Real>::snapshot() const {
+    return download(m_snapshotX, m_snapshotV);
+}
+
+template class CudaDevice<float>;
+template class CudaDevice<double>;
+
+}  // namespace corebox
