@@ -154,7 +154,7 @@ void PeerExchange::share(const std::vector<void*>& buffers, size_t rowBytes) {
                     copySlice(buffers, rowBytes, k, k, j, slices[size_t(j)].stream);
                 }
             }
-            cudaCheck(cudaSetDevice(slices.front().device), "cudaSetDevice");
+            barrier();  // no GPU writes its slice again (the next stage) while a peer still pulls it
             return;
         case Exchange::Da: barrier(); return;
         case Exchange::Nccl: {
@@ -174,7 +174,8 @@ void PeerExchange::share(const std::vector<void*>& buffers, size_t rowBytes) {
 }
 
 void PeerExchange::readsDone() {
-    if (m_method == Exchange::Dta || m_method == Exchange::Da) barrier();
+    // DT-A's closing barrier in share() already waits for its pulls; only DA's kernels read peers.
+    if (m_method == Exchange::Da) barrier();
 }
 
 void PeerExchange::gather(const std::vector<std::vector<void*>>& arrays, size_t rowBytes) {

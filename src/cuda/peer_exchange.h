@@ -10,8 +10,9 @@
 //   NCCL  ncclAllGather in place, one group over one communicator per GPU (ncclCommInitAll).
 // Ordering without host waits (DT-A, DA): barrier() makes every GPU's stream wait for the work queued
 // so far on every other stream (one event per GPU). share() opens with one, so no slice is read
-// before its GPU wrote it; readsDone() closes a pass with another, so no GPU overwrites its slice
-// while a peer still reads it (DT-A's pulls, DA's kernels). NCCL orders itself; DT-S waits on the host.
+// before its GPU wrote it; a second one closes the pass (DT-A: after the pulls, in share(); DA:
+// after the force kernels, in readsDone()), so no GPU overwrites its slice while a peer still reads
+// it. NCCL orders itself; DT-S waits on the host.
 // Peer access is enabled between every pair that has it. Without it DA is refused (DeviceError) and
 // the copies go through host memory (the CUDA runtime does that for cudaMemcpyPeer[Async]).
 // gather() and scatter() move slices to and from the home GPU (the first) by peer copies on its
