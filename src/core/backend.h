@@ -59,6 +59,13 @@ struct CollisionTally {
     int64_t total() const { return pairCollisions + wallCollisions; }
 };
 
+// The end-of-step check without a thermostat: the kinetic energy and the health report together (a
+// GPU reads both back at once).
+struct StepCheck {
+    double kinetic = 0;
+    HealthReport health;
+};
+
 // Which particles look for events in a round: the active ones (those with an event in the previous
 // round, plus every particle in the first round) against all neighbours, the others only against
 // active neighbours; or every particle against every neighbour (the final check after the cap).
@@ -141,6 +148,7 @@ public:
     virtual void scaleVelocities(double alpha) = 0;
     virtual EnergySums energies() = 0;  // includes the pair potential (a force pass)
     virtual HealthReport health() = 0;  // non-finite values, particles outside the box
+    virtual StepCheck checkStep() { return StepCheck{kineticEnergy(), health()}; }
 
     // ---- timing and output ----
     virtual void markPhase(StepPhase phase) = 0;

@@ -43,10 +43,6 @@ StepReport Simulation::step() {
     backend.markPhase(StepPhase::Done);
     // Collisions moved particles and changed velocities: Verlet's cached accelerations are stale.
     if (report.pairCollisions + report.wallCollisions + report.contacts > 0) m_driver.invalidateAccelerations();
-    const PhaseSeconds seconds = backend.phaseSeconds();
-    report.secondsForces = seconds.forces;
-    report.secondsIntegrate = seconds.integrate;
-    report.secondsCollide = seconds.collide;
 
     ++m_step;
     m_time += report.dt;
@@ -57,9 +53,21 @@ StepReport Simulation::step() {
 
     const ThermostatResult t = applyThermostat(*m_backend, m_scene.thermostat, report.dt, m_step, m_scene.init.seed, 3 * m_particleCount);
     m_thermostatEnergy += t.energyAdded();
-    const double kinetic = m_scene.thermostat.kind == ThermostatKind::None ? m_backend->kineticEnergy() : t.kineticAfter;
-
-    const HealthReport health = m_backend->health();
+    // Without a thermostat the kinetic energy and the health come back together (one host wait).
+    StepCheck check;
+    if (m_scene.thermostat.kind == ThermostatKind::None) {
+        check = m_backend->checkStep();
+    } else {
+        check.kinetic = t.kineticAfter;
+        check.health = m_backend->health();
+    }
+    const double kinetic = check.kinetic;
+    const HealthReport& health = check.health;
+    // Read after the check, whose wait has already covered the marked phases.
+    const PhaseSeconds seconds = backend.phaseSeconds();
+    report.secondsForces = seconds.forces;
+    report.secondsIntegrate = seconds.integrate;
+    report.secondsCollide = seconds.collide;
     if (!health.ok()) {
         std::ostringstream detail;
         if (health.nonFinite > 0) detail << health.nonFinite << " particle(s) with non-finite position or velocity";

@@ -220,14 +220,45 @@ EnergySums CudaDevice<Real>::energies() {
 
 template <class Real>
 HealthReport CudaDevice<Real>::health() {
+    queueHealth();
+    sync();
+    return healthReport();
+}
+
+template <class Real>
+StepCheck CudaDevice<Real>::checkStep() {
+    // The kinetic row's block partials and the health counts, read back with one wait.
+    gatherToHome();
+    m_rows.resize(size_t(m_n));
+    gpu::launchKineticRow(arrays(), table(), m_rows.data(), stream());
+    const int blocks = std::max(gpu::blockSumBlocks(m_n), 1);
+    m_partials.resize(size_t(blocks));
+    gpu::launchBlockSums(m_rows.data(), 1, m_n, m_partials.data(), stream());
+    std::vector<double> partials(static_cast<size_t>(blocks));
+    cudaCheck(cudaMemcpyAsync(partials.data(), m_partials.data(), partials.size() * sizeof(double), cudaMemcpyDeviceToHost, stream()), "sums");
+    queueHealth();
+    sync();
+    StepCheck check;
+    for (double b : partials) check.kinetic += b;  // block order, as sumRows
+    check.health = healthReport();
+    return check;
+}
+
+template <class Real>
+void CudaDevice<Real>::queueHealth() {
     gatherToHome();
     cudaCheck(cudaMemsetAsync(m_healthCounts.data(), 0, 3 * sizeof(unsigned long long), stream()), "memset");
     gpu::launchHealth(gpu::HealthArgs<Real>{arrays(), m_box, m_healthCounts.data(), m_healthExamples.data()}, stream());
-    unsigned long long counts[3];
-    long long examples[5];
-    cudaCheck(cudaMemcpyAsync(counts, m_healthCounts.data(), sizeof counts, cudaMemcpyDeviceToHost, stream()), "health");
-    cudaCheck(cudaMemcpyAsync(examples, m_healthExamples.data(), sizeof examples, cudaMemcpyDeviceToHost, stream()), "health");
-    sync();
+    cudaCheck(cudaMemcpyAsync(m_hostHealthCounts, m_healthCounts.data(), sizeof m_hostHealthCounts, cudaMemcpyDeviceToHost, stream()),
+              "health");
+    cudaCheck(cudaMemcpyAsync(m_hostHealthExamples, m_healthExamples.data(), sizeof m_hostHealthExamples, cudaMemcpyDeviceToHost, stream()),
+              "health");
+}
+
+template <class Real>
+HealthReport CudaDevice<Real>::healthReport() const {
+    const unsigned long long* counts = m_hostHealthCounts;
+    const long long* examples = m_hostHealthExamples;
     HealthReport r;
     r.nonFinite = int64_t(counts[0]);
     r.outsideBox = int64_t(counts[1]);

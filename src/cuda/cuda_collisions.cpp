@@ -78,17 +78,16 @@ void CudaDevice<Real>::applyEvents() {
 
 template <class Real>
 CollisionTally CudaDevice<Real>::collisionTally() {
+    // The counts and the losses' block sums come back with one wait (sumRows).
     unsigned long long kinds[3];
     cudaCheck(cudaMemcpyAsync(kinds, m_kindCounts.data(), sizeof kinds, cudaMemcpyDeviceToHost, stream()), "counts");
-    sync();
+    m_rows.resize(size_t(m_n));
+    cudaCheck(cudaMemcpyAsync(m_rows.data(), m_loss.data(), size_t(m_n) * sizeof(double), cudaMemcpyDeviceToDevice, stream()), "loss");
+    const double dissipated = sumRows(1)[0];
     CollisionTally t;
     t.pairCollisions = int64_t(kinds[0]);
     t.wallCollisions = int64_t(kinds[1]);
-    if (t.total() > 0) {
-        m_rows.resize(size_t(m_n));
-        cudaCheck(cudaMemcpyAsync(m_rows.data(), m_loss.data(), size_t(m_n) * sizeof(double), cudaMemcpyDeviceToDevice, stream()), "loss");
-        t.dissipated = sumRows(1)[0];
-    }
+    t.dissipated = t.total() > 0 ? dissipated : 0.0;
     return t;
 }
 

@@ -90,6 +90,7 @@ public:
     void scaleVelocities(double alpha) override;
     EnergySums energies() override;
     HealthReport health() override;
+    StepCheck checkStep() override;
     void markPhase(StepPhase phase) override;
     PhaseSeconds phaseSeconds() override;
     void writeInstances(const InstanceTarget& target) override;
@@ -143,6 +144,9 @@ private:
         sync();
         return value;
     }
+    // Health kernel and its read-back queued (host arrays below); healthReport() reads them after a sync.
+    void queueHealth();
+    HealthReport healthReport() const;
     gpu::CollisionArgs<Real> collisionArgs();
     gpu::ContactArgs<Real> contactArgs();
 
@@ -181,6 +185,8 @@ private:
     unsigned int m_needCount = 0;           // counters[0] of the last findEvents
     DeviceBuffer<unsigned long long> m_kindCounts, m_healthCounts;
     DeviceBuffer<long long> m_healthExamples;
+    unsigned long long m_hostHealthCounts[3] = {};
+    long long m_hostHealthExamples[5] = {};
     DeviceBuffer<double> m_loss, m_rows, m_partials, m_pairEnergy;
     DeviceBuffer<ParticleInstance> m_instances;  // staging for host instance targets
 };
