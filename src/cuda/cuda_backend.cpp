@@ -141,6 +141,7 @@ void CudaDevice<Real>::setState(const ParticleState& state) {
     for (auto* b : {&m_contactAcceleration, &m_snapshotX, &m_snapshotV}) b->resize(size_t(m_n));
     m_homeForceScratch.resize(gpu::forceScratchBytes<Real>(m_n, m_n));
     m_homeCurrent = m_slicesCurrent = true;
+    m_cellsMatchPositions = false;
 }
 
 template <class Real>

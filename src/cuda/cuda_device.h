@@ -173,6 +173,7 @@ private:
     DeviceBuffer<int32_t> m_needList;
     DeviceCellList<Real> m_contactCells;
     CellListView m_cellList{};  // of the last findEvents or listContacts
+    bool m_cellsMatchPositions = false;  // m_cellList was built from the current positions
     ImpactWindow<Real> m_window{0, 0};
     RestingContact<Real> m_resting{0, 0};
     DeviceBuffer<int64_t> m_contactStart, m_contactPartner;
