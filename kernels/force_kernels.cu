@@ -164,7 +164,8 @@ int multiprocessorCount() {
 }
 
 // How the j range is split: enough blocks for about eight per multiprocessor, chunks of whole
-// tiles, at least four tiles each.
+// tiles. Small systems split down to one tile per chunk: at N = 1024 the rows alone make two blocks,
+// whose threads would each walk all N (tens of microseconds per pass, most of a step at that size).
 struct ChunkPlan {
     int64_t chunks, chunkLength;
 };
@@ -173,7 +174,7 @@ ChunkPlan planChunks(int64_t rows, int64_t n) {
     const int64_t rowBlocks = int64_t(blocksFor(rows, kBlock * kRows));
     const int64_t wanted = int64_t(8) * multiprocessorCount();
     int64_t chunks = std::max<int64_t>(1, (wanted + rowBlocks - 1) / rowBlocks);
-    chunks = std::min<int64_t>(chunks, std::max<int64_t>(1, n / (4 * kBlock)));
+    chunks = std::min<int64_t>(chunks, std::max<int64_t>(1, n / kBlock));
     const int64_t chunkLength = ((n + chunks - 1) / chunks + kBlock - 1) / kBlock * kBlock;
     return {(n + chunkLength - 1) / chunkLength, chunkLength};
 }

@@ -171,17 +171,31 @@ ParticleState CudaDevice<Real>::download(const DeviceBuffer<Vec3<Real>>& xd, con
 // ---- reductions ----
 
 template <class Real>
-std::vector<double> CudaDevice<Real>::sumRows(int rows) {
+int CudaDevice<Real>::queuePartialSums(const double* values, int rows) {
     const int blocks = std::max(gpu::blockSumBlocks(m_n), 1);
-    m_partials.resize(size_t(rows) * size_t(blocks));
-    gpu::launchBlockSums(m_rows.data(), rows, m_n, m_partials.data(), stream());
-    std::vector<double> partials(size_t(rows) * size_t(blocks));
-    cudaCheck(cudaMemcpyAsync(partials.data(), m_partials.data(), partials.size() * sizeof(double), cudaMemcpyDeviceToHost, stream()), "sums");
-    sync();
+    const size_t count = size_t(rows) * size_t(blocks);
+    m_partials.resize(count);
+    if (m_n > 0) gpu::launchBlockSums(values, rows, m_n, m_partials.data(), stream());
+    else cudaCheck(cudaMemsetAsync(m_partials.data(), 0, count * sizeof(double), stream()), "memset");
+    cudaCheck(cudaMemcpyAsync(m_hostPartials.resize(count), m_partials.data(), count * sizeof(double), cudaMemcpyDeviceToHost, stream()),
+              "sums");
+    return blocks;
+}
+
+template <class Real>
+std::vector<double> CudaDevice<Real>::hostPartialSums(int rows, int blocks) const {
+    const double* partials = m_hostPartials.data();
     std::vector<double> sums(size_t(rows), 0.0);
     for (int r = 0; r < rows; ++r)
         for (int b = 0; b < blocks; ++b) sums[size_t(r)] += partials[size_t(r) * size_t(blocks) + size_t(b)];
     return sums;
+}
+
+template <class Real>
+std::vector<double> CudaDevice<Real>::sumRows(int rows) {
+    const int blocks = queuePartialSums(m_rows.data(), rows);
+    sync();
+    return hostPartialSums(rows, blocks);
 }
 
 template <class Real>
@@ -232,15 +246,11 @@ StepCheck CudaDevice<Real>::checkStep() {
     gatherToHome();
     m_rows.resize(size_t(m_n));
     gpu::launchKineticRow(arrays(), table(), m_rows.data(), stream());
-    const int blocks = std::max(gpu::blockSumBlocks(m_n), 1);
-    m_partials.resize(size_t(blocks));
-    gpu::launchBlockSums(m_rows.data(), 1, m_n, m_partials.data(), stream());
-    std::vector<double> partials(static_cast<size_t>(blocks));
-    cudaCheck(cudaMemcpyAsync(partials.data(), m_partials.data(), partials.size() * sizeof(double), cudaMemcpyDeviceToHost, stream()), "sums");
+    const int blocks = queuePartialSums(m_rows.data(), 1);
     queueHealth();
     sync();
     StepCheck check;
-    for (double b : partials) check.kinetic += b;  // block order, as sumRows
+    check.kinetic = hostPartialSums(1, blocks)[0];
     check.health = healthReport();
     return check;
 }
@@ -250,16 +260,17 @@ void CudaDevice<Real>::queueHealth() {
     gatherToHome();
     cudaCheck(cudaMemsetAsync(m_healthCounts.data(), 0, 3 * sizeof(unsigned long long), stream()), "memset");
     gpu::launchHealth(gpu::HealthArgs<Real>{arrays(), m_box, m_healthCounts.data(), m_healthExamples.data()}, stream());
-    cudaCheck(cudaMemcpyAsync(m_hostHealthCounts, m_healthCounts.data(), sizeof m_hostHealthCounts, cudaMemcpyDeviceToHost, stream()),
+    cudaCheck(cudaMemcpyAsync(m_hostWords.resize(kHostWords) + kHealthWord, m_healthCounts.data(), 3 * sizeof(unsigned long long),
+                              cudaMemcpyDeviceToHost, stream()),
               "health");
-    cudaCheck(cudaMemcpyAsync(m_hostHealthExamples, m_healthExamples.data(), sizeof m_hostHealthExamples, cudaMemcpyDeviceToHost, stream()),
+    cudaCheck(cudaMemcpyAsync(m_hostHealthExamples.resize(5), m_healthExamples.data(), 5 * sizeof(long long), cudaMemcpyDeviceToHost, stream()),
               "health");
 }
 
 template <class Real>
 HealthReport CudaDevice<Real>::healthReport() const {
-    const unsigned long long* counts = m_hostHealthCounts;
-    const long long* examples = m_hostHealthExamples;
+    const unsigned long long* counts = m_hostWords.data() + kHealthWord;
+    const long long* examples = m_hostHealthExamples.data();
     HealthReport r;
     r.nonFinite = int64_t(counts[0]);
     r.outsideBox = int64_t(counts[1]);

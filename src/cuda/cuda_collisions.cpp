@@ -70,8 +70,8 @@ int64_t CudaDevice<Real>::findEvents(EventScope scope) {
     if (scope == EventScope::All) cudaCheck(cudaMemsetAsync(m_active.data(), 1, size_t(m_n), s), "memset");
     cudaCheck(cudaMemsetAsync(m_counters.data(), 0, 2 * sizeof(unsigned int), s), "memset");
     gpu::launchFindEvents(a, s);
-    unsigned int counts[2] = {0, 0};
-    cudaCheck(cudaMemcpyAsync(counts, m_counters.data(), sizeof counts, cudaMemcpyDeviceToHost, s), "events");
+    auto* counts = reinterpret_cast<unsigned int*>(m_hostWords.resize(kHostWords));
+    cudaCheck(cudaMemcpyAsync(counts, m_counters.data(), 2 * sizeof(unsigned int), cudaMemcpyDeviceToHost, s), "events");
     sync();
     m_needCount = counts[0];
     return int64_t(counts[1]);
@@ -91,11 +91,11 @@ void CudaDevice<Real>::applyEvents() {
 template <class Real>
 CollisionTally CudaDevice<Real>::collisionTally() {
     // The counts and the losses' block sums come back with one wait (sumRows).
-    unsigned long long kinds[3];
-    cudaCheck(cudaMemcpyAsync(kinds, m_kindCounts.data(), sizeof kinds, cudaMemcpyDeviceToHost, stream()), "counts");
-    m_rows.resize(size_t(m_n));
-    cudaCheck(cudaMemcpyAsync(m_rows.data(), m_loss.data(), size_t(m_n) * sizeof(double), cudaMemcpyDeviceToDevice, stream()), "loss");
-    const double dissipated = sumRows(1)[0];
+    unsigned long long* kinds = m_hostWords.resize(kHostWords);
+    cudaCheck(cudaMemcpyAsync(kinds, m_kindCounts.data(), 3 * sizeof(unsigned long long), cudaMemcpyDeviceToHost, stream()), "counts");
+    const int blocks = queuePartialSums(m_loss.data(), 1);
+    sync();
+    const double dissipated = hostPartialSums(1, blocks)[0];
     CollisionTally t;
     t.pairCollisions = int64_t(kinds[0]);
     t.wallCollisions = int64_t(kinds[1]);
@@ -151,8 +151,8 @@ ContactResidual<double> CudaDevice<Real>::relaxContacts(int sweeps) {
     gpu::launchRelaxContacts(contactArgs(), sweeps, stream());
     homeChanged();
     m_cellsMatchPositions = false;
-    unsigned long long bits[2] = {0, 0};
-    cudaCheck(cudaMemcpyAsync(bits, m_residual.data(), sizeof bits, cudaMemcpyDeviceToHost, stream()), "contact residual");
+    unsigned long long* bits = m_hostWords.resize(kHostWords);
+    cudaCheck(cudaMemcpyAsync(bits, m_residual.data(), 2 * sizeof(unsigned long long), cudaMemcpyDeviceToHost, stream()), "contact residual");
     sync();
     ContactResidual<double> r{0, 0};
     std::memcpy(&r.approachSpeed, &bits[0], sizeof(double));

@@ -28,6 +28,7 @@
 #include "device_partition.h"
 #include "gpu_launch.h"
 #include "peer_exchange.h"
+#include "pinned_buffer.h"
 
 namespace corebox {
 
@@ -44,6 +45,7 @@ struct Replica {
     DeviceBuffer<Vec3<Real>> acceleration, kx, kv;  // slice (kx, kv: stage-major, stages x slice rows)
     DeviceBuffer<unsigned char> forceScratch;
     DeviceBuffer<double> errorRows, errorPartials;  // slice
+    PinnedBuffer<double> hostErrorPartials;
 };
 
 template <class Real>
@@ -139,11 +141,16 @@ private:
     std::vector<double> sumRows(int rows);
     template <class T>
     T readBack(const DeviceBuffer<T>& buffer, size_t offset = 0) {  // one value, after a sync
-        T value{};
-        cudaCheck(cudaMemcpyAsync(&value, buffer.data() + offset, sizeof(T), cudaMemcpyDeviceToHost, stream()), "read-back");
+        static_assert(sizeof(T) <= sizeof(unsigned long long), "one word");
+        T* value = reinterpret_cast<T*>(m_hostWords.resize(kHostWords));
+        cudaCheck(cudaMemcpyAsync(value, buffer.data() + offset, sizeof(T), cudaMemcpyDeviceToHost, stream()), "read-back");
         sync();
-        return value;
+        return *value;
     }
+    // Queues the block partials of `rows` rows of `values` (each n long) into pinned memory;
+    // hostPartialSums() adds them, in block order, after a sync.
+    int queuePartialSums(const double* values, int rows);
+    std::vector<double> hostPartialSums(int rows, int blocks) const;
     // Health kernel and its read-back queued (host arrays below); healthReport() reads them after a sync.
     void queueHealth();
     HealthReport healthReport() const;
@@ -186,8 +193,12 @@ private:
     unsigned int m_needCount = 0;           // counters[0] of the last findEvents
     DeviceBuffer<unsigned long long> m_kindCounts, m_healthCounts;
     DeviceBuffer<long long> m_healthExamples;
-    unsigned long long m_hostHealthCounts[3] = {};
-    long long m_hostHealthExamples[5] = {};
+    // Read-back mailboxes in page-locked memory: words (event counts, collision kinds, residual bits,
+    // health counts at kHealthWord..), health examples, block partial sums.
+    static constexpr size_t kHostWords = 16, kHealthWord = 8;
+    PinnedBuffer<unsigned long long> m_hostWords;
+    PinnedBuffer<long long> m_hostHealthExamples;
+    PinnedBuffer<double> m_hostPartials;
     DeviceBuffer<double> m_loss, m_rows, m_partials, m_pairEnergy;
     DeviceBuffer<ParticleInstance> m_instances;  // staging for host instance targets
 };

@@ -126,24 +126,24 @@ void CudaDevice<Real>::rkSolution(int stages, double dt) {
 template <class Real>
 double CudaDevice<Real>::rkErrorNorm(double dt, double tolerance) {
     // Per-GPU block partials, added on the host in GPU and block order: the same sum for any timing.
-    std::vector<std::vector<double>> partials(static_cast<size_t>(gpuCount()));
+    std::vector<int> blocks(static_cast<size_t>(gpuCount()), 0);
     onEachGpu([&](int k, Replica<Real>& r) {
         const DeviceSlice& s = slice(k);
+        if (s.size() == 0) return;
         r.errorRows.resize(size_t(s.size()));
         gpu::launchErrorNorm(stageArgsOf(r, s, -1, m_tableau.stages, dt), tolerance, r.errorRows.data(), s.stream);
-        const int blocks = std::max(gpu::blockSumBlocks(s.size()), 1);
-        r.errorPartials.resize(size_t(blocks));
-        partials[size_t(k)].assign(size_t(blocks), 0.0);
-        if (s.size() == 0) return;
+        const int b = std::max(gpu::blockSumBlocks(s.size()), 1);
+        blocks[size_t(k)] = b;
+        r.errorPartials.resize(size_t(b));
         gpu::launchBlockSums(r.errorRows.data(), 1, s.size(), r.errorPartials.data(), s.stream);
-        cudaCheck(cudaMemcpyAsync(partials[size_t(k)].data(), r.errorPartials.data(), size_t(blocks) * sizeof(double), cudaMemcpyDeviceToHost,
-                                  s.stream),
+        cudaCheck(cudaMemcpyAsync(r.hostErrorPartials.resize(size_t(b)), r.errorPartials.data(), size_t(b) * sizeof(double),
+                                  cudaMemcpyDeviceToHost, s.stream),
                   "error norm");
     });
     sync();
     double sum = 0;
-    for (const std::vector<double>& p : partials)
-        for (double b : p) sum += b;
+    for (int k = 0; k < gpuCount(); ++k)
+        for (int b = 0; b < blocks[size_t(k)]; ++b) sum += m_replicas[size_t(k)]->hostErrorPartials.data()[b];
     return std::sqrt(sum / double(6 * std::max<int64_t>(m_n, 1)));
 }
 
