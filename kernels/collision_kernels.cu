@@ -27,35 +27,6 @@ __global__ void findEventsKernel(CollisionArgs<Real> a) {
     if (!a.hasContactAcceleration[i]) {
         const unsigned slot = atomicAdd(&a.counters[0], 1u);  // list order varies, each entry's work does not
         a.needList[slot] = int32_t(i);
-    }
-}
-
-// One warp per listed particle: lanes stride over all partners, then a warp sum.
-template <class Real>
-__global__ void contactAccelerationKernel(CollisionArgs<Real> a, ForceArgs<Real> f, int count) {
-    const int warp = int((int64_t(blockIdx.x) * blockDim.x + threadIdx.x) / 32);
-    const int lane = threadIdx.x & 31;
-    if (warp >= count) return;
-    const int64_t i = a.needList[warp];
-    const Vec3<Real> xi = a.p.x[i];
-    const int si = a.p.species[i];
-    Vec3<Real> force{0, 0, 0};
-    if (f.anyPairForce) {
-        const PairCoefficients<Real>* row = f.table.pairs + si * f.table.count;
-        for (int64_t j = lane; j < a.p.n; j += 32) {
-            const Vec3<Real> r = xi - a.p.x[j];
-            const Real r2 = norm2(r);
-            if (r2 == Real(0)) continue;
-            force += pairForceOverR(row[a.p.species[j]], r2, static_cast<Real*>(nullptr)) * r;
-        }
-        for (int offset = 16; offset > 0; offset /= 2) {
-            force.x += __shfl_down_sync(0xffffffffu, force.x, offset);
-            force.y += __shfl_down_sync(0xffffffffu, force.y, offset);
-            force.z += __shfl_down_sync(0xffffffffu, force.z, offset);
-        }
-    }
-    if (lane == 0) {
-        a.contactAcceleration[i] = f.table.invMass[si] * force + f.gravity;
         a.hasContactAcceleration[i] = 1;
     }
 }
@@ -113,13 +84,6 @@ void launchFindEvents(const CollisionArgs<Real>& a, cudaStream_t stream) {
 }
 
 template <class Real>
-void launchContactAccelerations(const CollisionArgs<Real>& a, const ForceArgs<Real>& f, int count, cudaStream_t stream) {
-    if (count <= 0) return;
-    contactAccelerationKernel<Real><<<blocksFor(int64_t(count) * 32), kBlock, 0, stream>>>(a, f, count);
-    checkLaunch("contact acceleration kernel");
-}
-
-template <class Real>
 void launchResolve(const CollisionArgs<Real>& a, cudaStream_t stream) {
     resolveKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
     checkLaunch("resolve kernel");
@@ -133,7 +97,6 @@ void launchUpdateActive(const CollisionArgs<Real>& a, cudaStream_t stream) {
 
 #define COREBOX_INSTANTIATE(Real)                                                                                  \
     template void launchFindEvents<Real>(const CollisionArgs<Real>&, cudaStream_t);                                \
-    template void launchContactAccelerations<Real>(const CollisionArgs<Real>&, const ForceArgs<Real>&, int, cudaStream_t); \
     template void launchResolve<Real>(const CollisionArgs<Real>&, cudaStream_t);                                  \
     template void launchUpdateActive<Real>(const CollisionArgs<Real>&, cudaStream_t);
 COREBOX_INSTANTIATE(float)

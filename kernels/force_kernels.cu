@@ -9,6 +9,8 @@
 // - with one species the pair coefficients live in registers; with several they come from a
 //   shared-memory table;
 // - without a cutoff the loop calls ljForceOverR directly (what pairForceOverR reduces to then);
+// - rows may be listed particles (rowIndex): the collision stage's end-of-step accelerations of the
+//   particles about to be resolved use the same tiles and chunks as a full pass;
 // - with several GPUs each computes its slice of rows [begin, end) against all n positions, read
 //   from its own copy or, with direct access (DA), from the owning GPU's memory (PeerSources);
 // - when the rows alone give too few blocks to fill the GPU (N below a few hundred thousand), the
@@ -84,8 +86,9 @@ __global__ void __launch_bounds__(kBlock) forceKernel(ForceArgs<Real> a, int64_t
     for (int r = 0; r < kRows; ++r) {
         const int64_t i = rowBase + int64_t(r) * blockDim.x;
         const bool live = i < a.end;
-        xi[r] = live ? a.x[i] : Vec3<Real>{0, 0, 0};
-        si[r] = live ? a.species[i] : 0;
+        const int64_t p = live && a.rowIndex ? int64_t(a.rowIndex[i]) : i;  // the row's particle
+        xi[r] = live ? a.x[p] : Vec3<Real>{0, 0, 0};
+        si[r] = live ? a.species[p] : 0;
         force[r] = Vec3<Real>{0, 0, 0};
         energy[r] = 0;
     }
@@ -100,7 +103,7 @@ __global__ void __launch_bounds__(kBlock) forceKernel(ForceArgs<Real> a, int64_t
         }
         __syncthreads();
         const int count = int(min(int64_t(blockDim.x), jEnd - start));
-        if (start < blockRowEnd && start + count > blockRowBegin) {
+        if (a.rowIndex || (start < blockRowEnd && start + count > blockRowBegin)) {
             accumulateTile<Real, kEnergy, kSingleSpecies, kCutoff, true>(tile, count, xi, si, force, energy, single, pairs, s);
         } else {
             accumulateTile<Real, kEnergy, kSingleSpecies, kCutoff, false>(tile, count, xi, si, force, energy, single, pairs, s);
@@ -115,8 +118,9 @@ __global__ void __launch_bounds__(kBlock) forceKernel(ForceArgs<Real> a, int64_t
             partialForce[slot] = force[r];
             if (kEnergy) partialEnergy[slot] = energy[r];
         } else {
-            a.acceleration[i - a.begin] = a.table.invMass[si[r]] * force[r] + a.gravity;
-            if (kEnergy) a.pairEnergy[i - a.begin] = energy[r];
+            const int64_t out = a.rowIndex ? int64_t(a.rowIndex[i]) : i - a.begin;
+            a.acceleration[out] = a.table.invMass[si[r]] * force[r] + a.gravity;
+            if (kEnergy) a.pairEnergy[out] = energy[r];
         }
     }
 }
@@ -133,17 +137,19 @@ __global__ void combineChunksKernel(ForceArgs<Real> a, int chunks, const Vec3<Re
         force += partialForce[int64_t(c) * rows + row];
         if (partialEnergy) energy += partialEnergy[int64_t(c) * rows + row];
     }
-    const int64_t i = a.begin + row;
-    a.acceleration[row] = a.table.invMass[a.species[i]] * force + a.gravity;
-    if (partialEnergy) a.pairEnergy[row] = energy;
+    const int64_t i = a.rowIndex ? int64_t(a.rowIndex[a.begin + row]) : a.begin + row;
+    const int64_t out = a.rowIndex ? i : row;
+    a.acceleration[out] = a.table.invMass[a.species[i]] * force + a.gravity;
+    if (partialEnergy) a.pairEnergy[out] = energy;
 }
 
 template <class Real>
 __global__ void gravityOnlyKernel(ForceArgs<Real> a) {
     const int64_t i = a.begin + int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.end) return;
-    a.acceleration[i - a.begin] = a.gravity;
-    if (a.pairEnergy) a.pairEnergy[i - a.begin] = 0;
+    const int64_t out = a.rowIndex ? int64_t(a.rowIndex[i]) : i - a.begin;
+    a.acceleration[out] = a.gravity;
+    if (a.pairEnergy) a.pairEnergy[out] = 0;
 }
 
 template <class Real, bool kEnergy, bool kSingle>

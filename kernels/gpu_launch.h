@@ -62,6 +62,9 @@ struct ForceArgs {
     void* scratch;             // per-chunk partial sums, forceScratchBytes large (owned by the caller)
     size_t scratchBytes;
     PeerSources<Real> peers;   // DA: where the positions are read (count 0: from x)
+    // When set, rows are listed particles: row r (begin <= r < end) is particle rowIndex[r], and its
+    // acceleration goes to acceleration[rowIndex[r]] (the collision stage's end-of-step accelerations).
+    const int32_t* rowIndex;
 };
 template <class Real>
 void launchForces(const ForceArgs<Real>& args, cudaStream_t stream);
@@ -143,12 +146,10 @@ struct CollisionArgs {
 };
 // Each particle's earliest event (all neighbours when active, else only active ones); counts the
 // particles with an event into counters[1], and lists those that still need a contact acceleration
-// (counted in counters[0]).
+// (counted in counters[0]; marked as having one: the caller computes them next, by a force pass
+// over the listed rows, ForceArgs::rowIndex).
 template <class Real>
 void launchFindEvents(const CollisionArgs<Real>& args, cudaStream_t stream);
-// End-of-step accelerations of the listed particles, one warp each (all-pairs sum).
-template <class Real>
-void launchContactAccelerations(const CollisionArgs<Real>& args, const ForceArgs<Real>& forces, int count, cudaStream_t stream);
 // Resolves the matching of mutual-earliest events and adds to the kind counts and losses.
 template <class Real>
 void launchResolve(const CollisionArgs<Real>& args, cudaStream_t stream);

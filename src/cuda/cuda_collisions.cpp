@@ -81,7 +81,18 @@ template <class Real>
 void CudaDevice<Real>::applyEvents() {
     cudaStream_t s = stream();
     const gpu::CollisionArgs<Real> a = collisionArgs();
-    gpu::launchContactAccelerations(a, homeForceArgs(home().x.data(), nullptr), int(m_needCount), s);
+    if (m_needCount > 0) {
+        // End-of-step accelerations of the listed particles: a force pass over those rows only.
+        gpu::ForceArgs<Real> f = homeForceArgs(home().x.data(), m_contactAcceleration.data());
+        f.begin = 0;
+        f.end = int64_t(m_needCount);
+        f.rowIndex = m_needList.data();
+        const size_t scratch = gpu::forceScratchBytes<Real>(f.end, m_n);
+        if (m_homeForceScratch.size() < scratch) m_homeForceScratch.resize(scratch);
+        f.scratch = m_homeForceScratch.data();
+        f.scratchBytes = m_homeForceScratch.size();
+        gpu::launchForces(f, s);
+    }
     gpu::launchResolve(a, s);
     gpu::launchUpdateActive(a, s);
     homeChanged();

@@ -12,7 +12,7 @@ gpu::ForceArgs<Real> CudaDevice<Real>::forceArgs(int k, const Vec3<Real>* x, Vec
     Replica<Real>& r = *m_replicas[size_t(k)];
     const DeviceSlice& s = slice(k);
     gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     s.begin, s.end, tableOf(r), m_gravity, m_model.anyPairForce, m_model.hasCutoff,
-                           out, nullptr,          r.forceScratch.data(), r.forceScratch.size(), {}};
+                           out, nullptr,          r.forceScratch.data(), r.forceScratch.size(), {},                    nullptr};
     f.peers.count = 0;
     return f;
 }
@@ -21,7 +21,7 @@ template <class Real>
 gpu::ForceArgs<Real> CudaDevice<Real>::homeForceArgs(const Vec3<Real>* x, Vec3<Real>* out) {
     Replica<Real>& r = home();
     gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     0, m_n, table(), m_gravity, m_model.anyPairForce, m_model.hasCutoff,
-                           out, nullptr,          m_homeForceScratch.data(), m_homeForceScratch.size(), {}};
+                           out, nullptr,          m_homeForceScratch.data(), m_homeForceScratch.size(), {}, nullptr};
     f.peers.count = 0;
     return f;
 }
