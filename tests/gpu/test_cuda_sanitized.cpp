@@ -67,23 +67,26 @@ TEST(CudaSanitized, SmallSceneWithCollisions) {
     runSmallScene(1, Exchange::Auto);
 }
 
-// The same on two GPUs with each exchange: peer copies, direct peer reads (the force kernel's DA
-// path) and NCCL. NCCL is apart: its own start-up probes kernels for other architectures and so hits
-// API errors of its own, which the memcheck run does not count against corebox (tests/gpu/sanitize.sh).
-TEST(CudaSanitized, TwoGpusPeerCopies) {
-    COREBOX_REQUIRE_GPUS(2);
-    for (Exchange e : {Exchange::Dts, Exchange::Dta}) {
-        SCOPED_TRACE(exchangeName(e));
-        runSmallScene(2, e);
+// The same on two and on four GPUs with each exchange: peer copies, direct peer reads (the force
+// kernel's DA path) and NCCL. NCCL is apart: its own start-up probes kernels for other architectures
+// and so hits API errors of its own, which the memcheck run does not count against corebox
+// (tests/gpu/sanitize.sh).
+#define COREBOX_SANITIZED_ON(P, Name)                               \
+    TEST(CudaSanitized, Name##PeerCopies) {                         \
+        COREBOX_REQUIRE_GPUS(P);                                    \
+        for (Exchange e : {Exchange::Dts, Exchange::Dta}) {         \
+            SCOPED_TRACE(exchangeName(e));                          \
+            runSmallScene(P, e);                                    \
+        }                                                           \
+    }                                                               \
+    TEST(CudaSanitized, Name##DirectAccess) {                       \
+        COREBOX_REQUIRE_GPUS(P);                                    \
+        runSmallScene(P, Exchange::Da);                             \
+    }                                                               \
+    TEST(CudaSanitized, Name##Nccl) {                               \
+        COREBOX_REQUIRE_GPUS(P);                                    \
+        runSmallScene(P, Exchange::Nccl);                           \
     }
-}
 
-TEST(CudaSanitized, TwoGpusDirectAccess) {
-    COREBOX_REQUIRE_GPUS(2);
-    runSmallScene(2, Exchange::Da);
-}
-
-TEST(CudaSanitized, TwoGpusNccl) {
-    COREBOX_REQUIRE_GPUS(2);
-    runSmallScene(2, Exchange::Nccl);
-}
+COREBOX_SANITIZED_ON(2, TwoGpus)
+COREBOX_SANITIZED_ON(4, FourGpus)
