@@ -21,6 +21,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+const std::string kOneSpecies = "[[species]]\ncount = 3\n";
+
 const char* const kPresets[] = {"hard_spheres", "argon_gas", "binary_mixture", "polydisperse", "granular_cooling",
                                 "bouncing"};
 
@@ -61,6 +63,8 @@ void expectSameScene(const Scene& a, const Scene& b) {
     EXPECT_EQ(a.init.seed, b.init.seed);
     EXPECT_EQ(a.init.placement, b.init.placement);
     EXPECT_EQ(a.init.particlesFile, b.init.particlesFile);
+    EXPECT_EQ(a.devices.gpus, b.devices.gpus);
+    EXPECT_EQ(a.devices.exchange, b.devices.exchange);
 }
 
 // A fresh directory under the test temp dir, so tests can write scene and particle files.
@@ -206,6 +210,8 @@ TEST(SceneIoRoundTrip, EveryNonDefaultFieldSurvives) {
     scene.init.seed = 9223372036854775807ull;
     scene.init.placement = Placement::Random;
     scene.init.particlesFile = "dir with space/\"start\".csv";
+    scene.devices.gpus = 3;
+    scene.devices.exchange = Exchange::Nccl;
 
     expectSameScene(parseScene(sceneToToml(scene), "round_trip.toml"), scene);
     for (Method method : {Method::Euler, Method::Rk2, Method::Hairer10, Method::Verlet}) {
@@ -240,6 +246,13 @@ TEST(SceneIoParse, MissingKeysTakeTheStructDefaults) {
     EXPECT_EQ(scene.init.seed, defaults.init.seed);
     EXPECT_EQ(scene.init.placement, defaults.init.placement);
     EXPECT_EQ(scene.sourcePath, "");
+}
+
+TEST(SceneIoParse, DevicesTakeACountOrAuto) {
+    EXPECT_EQ(parseScene(kOneSpecies + "[devices]\ngpus = 2\nexchange = \"da\"\n", "d.toml").devices.gpus, 2);
+    EXPECT_EQ(parseScene(kOneSpecies + "[devices]\ngpus = 2\nexchange = \"da\"\n", "d.toml").devices.exchange, Exchange::Da);
+    EXPECT_EQ(parseScene(kOneSpecies + "[devices]\ngpus = \"auto\"\n", "d.toml").devices.gpus, 0);
+    EXPECT_EQ(parseScene(kOneSpecies, "d.toml").devices.exchange, Exchange::Auto);
 }
 
 TEST(SceneIoParse, IntegersAreAcceptedForFloats) {
@@ -385,6 +398,10 @@ INSTANTIATE_TEST_SUITE_P(
                  "species[1].radios", "did you mean 'radius'"},
         BadScene{"UnknownInteractionKey", kOne + "[interaction]\nmix = 1 # <-\n", "interaction.mix", "mixing"},
         BadScene{"UnknownIntegratorKey", kOne + "[integrator]\nsteps = 1 # <-\n", "integrator.steps", "method"},
+        BadScene{"UnknownDevicesKey", kOne + "[devices]\ngpu = 2 # <-\n", "devices.gpu", "gpus"},
+        BadScene{"ZeroGpus", kOne + "[devices]\ngpus = 0 # <-\n", "devices.gpus", "GPU count"},
+        BadScene{"GpusNotAuto", kOne + "[devices]\ngpus = \"all\" # <-\n", "devices.gpus", "auto"},
+        BadScene{"UnknownExchange", kOne + "[devices]\nexchange = \"mpi\" # <-\n", "devices.exchange", "dts, dta, da, nccl"},
         BadScene{"UnknownThermostatKey", kOne + "[thermostat]\ntarget = 1 # <-\n", "thermostat.target", "kind"},
         BadScene{"UnknownInitKey", kOne + "[init]\nfile = \"x\" # <-\n", "init.file", "particles"},
         BadScene{"BoxNotATable", "box = 10 # <-\n" + kOne, "box", "must be a table"},
