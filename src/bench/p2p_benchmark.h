@@ -24,7 +24,7 @@ struct P2pBenchmarkOptions {
     int gpus = 0;                           // GPUs 0 .. P-1; 0: every GPU CUDA sees (at least 2)
     uint64_t minBytes = 4096;               // smallest transfer per GPU [bytes]
     uint64_t maxBytes = uint64_t(1) << 31;  // largest transfer per GPU [bytes] (2 GiB)
-    int repeats = 20;                       // timed repeats per method and size (the median is kept)
+    int repeats = 50;                       // timed repeats per method and size (the median is kept)
     int warmup = 3;                         // untimed repeats before them
     std::vector<Exchange> methods{Exchange::Dts, Exchange::Dta, Exchange::Da, Exchange::Nccl};
     std::string outputPrefix;  // writes PREFIX.csv and PREFIX.json; "": CSV on stdout only

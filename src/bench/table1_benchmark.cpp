@@ -17,6 +17,9 @@
 #include "initial_conditions.h"
 #include "report_table1.h"
 #include "simulation.h"
+#if COREBOX_WITH_CUDA
+#include "nccl_environment.h"
+#endif
 
 namespace corebox {
 namespace {
@@ -243,7 +246,11 @@ void checkOptions(const Table1Options& o) {
 std::vector<Table1Result> runTable1Benchmark(const Table1Options& options) {
     checkOptions(options);
     const GpuHardware gpus = gpuHardware();
-#if !COREBOX_WITH_CUDA
+#if COREBOX_WITH_CUDA
+    // The NCCL exchange's backends make their communicators in this process: NVLink SHARP stays off
+    // whether or not the backend prepares the environment itself (nccl_environment.h says why).
+    prepareNcclEnvironment();
+#else
     throw DeviceError(
         "bench table1 needs a CUDA device; this build of corebox has no CUDA backend (built without nvcc)");
 #endif

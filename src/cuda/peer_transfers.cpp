@@ -248,6 +248,9 @@ double PeerTransfers::timeOnce(Exchange method, size_t bytes) {
     const std::string why = refusal(method);
     if (!why.empty()) throw DeviceError(why);
     using Clock = std::chrono::steady_clock;
+    // Communicators are made once, outside the clock: ncclCommInitAll costs a second or more, which no
+    // transfer pays.
+    if (method == Exchange::Nccl) m_impl->makeCommunicators();
     m_impl->synchronizeAll();
     const Clock::time_point start = Clock::now();
     m_impl->issue(method, bytes);
