@@ -48,7 +48,7 @@ const char* kMethods =
     "in one ncclGroupStart/End, communicators from ncclCommInitAll";
 const char* kPaths =
     "path: peer (direct GPU to GPU), host (no peer access: cudaMemcpyPeer stages the copy through host memory by "
-    "itself), nccl (NCCL chooses its transport; NCCL_DEBUG=INFO names it)";
+    "itself), nccl (NCCL chooses its transport; NCCL_DEBUG=INFO names it), none (refused)";
 
 constexpr const char* kCsvHeader =
     "method,gpus,bytes,bytes_received_per_gpu,repeats,median_s,min_s,max_s,gb_per_s_per_gpu,gb_per_s_total,path,"
@@ -135,7 +135,10 @@ void measureMethod(PeerTransfers& transfers, const P2pBenchmarkOptions& o, Excha
         r.gpus = p;
         r.bytes = bytes;
         r.bytesReceived = method == Exchange::Nccl ? uint64_t(p - 1) * bytes : bytes;
-        r.path = method == Exchange::Nccl ? "nccl" : transfers.viaHost(method) ? "host" : "peer";
+        r.path = !refusal.empty()            ? "none"
+                 : method == Exchange::Nccl  ? "nccl"
+                 : transfers.viaHost(method) ? "host"
+                                             : "peer";
         if (!failure.empty()) {
             r.outcome = outcome;
             r.message = failure;

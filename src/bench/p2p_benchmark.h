@@ -42,9 +42,9 @@ struct P2pResult {
     double maxSeconds = 0;
     double gbPerSecondPerGpu = 0;  // bytesReceived / median, 1e9 bytes per GB
     double gbPerSecondTotal = 0;   // P bytesReceived / median
-    std::string path;              // peer | host (staged through host memory) | nccl (NCCL's own choice)
-    bool verified = false;         // the neighbour's bytes were found where they belong
-    std::string outcome;           // ok | refused | device_error | error
+    std::string path;       // peer | host (staged through host memory) | nccl (NCCL's own choice) | none (refused)
+    bool verified = false;  // the neighbour's bytes were found where they belong
+    std::string outcome;    // ok | refused | device_error | error
     std::string message;
 };
 
