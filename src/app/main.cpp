@@ -1,4 +1,4 @@
-// corebox command line (DESIGN.md sec. 3): `run`, `bench forces|throughput|pile`, and no subcommand for
+// corebox command line (DESIGN.md sec. 3): `run`, `bench forces|throughput|pile|p2p|table1`, and no subcommand for
 // the default scene in a window. Named choices (method, precision, backend, colour mode, frame size)
 // are read, checked and listed in --help from their vocabulary tables; every error, the parser's
 // own included, leaves through reportError (error_report.h).
@@ -13,8 +13,10 @@
 #include "errors.h"
 #include "force_benchmark.h"
 #include "glfw_window.h"
+#include "p2p_benchmark.h"
 #include "pile_benchmark.h"
 #include "run_command.h"
+#include "table1_benchmark.h"
 #include "throughput_benchmark.h"
 
 namespace corebox {
@@ -208,6 +210,72 @@ int main(int argc, char** argv) {
                         "The Bullet driver (default: corebox_bullet_pile beside corebox when built; none: no Bullet)");
     pileCmd->add_option("--out", pile.outputPrefix, "Write OUT.csv and OUT.json");
 
+    P2pBenchmarkOptions p2p;
+    CLI::App* p2pCmd = benchCmd->add_subcommand(
+        "p2p", "The report's Figure 5: transfer time between GPUs against size for DT-S, DT-A, DA and NCCL");
+    p2pCmd->footer(
+        "Every GPU j fetches the buffer of GPU (j+1) mod P at the same time, by dts (cudaMemcpyPeer, blocking, "
+        "issued GPU after GPU), dta (cudaMemcpyPeerAsync on per-GPU streams, completion by events), da (a kernel on "
+        "the receiving GPU reads the peer's buffer over unified addressing) or nccl (ncclAllGather in one group, each "
+        "GPU contributing the size). One repeat is timed by the host clock from cudaDeviceSynchronize on every GPU to "
+        "the completion of every GPU's part; the median of --repeats after --warmup is reported, with the bandwidth "
+        "per GPU. Without peer access between two GPUs, da is refused (recorded with the reason) and dts/dta go "
+        "through host memory (cudaMemcpyPeer does that by itself; the path column says so). NCCL_NVLS_ENABLE is set "
+        "to 0 unless already set. Needs 2 or more GPUs: exit code 4 otherwise.\n"
+        "Example: corebox bench p2p --out docs/results/p2p_h200x2   (then scripts/plot_p2p.py)");
+    p2pCmd->add_option("--gpus", p2p.gpus, "GPUs 0..P-1 taking part (0: every GPU CUDA sees; at least 2)")->capture_default_str();
+    p2pCmd->add_option("--min-bytes", p2p.minBytes, "Smallest transfer per GPU, a power of two (4096, 4KiB, ...)")
+        ->transform(CLI::AsSizeValue(false))
+        ->capture_default_str();
+    p2pCmd->add_option("--max-bytes", p2p.maxBytes,
+                       "Largest transfer per GPU (2147483648, 2GiB, 512MiB, ...); sizes double from --min-bytes up to it. "
+                       "Each GPU holds a source of this size and P times it for the all-gather")
+        ->transform(CLI::AsSizeValue(false))
+        ->capture_default_str();
+    p2pCmd->add_option("--repeats", p2p.repeats, "Timed repeats per method and size (the median is reported)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    p2pCmd->add_option("--warmup", p2p.warmup, "Untimed repeats before them")->check(CLI::NonNegativeNumber)->capture_default_str();
+    addChoices(p2pCmd, "--methods", exchangeTable(), "Transfer methods (not auto)", p2p.methods);
+    p2pCmd->add_option("--out", p2p.outputPrefix, "Write OUT.csv and OUT.json (with GPUs, driver, topology and the command)");
+
+    Table1Options table1;
+    CLI::App* table1Cmd = benchCmd->add_subcommand(
+        "table1", "The report's Table 1: ms per RK4 step for every N, GPU count and exchange method");
+    table1Cmd->footer(
+        "The report's model at a fixed density it does not state: one LJ species, all pairs, hard cores of radius "
+        "0.56, number density 0.5, T = 1.5, dt = 1e-3, no thermostat, RK4 with collisions (the scene of bench "
+        "throughput). Each configuration (N, precision, P, exchange; P = 1 once, with no exchange) is a fresh "
+        "simulation built as corebox run builds it; --warmup steps, then --batches batches of about --batch-seconds "
+        "each, ended by the backend's finish(); the median ms per step is reported with the speed-up and efficiency "
+        "against P = 1, pair interactions per second (N^2 per force pass, 4 passes per step) and the report's ms per "
+        "step on 4 x Tesla C2070 for the same N (report_dts_ms, report_dta_ms, report_da_ms). A configuration that "
+        "fails (da without peer access, a device error) is a row with its message and the benchmark goes on. Needs "
+        "a GPU, and as many as the largest of --gpus-list: exit code 4 otherwise.\n"
+        "Example: corebox bench table1 --out docs/results/table1_h200x2   (then scripts/plot_table1.py)");
+    table1Cmd->add_option("--sizes", table1.sizes, "Particle counts; add 262144,1000000 for the large rows")
+        ->delimiter(',')
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    table1Cmd->add_option("--gpus-list", table1.gpusList, "GPU counts P to run, e.g. 1,2 (default: 1 up to every GPU CUDA sees)")
+        ->delimiter(',')
+        ->check(CLI::PositiveNumber);
+    addChoices(table1Cmd, "--exchanges", exchangeTable(), "Exchange methods for P > 1 (not auto)", table1.exchanges);
+    addChoices(table1Cmd, "--precision", precisionTable(), "Precisions", table1.precisions);
+    table1Cmd->add_option("--warmup", table1.warmup, "Untimed steps per configuration; the last one sets the batch length")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    table1Cmd->add_option("--batches", table1.batches, "Timed batches per configuration (the median is reported)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    table1Cmd->add_option("--batch-seconds", table1.batchSeconds, "Aimed length of one batch; steps per batch follow from the warm-up")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    table1Cmd->add_option("--max-batch-steps", table1.maxBatchSteps, "Most steps in one batch")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    table1Cmd->add_option("--out", table1.outputPrefix, "Write OUT.csv and OUT.json (with GPUs, driver, topology and the command)");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {  // --help, --version
@@ -236,6 +304,14 @@ int main(int argc, char** argv) {
     if (*pileCmd) {
         pile.commandLine = commandLine(argc, argv);
         return runReportingErrors([&] { runPileBenchmark(pile); });
+    }
+    if (*p2pCmd) {
+        p2p.commandLine = commandLine(argc, argv);
+        return runReportingErrors([&] { runP2pBenchmark(p2p); });
+    }
+    if (*table1Cmd) {
+        table1.commandLine = commandLine(argc, argv);
+        return runReportingErrors([&] { runTable1Benchmark(table1); });
     }
     if (*forcesCmd) {
         forces.commandLine = commandLine(argc, argv);

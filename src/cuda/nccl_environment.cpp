@@ -4,6 +4,9 @@
 
 namespace corebox {
 
-void prepareNcclEnvironment() { setenv("NCCL_NVLS_ENABLE", "0", /*overwrite=*/0); }
+void prepareNcclEnvironment() {
+    // overwrite = 0: a value the user exported (to test NVLS where a machine has it) wins.
+    ::setenv("NCCL_NVLS_ENABLE", "0", 0);
+}
 
 }  // namespace corebox

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Command-line contract of `corebox run`: exit codes, messages that name file, line and key, no
-# partial output files on errors, blow-up reporting with the last good state, and a normal run; and
-# the files of `corebox bench pile`.
+# partial output files on errors, blow-up reporting with the last good state, and a normal run; the
+# files of `corebox bench pile`; and the device errors of `corebox bench p2p|table1` without GPUs.
 # Needs COREBOX (the binary) and SRC (the source tree) in the environment.
 set -u
 : "${COREBOX:?}" "${SRC:?}"
@@ -197,6 +197,24 @@ fi
 expect "bench pile: missing Bullet driver" 2 "--bullet: no program at '$work/none'" -- \
     bench pile --n 200 --seconds 0.1 --bullet "$work/none"
 expect "bench pile: zero balls" 2 "--n" -- bench pile --n 0 --seconds 0.1
+
+# `corebox bench p2p` and `corebox bench table1` where GPUs are missing: exit 4 (device error) with a
+# message naming what is missing. Where nvidia-smi lists GPUs, only what that count still lacks is
+# checked (p2p needs two, table1 one). Option errors come first and exit 2 on any machine.
+gpus=$(nvidia-smi -L 2>/dev/null | grep -c '^GPU' || true)
+if [ "${gpus:-0}" -lt 2 ]; then
+    expect "bench p2p without 2 GPUs" 4 "device error: bench p2p needs at least 2 CUDA devices; (found|this build)" -- \
+        bench p2p --max-bytes 8KiB --repeats 1
+fi
+if [ "${gpus:-0}" -eq 0 ]; then
+    expect "bench table1 without a GPU" 4 "device error: bench table1 needs a CUDA device; (found none|this build)" -- \
+        bench table1 --sizes 1024 --gpus-list 1
+fi
+expect "bench p2p: auto is not a method" 2 "--methods: 'auto' is not a transfer method" -- bench p2p --methods dts,auto
+expect "bench p2p: max below min" 2 "--max-bytes: 1024 is below --min-bytes 4096" -- bench p2p --max-bytes 1KiB
+expect "bench table1: auto is not an exchange" 2 "--exchanges: name the methods" -- bench table1 --exchanges auto
+"$COREBOX" bench p2p --help | grep -q -- "--max-bytes" && pass || fail "bench p2p --help does not list --max-bytes"
+"$COREBOX" bench table1 --help | grep -q -- "--gpus-list" && pass || fail "bench table1 --help does not list --gpus-list"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -1,0 +1,195 @@
+#!/usr/bin/env python3
+"""Writes docs/multi_gpu.md from the results of `corebox bench table1` and `corebox bench p2p`.
+
+Reads docs/results/table1*.csv and docs/results/p2p*.csv (or the files named), and writes the
+report's Table 1 and Figure 5 as measured here: every number comes from those files, with the GPUs,
+driver, link topology and the command recorded in them; nothing in the page is typed by hand. Draw
+the charts it shows first (scripts/plot_table1.py, scripts/plot_p2p.py).
+
+Usage: scripts/make_multi_gpu_doc.py [RESULTS.csv ...] [--out MD]
+"""
+import argparse
+import pathlib
+import sys
+
+from bench_csv import BenchCsv, number
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+RESULTS = ROOT / "docs" / "results"
+METHOD_ORDER = ["dts", "dta", "da", "nccl"]
+METHOD_NAMES = {"dts": "DT-S", "dta": "DT-A", "da": "DA", "nccl": "NCCL", "none": "-"}
+REPORT_COLUMN = {"dts": "report_dts_ms", "dta": "report_dta_ms", "da": "report_da_ms"}
+
+
+def fmt(value, spec):
+    return "" if value is None else format(value, spec)
+
+
+def size_label(b):
+    for unit, scale in (("GiB", 1 << 30), ("MiB", 1 << 20), ("KiB", 1 << 10)):
+        if b >= scale:
+            return f"{b / scale:g} {unit}"
+    return f"{b} B"
+
+
+def relative(path):
+    path = pathlib.Path(path).resolve()
+    return path.relative_to(ROOT) if path.is_relative_to(ROOT) else path
+
+
+def provenance(f):
+    lines = [f"- GPUs: {f.gpu_count} visible to CUDA; driver {f.driver}"]
+    lines += [f"  - {g}" for g in f.gpus]
+    lines += [f"- command: `{f.command}`", f"- source: `{relative(f.path)}`"]
+    lines += [f"- {note}" for note in f.notes]
+    return lines
+
+
+def topology(f):
+    if not f.topology or f.topology == ["unknown (no nvidia-smi)"]:
+        return ["Link topology: not recorded (no nvidia-smi on the machine)."]
+    return ["Link topology (`nvidia-smi topo -m` on the machine that ran it):", "", "```"] + f.topology + ["```"]
+
+
+def table1_pivot(f, precision):
+    """The report's layout: one row per N, ms per step per GPU count and exchange, then the report's own."""
+    rows = [r for r in f.rows if r["precision"] == precision]
+    columns = sorted({(int(r["gpus"]), r["exchange"]) for r in rows},
+                     key=lambda c: (c[0], METHOD_ORDER.index(c[1]) if c[1] in METHOD_ORDER else -1))
+    names = ["1 GPU" if p == 1 else f"{p} GPUs {METHOD_NAMES.get(e, e)}" for p, e in columns]
+    out = [f"ms per step, {precision} (failed: the outcome; the report: 4 x Tesla C2070):", "",
+           "| N | " + " | ".join(names) + " | report DT-S | report DT-A | report DA |",
+           "|---:|" + "---:|" * (len(columns) + 3)]
+    for n in sorted({int(r["n"]) for r in rows}):
+        cells = []
+        for p, e in columns:
+            r = next((r for r in rows if int(r["n"]) == n and int(r["gpus"]) == p and r["exchange"] == e), None)
+            cells.append("" if r is None else fmt(number(r["ms_per_step"]), ".3f") if r["outcome"] == "ok" else r["outcome"])
+        first = next(r for r in rows if int(r["n"]) == n)
+        cells += [fmt(number(first[c]), ".2f") for c in ("report_dts_ms", "report_dta_ms", "report_da_ms")]
+        out.append(f"| {n} | " + " | ".join(cells) + " |")
+    return out + [""]
+
+
+def table1_section(f):
+    rows = f.rows
+    out = [f"### Table 1 on {f.device()}", ""] + provenance(f) + [""]
+    for precision in sorted({r["precision"] for r in rows}):
+        out += table1_pivot(f, precision)
+    out += ["Every configuration:", ""]
+    out += ["| N | precision | P | exchange | ms / step | speed-up | efficiency | pair interactions / s |"
+            " collisions / step | report ms / step (4 x C2070, same exchange) |",
+            "|---:|---|---:|---|---:|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        if r["outcome"] != "ok":
+            continue
+        report = number(r[REPORT_COLUMN[r["exchange"]]]) if r["exchange"] in REPORT_COLUMN else None
+        out.append(f"| {r['n']} | {r['precision']} | {r['gpus']} | {METHOD_NAMES.get(r['exchange'], r['exchange'])} |"
+                   f" {fmt(number(r['ms_per_step']), '.3f')} | {fmt(number(r['speedup']), '.2f')} |"
+                   f" {fmt(number(r['efficiency']), '.2f')} | {fmt(number(r['pair_interactions_per_second']), '.3e')} |"
+                   f" {fmt(number(r['collisions_per_step']), '.0f')} | {fmt(report, '.2f')} |")
+    failed = [r for r in rows if r["outcome"] != "ok"]
+    if failed:
+        out += ["", "Configurations that did not run to the end:", ""]
+        out += [f"- N = {r['n']} {r['precision']} P = {r['gpus']} {METHOD_NAMES.get(r['exchange'], r['exchange'])}:"
+                f" {r['outcome']}: {r['message']}" for r in failed]
+    # The fastest configuration per N and precision: where splitting over GPUs starts to pay.
+    best = {}
+    for r in rows:
+        if r["outcome"] == "ok":
+            key = (int(r["n"]), r["precision"])
+            if key not in best or number(r["ms_per_step"]) < number(best[key]["ms_per_step"]):
+                best[key] = r
+    out += ["", "Fastest configuration per N:", "", "| N | precision | P | exchange | ms / step | speed-up over 1 GPU |",
+            "|---:|---|---:|---|---:|---:|"]
+    for (n, precision), r in sorted(best.items()):
+        out.append(f"| {n} | {precision} | {r['gpus']} | {METHOD_NAMES.get(r['exchange'], r['exchange'])} |"
+                   f" {fmt(number(r['ms_per_step']), '.3f')} | {fmt(number(r['speedup']), '.2f')} |")
+    return out + [""] + topology(f) + [""]
+
+
+def p2p_section(f):
+    rows = f.rows
+    counts = sorted({int(r["gpus"]) for r in rows})
+    out = [f"### Figure 5 on {f.device()} ({', '.join(map(str, counts))} GPUs)", ""] + provenance(f) + [""]
+    methods = [m for m in METHOD_ORDER if any(r["method"] == m for r in rows)]
+    for p in counts:
+        mine = [r for r in rows if int(r["gpus"]) == p]
+        out += [f"Median transfer time in microseconds (bandwidth received per GPU, GB/s), {p} GPUs:", "",
+                "| size per GPU | " + " | ".join(METHOD_NAMES[m] for m in methods) + " |",
+                "|---:|" + "---:|" * len(methods)]
+        for b in sorted({int(r["bytes"]) for r in mine}):
+            cells = []
+            for m in methods:
+                r = next((r for r in mine if r["method"] == m and int(r["bytes"]) == b), None)
+                if r is None or r["outcome"] != "ok":
+                    cells.append(r["outcome"] if r else "")
+                    continue
+                mark = "" if r["verified"] == "yes" else " (not verified)"
+                via = " via host" if r["path"] == "host" else ""
+                cells.append(f"{number(r['median_s']) * 1e6:.1f} ({number(r['gb_per_s_per_gpu']):.1f}){via}{mark}")
+            out.append(f"| {size_label(b)} | " + " | ".join(cells) + " |")
+        out.append("")
+        notes = {}
+        for r in mine:
+            if r["outcome"] != "ok":
+                notes.setdefault(r["method"], f"{r['outcome']}: {r['message']}")
+        out += [f"- {METHOD_NAMES[m]}: {text}" for m, text in notes.items()]
+        if notes:
+            out.append("")
+    return out + topology(f) + [""]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("results", nargs="*", type=pathlib.Path)
+    parser.add_argument("--out", type=pathlib.Path, default=ROOT / "docs" / "multi_gpu.md")
+    args = parser.parse_args()
+    paths = args.results or sorted(RESULTS.glob("table1*.csv")) + sorted(RESULTS.glob("p2p*.csv"))
+    files = [BenchCsv(p) for p in paths]
+    table1 = [f for f in files if f.rows and "exchange" in f.rows[0]]
+    p2p = [f for f in files if f.rows and "bytes" in f.rows[0]]
+    if not table1 and not p2p:
+        print("no table1 or p2p results; run `corebox bench table1 --out docs/results/table1_NAME` first",
+              file=sys.stderr)
+        return 1
+    text = [
+        "# Several GPUs: the report's Table 1 and Figure 5 measured here",
+        "",
+        f"Generated by `scripts/make_multi_gpu_doc.py` from {', '.join(f'`{relative(f.path)}`' for f in files)};"
+        " do not edit by hand. Each result file records the GPUs, driver, link topology and the exact command,"
+        " so every number below can be reproduced.",
+        "",
+        "Reproduce (on a machine with two or more GPUs; build with `cmake --preset release && cmake --build build`):",
+        "",
+        "```sh",
+        *[f.command.replace("corebox ", "build/corebox ", 1) for f in files],
+        "scripts/plot_table1.py && scripts/plot_p2p.py && scripts/make_multi_gpu_doc.py",
+        "```",
+        "",
+    ]
+    if table1:
+        text += ["## Table 1: ms per RK4 step, one GPU and several", "",
+                 "The report's model at a fixed density (it does not state which; we use number density 0.5, see each"
+                 " file's notes), RK4 with hard-core collisions, every exchange method. Speed-up and efficiency are"
+                 " against one GPU at the same N and precision; the report's column is its own Table 1 (four Tesla"
+                 " C2070, 2012) for the same N and method.", "",
+                 "![ms per step against N](images/table1.png)", "", "(`scripts/plot_table1.py`)", ""]
+        for f in table1:
+            text += table1_section(f)
+    if p2p:
+        text += ["## Figure 5: moving a buffer between GPUs", "",
+                 "Every GPU fetches its neighbour's buffer at the same time: DT-S (`cudaMemcpyPeer`), DT-A"
+                 " (`cudaMemcpyPeerAsync`), DA (a kernel reading the peer's memory over unified addressing) and an"
+                 " NCCL all-gather.", "", "![transfer time against size](images/p2p.png)", "", "(`scripts/plot_p2p.py`)",
+                 ""]
+        for f in p2p:
+            text += p2p_section(f)
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text("\n".join(text).rstrip() + "\n")
+    print(f"wrote {relative(args.out)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
