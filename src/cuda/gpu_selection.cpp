@@ -1,7 +1,8 @@
-// What `--gpus auto` and `--exchange auto` choose, from the measurements of `corebox bench table1`
-// on H200s with NVLink (docs/table1.md). An all-pairs step costs about c N^2 / P for the force
-// passes plus a fixed cost per step that grows with P (exchanges, events, the gather before the
-// collision stage), so one GPU wins at small N and every GPU at large N.
+// What `--gpus auto` and `--exchange auto` choose, from `corebox bench table1` on four H200s with
+// NVLink (docs/results/table1_h200x4.csv, docs/multi_gpu.md; RK4 with collisions, fp32). A step
+// costs about c N^2 / P for the force passes plus a part that does not shrink with P (the collision
+// stage on the home GPU, the exchanges and the gather), so one GPU wins at small N and every GPU at
+// large N.
 #include <algorithm>
 
 #include "cuda_backend.h"
@@ -9,24 +10,25 @@
 namespace corebox {
 namespace {
 
-// Smallest N at which the measured step time with P GPUs (any exchange) beat P - 1 GPUs
-// (docs/results/table1_h200x2.csv: P = 2 first wins at N = 16384).
+// Measured: two GPUs first beat one at N = 16384 (0.99 against 1.24 ms per step; at 8192 they tie),
+// and four first beat two at N = 32768 (1.52 against 2.07 ms; at 16384 they tie).
 constexpr int64_t kFirstSplitN = 16384;
 
 }  // namespace
 
 int gpusFor(int64_t n, int visible) {
     if (visible <= 1 || n < kFirstSplitN) return 1;
-    // Each further GPU needs about as many particles again as the first split did.
+    // One more GPU per 8192 particles: 2 at 16384, 4 at 32768, as measured.
     const int64_t useful = std::max<int64_t>(1, n / (kFirstSplitN / 2));
     return int(std::min<int64_t>(visible, useful));
 }
 
 Exchange fastestExchange(int gpus) {
-    // docs/results/table1_h200x2.csv: DT-A is fastest or within noise of the fastest at every N on two
-    // GPUs (no host waits, copies overlap the other device's work).
+    // Measured: the NCCL all-gather is the fastest at every N where several GPUs pay off, on two,
+    // three and four GPUs (65536: 6.37, 4.77, 3.83 ms against 6.42, 4.94, 4.10 for DT-A); DA is
+    // within 2 %, DT-S the slowest (its host waits).
     (void)gpus;
-    return Exchange::Dta;
+    return Exchange::Nccl;
 }
 
 }  // namespace corebox
