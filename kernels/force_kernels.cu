@@ -25,6 +25,7 @@ namespace corebox::gpu {
 namespace {
 
 constexpr int kRows = 2;
+constexpr int64_t kMinChunk = 64;  // sources per chunk at least (a multiple of the warp)
 
 template <class Real>
 struct alignas(16) TileEntry {
@@ -169,9 +170,10 @@ int multiprocessorCount() {
     return count;
 }
 
-// How the j range is split: enough blocks for about eight per multiprocessor, chunks of whole
-// tiles. Small systems split down to one tile per chunk: at N = 1024 the rows alone make two blocks,
-// whose threads would each walk all N (tens of microseconds per pass, most of a step at that size).
+// How the j range is split: enough blocks for about eight per multiprocessor. A chunk need not be
+// whole tiles (the last tile of a chunk is partly filled), so small systems split down to kMinChunk
+// sources per chunk: at N = 1024 the rows alone make two blocks, whose threads would each walk all N
+// (about 20 us per pass, most of a step at that size).
 struct ChunkPlan {
     int64_t chunks, chunkLength;
 };
@@ -180,8 +182,8 @@ ChunkPlan planChunks(int64_t rows, int64_t n) {
     const int64_t rowBlocks = int64_t(blocksFor(rows, kBlock * kRows));
     const int64_t wanted = int64_t(8) * multiprocessorCount();
     int64_t chunks = std::max<int64_t>(1, (wanted + rowBlocks - 1) / rowBlocks);
-    chunks = std::min<int64_t>(chunks, std::max<int64_t>(1, n / kBlock));
-    const int64_t chunkLength = ((n + chunks - 1) / chunks + kBlock - 1) / kBlock * kBlock;
+    chunks = std::min<int64_t>(chunks, std::max<int64_t>(1, n / kMinChunk));
+    const int64_t chunkLength = ((n + chunks - 1) / chunks + kMinChunk - 1) / kMinChunk * kMinChunk;
     return {(n + chunkLength - 1) / chunkLength, chunkLength};
 }
 
