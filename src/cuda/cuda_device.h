@@ -53,11 +53,13 @@ public:
     int64_t listContacts(const RestingContact<double>& resting) override;
     ContactResidual<double> relaxContacts(int sweeps) override;
     double contactLiftWork() override;
+    ImpulseSums contactImpulses() override;
 
     // ---- reductions, timing, output (cuda_backend.cpp) ----
     double kineticEnergy() override;
     void scaleVelocities(double alpha) override;
     EnergySums energies() override;
+    double pairVirial() override;  // cuda_pressure.cpp
     HealthReport health() override;
     void markPhase(StepPhase phase) override;
     PhaseSeconds phaseSeconds() override;
@@ -82,6 +84,8 @@ private:
         sync();
         return value;
     }
+    // Sums the kImpulseRows rows of `rows` (impulse_sums.h) in a fixed order (cuda_pressure.cpp).
+    ImpulseSums sumImpulseRows(const DeviceBuffer<double>& rows);
     gpu::CollisionArgs<Real> collisionArgs();
     gpu::ContactArgs<Real> contactArgs();
 
@@ -121,6 +125,7 @@ private:
     DeviceBuffer<unsigned long long> m_kindCounts, m_healthCounts;
     DeviceBuffer<long long> m_healthExamples;
     DeviceBuffer<double> m_loss, m_rows, m_partials, m_pairEnergy;
+    DeviceBuffer<double> m_impactImpulses, m_contactImpulses;  // kImpulseRows x n each (impulse_sums.h)
     DeviceBuffer<ParticleInstance> m_instances;  // staging for host instance targets
 };
 
