@@ -132,6 +132,16 @@ else
     fail "normal run failed: $(cat "$work/err")"
 fi
 
+# The dense preset loads and runs: 4,000 spheres at packing fraction 0.45, the pressures positive and
+# the energy kept (elastic: nothing dissipated in 40 steps).
+if "$COREBOX" run "$SRC/assets/dense_hard_spheres.toml" --steps 40 --every 20 --observables "$work/out/dense.csv" --quiet \
+    --no-window 2>"$work/err"; then
+    awk -F, 'NR > 2 && !($14 > 0 && $15 > 0 && $16 > 0 && $6 == 0) { bad = 1 } END { exit bad }' "$work/out/dense.csv" \
+        && pass || fail "dense preset: pressures or energy"
+else
+    fail "dense preset run: $(cat "$work/err")"
+fi
+
 # A blow-up: euler with a huge step on an LJ gas stops with exit 3, names the step and the cause,
 # writes the last good state and keeps the observables up to the failure.
 rm -rf "$work/out" && mkdir -p "$work/out"
