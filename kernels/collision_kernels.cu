@@ -39,7 +39,9 @@ __global__ void resolveKernel(CollisionArgs<Real> a) {
     if (!isValid(e)) return;
     const int si = a.p.species[i];
     int kind = kNoCollision;
-    double loss = 0;
+    double loss = 0, impulse = 0;
+    int impulseRow = kPairVirialRow;  // or the wall's
+    bool atCentre = false;
     if (e.partner >= 0) {
         const int64_t j = e.partner;
         if (j > i && a.events[j].partner == i) {
@@ -47,7 +49,7 @@ __global__ void resolveKernel(CollisionArgs<Real> a) {
             Vec3<Real> xi = a.p.x[i], vi = a.p.v[i], xj = a.p.x[j], vj = a.p.v[j];
             kind = resolvePairEvent(xi, vi, a.contactAcceleration[i], a.table.mass[si], xj, vj, a.contactAcceleration[j],
                                     a.table.mass[sj], a.table.radius[si] + a.table.radius[sj], e.key, a.window.maxRewind,
-                                    a.restitution, a.elasticBelow, &loss);
+                                    a.restitution, a.elasticBelow, &loss, &impulse);
             a.p.x[i] = xi;
             a.p.v[i] = vi;
             a.p.x[j] = xj;
@@ -57,12 +59,16 @@ __global__ void resolveKernel(CollisionArgs<Real> a) {
         const int code = int(-1 - e.partner), axis = code / 2;
         Vec3<Real> x = a.p.x[i], v = a.p.v[i];
         kind = resolveWallEvent(x[axis], v[axis], a.contactAcceleration[i][axis], a.table.mass[si], a.table.radius[si],
-                                a.box[axis], code % 2, e.key, a.window.maxRewind, a.wallRestitution, a.elasticBelow, &loss);
+                                a.box[axis], code % 2, e.key, a.window.maxRewind, a.wallRestitution, a.elasticBelow, &loss, &impulse);
+        impulseRow = code;
+        atCentre = atWallCentre(x, a.table.radius[si], a.box, axis);
         a.p.x[i] = x;
         a.p.v[i] = v;
     }
     if (kind != kNoCollision) {
         a.loss[i] += loss;
+        a.impulses[size_t(impulseRow) * size_t(a.p.n) + size_t(i)] += impulse;  // only thread i writes row i
+        if (atCentre) a.impulses[size_t(kWallCount + impulseRow) * size_t(a.p.n) + size_t(i)] += impulse;
         atomicAdd(&a.kindCounts[kind - 1], 1ull);
     }
 }

@@ -84,11 +84,12 @@ COREBOX_HD inline void considerWalls(Vec3<Real> x, Vec3<Real> v, Real radius, Ve
 }
 
 // Resolves the pair event of i and j (key from i's event); a_i, a_j are their end-of-step
-// accelerations. Adds the kinetic energy lost to *loss and returns the CollisionKind.
+// accelerations. Adds the kinetic energy lost to *loss and r_ij . J_ij of the impulses applied to
+// *virial (impulse_sums.h), and returns the CollisionKind.
 template <class Real>
 COREBOX_HD inline int resolvePairEvent(Vec3<Real>& xi, Vec3<Real>& vi, Vec3<Real> ai, Real mi, Vec3<Real>& xj, Vec3<Real>& vj,
                                        Vec3<Real> aj, Real mj, Real d, double key, Real maxRewind, Real e, Real elasticBelow,
-                                       double* loss) {
+                                       double* loss, double* virial) {
     const Real mu = mi * mj / (mi + mj);
     // Refined along the parabola, still bounded by the step (the key is the straight-line time).
     const Real s = parabolicContactRewindTime(xi - xj, vi - vj, ai - aj, d, Real(key), maxRewind);
@@ -98,7 +99,8 @@ COREBOX_HD inline int resolvePairEvent(Vec3<Real>& xi, Vec3<Real>& vi, Vec3<Real
     vi -= s * ai;
     vj -= s * aj;
     const Vec3<Real> r = xi - xj;
-    const Vec3<Real> n = (Real(1) / realSqrt(norm2(r))) * r;
+    const Real dist = realSqrt(norm2(r));
+    const Vec3<Real> n = (Real(1) / dist) * r;
     const Real vn = dot(vi - vj, n);
     if (vn < Real(0)) {
         const Real eEff = effectiveRestitution(e, vn, elasticBelow);
@@ -106,6 +108,7 @@ COREBOX_HD inline int resolvePairEvent(Vec3<Real>& xi, Vec3<Real>& vi, Vec3<Real
         vi += (impulse / mi) * n;
         vj -= (impulse / mj) * n;
         *loss += double(collisionEnergyLoss(mu, vn, eEff));
+        *virial += double(dist) * double(impulse);  // J_ij = impulse n, r_ij = dist n
     }
     xi += s * vi + halfS2 * ai;  // and forward to the end of the step
     xj += s * vj + halfS2 * aj;
@@ -130,15 +133,17 @@ COREBOX_HD inline int resolvePairEvent(Vec3<Real>& xi, Vec3<Real>& vi, Vec3<Real
             vi += (impulse / mi) * nEnd;
             vj -= (impulse / mj) * nEnd;
             *loss += double(collisionEnergyLoss(mu, closing, Real(0)));
+            *virial += double(dot(xi - xj, nEnd)) * double(impulse);
         }
     }
     return kPairCollision;
 }
 
-// Resolves a wall event on one axis: x, v, a are that axis' components of the particle.
+// Resolves a wall event on one axis: x, v, a are that axis' components of the particle. Adds the
+// momentum the wall received (along its outward normal, impulse_sums.h) to *wallImpulse.
 template <class Real>
 COREBOX_HD inline int resolveWallEvent(Real& x, Real& v, Real a, Real mass, Real radius, Real boxLength, int side, double key,
-                                       Real maxRewind, Real e, Real elasticBelow, double* loss) {
+                                       Real maxRewind, Real e, Real elasticBelow, double* loss, double* wallImpulse) {
     const Real wall = side == 0 ? radius : boxLength - radius;
     // Normal coordinate pointing into the box: p = distance from the wall plane.
     const Real sign = side == 0 ? Real(1) : Real(-1);
@@ -149,7 +154,10 @@ COREBOX_HD inline int resolveWallEvent(Real& x, Real& v, Real a, Real mass, Real
     const Real vContact = vIn - aIn * s;
     const Real eEff = effectiveRestitution(e, vContact, elasticBelow);
     const Real vOut = vContact < Real(0) ? -eEff * vContact : vContact;
-    if (vContact < Real(0)) *loss += double(collisionEnergyLoss(mass, vContact, eEff));
+    if (vContact < Real(0)) {
+        *loss += double(collisionEnergyLoss(mass, vContact, eEff));
+        *wallImpulse += double(mass) * (double(vOut) - double(vContact));
+    }
     Real pEnd = vOut * s + Real(0.5) * aIn * s * s;
     Real vEnd = vOut + aIn * s;
     if (pEnd < Real(0)) {
@@ -160,6 +168,7 @@ COREBOX_HD inline int resolveWallEvent(Real& x, Real& v, Real a, Real mass, Real
         pEnd = 0;
         if (vEnd < Real(0)) {
             *loss += double(Real(0.5) * mass * vEnd * vEnd);
+            *wallImpulse -= double(mass) * double(vEnd);
             vEnd = 0;
         }
     }

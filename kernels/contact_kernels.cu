@@ -61,9 +61,17 @@ __global__ void sweepKernel(ContactArgs<Real> a) {
     const int64_t first = a.contactStart[i];
     const int count = int(a.contactStart[i + 1] - first);
     ContactResidual<Real> r{0, 0};
+    ImpulseSums given;
     auto contactsOf = [&](int64_t j) { return int(a.contactStart[j + 1] - a.contactStart[j]); };
     relaxParticle(i, count, [&](int c) { return a.partner[first + c]; }, contactsOf, a.p.x, a.p.v, a.p.species, a.table.mass,
-                  a.table.radius, a.box, a.up, a.dv[i], a.dx[i], r);
+                  a.table.radius, a.box, a.up, a.dv[i], a.dx[i], r, given);
+    // Each particle's own impulse rows (no atomics): summed in a fixed order when asked.
+    const size_t n = size_t(a.p.n);
+    for (int k = 0; k < kWallCount; ++k) {
+        if (given.wall[k] != 0) a.impulses[size_t(k) * n + size_t(i)] += given.wall[k];
+        if (given.wallCentre[k] != 0) a.impulses[size_t(kWallCount + k) * n + size_t(i)] += given.wallCentre[k];
+    }
+    if (given.pairVirial != 0) a.impulses[size_t(kPairVirialRow) * n + size_t(i)] += given.pairVirial;
     if (r.approachSpeed > Real(0)) atomicMaxNonNegative(&a.residual[0], double(r.approachSpeed));
     if (r.overlap > Real(0)) atomicMaxNonNegative(&a.residual[1], double(r.overlap));
 }

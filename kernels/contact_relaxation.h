@@ -46,6 +46,7 @@
 
 #include "collision.h"
 #include "hd.h"
+#include "impulse_sums.h"
 #include "vec3.h"
 
 namespace corebox {
@@ -130,11 +131,15 @@ COREBOX_HD inline Real overlapShare(Real mi, Real mj, Vec3<Real> n, Vec3<Real> u
 }
 
 // Velocity and position changes of particle i from one sweep over its listed contacts. `partner(c)`
-// gives its c-th contact; `contactsOf(j)` the contact count k_j of particle j (k_i = count).
+// gives its c-th contact; `contactsOf(j)` the contact count k_j of particle j (k_i = count). Adds the
+// sweep's impulses to `given` (impulse_sums.h): the momentum each wall received from i, and half of
+// r_ij . J_ij of each pair (j computes the same impulse, opposite, from its side: the sum over
+// particles counts each pair impulse once).
 template <class Real, class Partner, class ContactsOf>
 COREBOX_HD inline void relaxParticle(int64_t i, int count, Partner&& partner, ContactsOf&& contactsOf, const Vec3<Real>* x,
                                      const Vec3<Real>* v, const int32_t* species, const Real* mass, const Real* radius, Vec3<Real> box,
-                                     Vec3<Real> up, Vec3<Real>& dv, Vec3<Real>& dx, ContactResidual<Real>& residual) {
+                                     Vec3<Real> up, Vec3<Real>& dv, Vec3<Real>& dx, ContactResidual<Real>& residual,
+                                     ImpulseSums& given) {
     const Vec3<Real> xi = x[i], vi = v[i];
     const int si = species[i];
     const Real mi = mass[si], ai = radius[si];
@@ -149,6 +154,7 @@ COREBOX_HD inline void relaxParticle(int64_t i, int count, Partner&& partner, Co
             const Real vn = inward * vi[axis];
             if (vn < Real(0)) {
                 dv[axis] -= w * vn * inward;
+                given.addWall(code, -double(mi) * double(w) * double(vn), atWallCentre(xi, ai, box, axis));
                 if (-vn > residual.approachSpeed) residual.approachSpeed = -vn;
             }
             const Real depth = wallDepth(xi[axis], ai, box[axis], side);
@@ -170,6 +176,7 @@ COREBOX_HD inline void relaxParticle(int64_t i, int count, Partner&& partner, Co
         if (vn < Real(0)) {
             const Real mu = mi * mj / (mi + mj);
             dv += (-w * mu * vn / mi) * n;
+            given.pairVirial -= 0.5 * double(dist) * double(w) * double(mu) * double(vn);
             if (-vn > residual.approachSpeed) residual.approachSpeed = -vn;
         }
         const Real gap = d * (Real(1) - contactSlack<Real>()) - dist;  // overlap beyond the contact slack

@@ -11,6 +11,7 @@
 #include "cell_list.h"
 #include "collision_resolution.h"
 #include "contact_relaxation.h"
+#include "impulse_sums.h"
 #include "pair_potential.h"
 #include "particle_instance.h"
 #include "vec3.h"
@@ -141,6 +142,7 @@ struct CollisionArgs {
     unsigned int* counters;    // [0] particles listed in needList, [1] particles with an event
     unsigned long long* kindCounts;  // pair, wall
     double* loss;              // per particle
+    double* impulses;          // kImpulseRows x n (impulse_sums.h), per particle: walls, wall centres, pair virial
     Real restitution, wallRestitution, elasticBelow;
     ImpactWindow<Real> window;  // which overlaps are impacts of this step
 };
@@ -171,6 +173,7 @@ struct ContactArgs {
     Vec3<Real>* dv;           // n: one sweep's velocity change
     Vec3<Real>* dx;           // n: one sweep's position change
     unsigned long long* residual;  // [approach speed, overlap] as the bits of non-negative doubles (max)
+    double* impulses;         // kImpulseRows x n (impulse_sums.h): each particle's impulses since the listing
 };
 // contactStart[i + 1] = particle i's contact count (contactStart[0] = 0); the caller scans it.
 template <class Real>
@@ -189,6 +192,11 @@ void launchRelaxContacts(const ContactArgs<Real>& args, int sweeps, cudaStream_t
 template <class Real>
 void launchLiftWorkRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, Vec3<Real> gravity, const Vec3<Real>* xListed,
                        double* row, cudaStream_t stream);
+
+// ---- pressure (pressure_kernels.cu) ----
+// row[i] = sum_{j != i} r_ij . F_ij / 2 over all pairs: summed over i, the pair-force virial.
+template <class Real>
+void launchPairVirialRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, double* row, cudaStream_t stream);
 
 // ---- reductions (reduce_kernels.cu) ----
 // Sums of per-particle quantities: rows of `values` (row-major, rows x n) reduced into per-block

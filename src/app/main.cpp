@@ -1,4 +1,4 @@
-// corebox command line (DESIGN.md sec. 3): `run`, `bench forces|throughput|pile|p2p|table1`, and no subcommand for
+// corebox command line (DESIGN.md sec. 3): `run`, `bench forces|throughput|pile|hardspheres|p2p|table1`, and no subcommand for
 // the default scene in a window. Named choices (method, precision, backend, colour mode, frame size)
 // are read, checked and listed in --help from their vocabulary tables; every error, the parser's
 // own included, leaves through reportError (error_report.h).
@@ -12,6 +12,7 @@
 #include "error_report.h"
 #include "errors.h"
 #include "force_benchmark.h"
+#include "hard_sphere_benchmark.h"
 #include "glfw_window.h"
 #include "p2p_benchmark.h"
 #include "pile_benchmark.h"
@@ -276,6 +277,31 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     table1Cmd->add_option("--out", table1.outputPrefix, "Write OUT.csv and OUT.json (with GPUs, driver, topology and the command)");
 
+    HardSphereBenchmarkOptions spheres;
+    CLI::App* spheresCmd = benchCmd->add_subcommand(
+        "hardspheres", "Elastic hard-sphere fluid at several packing fractions: Z against Carnahan-Starling, collision rate "
+                       "against Enskog, energy drift, steps/s");
+    spheresCmd->add_option("--backend", spheres.backend, "Backend: one of " + backendTable().list())
+        ->check(oneOf(backendTable()))
+        ->capture_default_str();
+    spheresCmd->add_option("--n", spheres.n, "Spheres (default: 2000 on cpu, 50000 on cuda)")->check(CLI::PositiveNumber);
+    spheresCmd->add_option("--phi", spheres.packingFractions, "Packing fractions over the box, N pi / (6 L^3)")
+        ->delimiter(',')
+        ->capture_default_str();
+    addChoice<Precision>(spheresCmd, "--precision", precisionTable(), "Precision", [&](Precision p) { spheres.precision = p; })
+        ->default_str(precisionTable().name(spheres.precision));
+    spheresCmd->add_option("--steps", spheres.steps, "Measured steps per packing fraction (default: 8 tau worth)")
+        ->check(CLI::PositiveNumber);
+    spheresCmd->add_option("--equilibrate", spheres.equilibrate, "Simulated time before measuring [tau]")->capture_default_str();
+    spheresCmd->add_option("--collisions-per-step", spheres.collisionsPerStep, "Sets dt: Enskog collisions per particle per step")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    spheresCmd->add_option("--sample-every", spheres.sampleEvery, "Bulk sample every K steps (default: 1 on cpu, 10 on cuda)")
+        ->check(CLI::PositiveNumber);
+    spheresCmd->add_option("--seed", spheres.seed, "Initial velocities' seed")->capture_default_str();
+    spheresCmd->add_option("--threads", spheres.threads, "CPU threads (0: all cores)")->capture_default_str();
+    spheresCmd->add_option("--out", spheres.outputPrefix, "Write OUT.csv and OUT.json");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {  // --help, --version
@@ -300,6 +326,10 @@ int main(int argc, char** argv) {
         throughput.frameHeight = frameSize.height;
         throughput.commandLine = commandLine(argc, argv);
         return runReportingErrors([&] { runThroughputBenchmark(throughput); });
+    }
+    if (*spheresCmd) {
+        spheres.commandLine = commandLine(argc, argv);
+        return runReportingErrors([&] { runHardSphereBenchmark(spheres); });
     }
     if (*pileCmd) {
         pile.commandLine = commandLine(argc, argv);

@@ -13,7 +13,7 @@
 //   Kx_s, Kv_s stage derivatives (velocity and acceleration of stage s), as many as the tableau has;
 //   snapshot   a copy of (X, V) kept beside the state so the last good state survives a blow-up;
 //   events     each particle's earliest collision event of the current round, its active flag, the
-//              accumulated collision counts and dissipated energy of the step.
+//              accumulated collision counts, dissipated energy and impulses of the step.
 // Calls are ordered: a backend may queue work asynchronously, but every call that returns a value to
 // the host (findEvents, the reductions, state downloads) sees the effects of every earlier call.
 // Only small results cross from a device to the host, except state() and snapshot().
@@ -30,6 +30,7 @@
 #include "collision_resolution.h"
 #include "contact_relaxation.h"
 #include "device_model.h"
+#include "impulse_sums.h"
 #include "particle_instance.h"
 #include "particle_state.h"
 #include "scene.h"
@@ -56,6 +57,7 @@ struct CollisionTally {
     int64_t pairCollisions = 0;   // particle-particle impulses applied
     int64_t wallCollisions = 0;   // wall reflections applied
     double dissipated = 0;        // kinetic energy lost in inelastic collisions [eps]
+    ImpulseSums impulses;         // given to the walls and r_ij . J_ij of the pairs (pressure.h)
     int64_t total() const { return pairCollisions + wallCollisions; }
 };
 
@@ -142,11 +144,17 @@ public:
     virtual ContactResidual<double> relaxContacts(int sweeps) = 0;
     // Work done against gravity by the position moves since listContacts: sum of -m g . dx [eps].
     virtual double contactLiftWork() = 0;
+    // Impulses of the velocity level since listContacts (impulse_sums.h): what the walls received and
+    // r_ij . J_ij of the pair contacts, summed in a fixed order.
+    virtual ImpulseSums contactImpulses() = 0;
 
     // ---- reductions ----
     virtual double kineticEnergy() = 0;  // O(N)
     virtual void scaleVelocities(double alpha) = 0;
     virtual EnergySums energies() = 0;  // includes the pair potential (a force pass)
+    // sum over pairs i < j of r_ij . F_ij at the current positions (the pair-force virial of the
+    // pressure, pressure.h) [eps]; 0 without pair forces. An O(N^2) pass like energies().
+    virtual double pairVirial() = 0;
     virtual HealthReport health() = 0;  // non-finite values, particles outside the box
     virtual StepCheck checkStep() { return StepCheck{kineticEnergy(), health()}; }
 

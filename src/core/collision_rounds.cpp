@@ -45,6 +45,7 @@ void resolveCollisions(Backend& backend, const CollisionSettings& settings, Step
     report.pairCollisions = tally.pairCollisions;
     report.wallCollisions = tally.wallCollisions;
     report.dissipated = tally.dissipated;
+    report.impulses = tally.impulses;
 
     // 2. Contacts. Deep overlaps (handed in, or left by a capped impact phase) move particles by a
     // good part of a diameter, into neighbours that were not listed: list again after such a pass.
@@ -66,6 +67,7 @@ void resolveCollisions(Backend& backend, const CollisionSettings& settings, Step
         }
         report.contactSweeps += sweeps;
         liftWork += backend.contactLiftWork();
+        report.impulses += backend.contactImpulses();  // a resting pile's weight reaches the floor here
         if (firstOverlap < kDeepOverlap) break;
     }
     report.contactOverlap = residual.overlap;

@@ -16,6 +16,8 @@
 //    overlap are within tolerance or the sweep cap is reached. The kinetic energy this removes,
 //    minus the work done against gravity by the position moves, is booked as dissipated, so
 //    E_kin + E_pot + E_dissipated stays exact.
+// Both phases report their impulses (impulse_sums.h: what the walls received, r_ij . J_ij of the
+// pairs) into the step report, for the pressure observables (pressure.h).
 // Why two phases and Jacobi: see the design note of kernels/contact_relaxation.h.
 #pragma once
 

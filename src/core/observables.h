@@ -1,5 +1,6 @@
 // Observables of a run (DESIGN.md sec. 3) and their CSV form. Collision counts in a row are those
-// since the previous row. The conserved sum E_kin + E_pot + E_dissipated - E_thermostat stays
+// since the previous row, and so are the pressures (pressure.h: averaged over that window; 0 in the
+// row at step 0). The conserved sum E_kin + E_pot + E_dissipated - E_thermostat stays
 // constant up to integration error: it is what the blow-up check and the energy tests watch.
 #pragma once
 
@@ -8,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "impulse_sums.h"
 #include "scene.h"
 
 namespace corebox {
@@ -23,6 +25,11 @@ struct ObservablesRow {
     double temperature = 0;
     int64_t collisionsPair = 0;
     int64_t collisionsWall = 0;
+    double pressureWall = 0;    // momentum given to the walls per area and time [eps / sigma^3]
+    double pressureVirial = 0;  // kinetic + pair-force virial + collision virial [eps / sigma^3]
+    double pressureWallCentre = 0;  // as pressureWall over the walls' centres, away from their edges
+    double window = 0;          // time since the previous row [tau]
+    ImpulseSums impulses;       // of that window: each wall's momentum, r_ij . J_ij of the pair impulses
     std::vector<double> speciesTemperature;
 
     double total() const { return kinetic + potential; }

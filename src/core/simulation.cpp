@@ -25,6 +25,7 @@ Simulation::Simulation(Scene scene, std::unique_ptr<Backend> backend, const Part
     m_energyScale = std::max({std::fabs(e.kinetic) + std::fabs(e.potential), 1.5 * double(m_particleCount) * thermalT, 1e-300});
     m_conserved0 = e.kinetic + e.potential;
     m_lastKinetic = e.kinetic;
+    m_pressureGeometry = pressureGeometryOf(m_scene);
 }
 
 void Simulation::applyParameters() {
@@ -85,6 +86,7 @@ StepReport Simulation::step() {
         fail("energy is growing without bound", detail.str());
     }
     m_lastKinetic = kinetic;
+    m_pressureWindow.addStep(report, kinetic);
     return report;
 }
 
@@ -108,6 +110,12 @@ ObservablesRow Simulation::observe() {
     }
     m_pairCollisions = 0;
     m_wallCollisions = 0;
+    row.window = m_pressureWindow.time();
+    row.impulses = m_pressureWindow.impulses();
+    row.pressureWall = m_pressureWindow.wallPressure(m_pressureGeometry);
+    row.pressureWallCentre = m_pressureWindow.wallCentrePressure(m_pressureGeometry);
+    row.pressureVirial = row.window > 0 ? m_pressureWindow.virialPressure(m_pressureGeometry, m_backend->pairVirial()) : 0.0;
+    m_pressureWindow.reset();
     if (!std::isfinite(row.conserved())) fail("the energy is not finite", "E_kin = " + std::to_string(e.kinetic) + ", E_pot = " + std::to_string(e.potential));
     const double drift = std::fabs(row.conserved() - m_conserved0);
     if (drift > m_limits.maxEnergyDrift * m_energyScale) {

@@ -22,6 +22,7 @@
 #include "integration_driver.h"
 #include "observables.h"
 #include "particle_state.h"
+#include "pressure.h"
 #include "scene.h"
 #include "speed_statistics.h"
 #include "step_report.h"
@@ -43,7 +44,8 @@ public:
 
     // One step: integrate + collide, thermostat, health check. Throws InstabilityError.
     StepReport step();
-    // Full observables (O(N^2) potential); resets the collision counters. Throws InstabilityError
+    // Full observables (O(N^2) potential and pair virial); resets the collision counters and the
+    // pressure window. Throws InstabilityError
     // when the conserved energy drifted beyond the limit or a value is not finite.
     ObservablesRow observe();
 
@@ -84,6 +86,8 @@ private:
     int64_t m_pairCollisions = 0;
     int64_t m_wallCollisions = 0;
     int64_t m_roundCapHits = 0;
+    PressureGeometry m_pressureGeometry;
+    PressureWindow m_pressureWindow;  // since the last observe()
     double m_energyScale = 1;
     double m_conserved0 = 0;
     double m_lastKinetic = 0;

@@ -4,6 +4,8 @@
 
 #include <cstdint>
 
+#include "impulse_sums.h"
+
 namespace corebox {
 
 struct StepReport {
@@ -17,6 +19,7 @@ struct StepReport {
     bool roundCapHit = false;      // impacts remained after InteractionDef::maxCollisionRounds
     int contactSweeps = 0;         // Jacobi sweeps of the contact relaxation
     double contactOverlap = 0;     // largest overlap left, as a fraction of the contact distance
+    ImpulseSums impulses;          // impacts and contacts: given to the walls, r_ij . J_ij of the pairs
     // Where the step's time went [s]: force passes, the rest of the integration, collisions.
     double secondsForces = 0, secondsIntegrate = 0, secondsCollide = 0;
 };

@@ -137,6 +137,7 @@ public:
         m_events.assign(n, noEvent());
         m_active.assign(n, 1);
         m_loss.assign(n, 0.0);
+        m_impulses.assign(n, ImpulseSums{});
         m_contactAcceleration.resize(n);
         m_hasContactAcceleration.assign(n, 0);
         m_kind.resize(n);
@@ -176,6 +177,8 @@ public:
     CollisionTally collisionTally() override {
         m_tally.dissipated = 0;
         for (double l : m_loss) m_tally.dissipated += l;
+        m_tally.impulses = ImpulseSums{};
+        for (const ImpulseSums& p : m_impulses) m_tally.impulses += p;  // index order: deterministic
         return m_tally;
     }
 
@@ -255,6 +258,24 @@ public:
         return ContactResidual<double>{double(r.approachSpeed), double(r.overlap)};
     }
 
+    // Each contact's accumulated impulse lambda is its net impulse of the listing (per unit mass for a
+    // wall: stopWallContact), summed in the list's order.
+    ImpulseSums contactImpulses() override {
+        ImpulseSums sums;
+        for (const Contact& c : m_contacts) {
+            const size_t i = size_t(c.i);
+            if (isWallContact(c.partner)) {
+                const int code = int(-1 - c.partner);
+                const Real a = m_radius[size_t(m_species[i])];
+                sums.addWall(code, double(m_mass[size_t(m_species[i])]) * double(c.lambda), atWallCentre(m_x[i], a, m_boxLength, code / 2));
+                continue;
+            }
+            const Vec3<Real> rij = m_x[i] - m_x[size_t(c.partner)];
+            sums.pairVirial += std::sqrt(double(norm2(rij))) * double(c.lambda);
+        }
+        return sums;
+    }
+
     double contactLiftWork() override {
         const Vec3<double> g = vec3Cast<double>(m_gravity);
         return deterministicSum<double>(m_threads, size(), [&](int64_t i) {
@@ -267,6 +288,23 @@ public:
     double kineticEnergy() override {
         return deterministicSum<double>(m_threads, size(), [&](int64_t i) {
             return kineticEnergyOf(double(m_mass[size_t(m_species[size_t(i)])]), vec3Cast<double>(m_v[size_t(i)]));
+        });
+    }
+
+    double pairVirial() override {
+        if (!m_model.anyPairForce) return 0;
+        const int64_t n = size();
+        // Every pair from both sides, as the force pass: half of sum_i sum_j r_ij . F_ij.
+        return 0.5 * deterministicSum<double>(m_threads, n, [&](int64_t i) {
+            const Vec3<Real> xi = m_x[size_t(i)];
+            const PairCoefficients<Real>* row = &m_pairs[size_t(m_species[size_t(i)]) * m_mass.size()];
+            double w = 0;
+            for (int64_t j = 0; j < n; ++j) {
+                const Real r2 = norm2(xi - m_x[size_t(j)]);
+                if (j == i || r2 == Real(0)) continue;
+                w += double(pairForceOverR(row[m_species[size_t(j)]], r2, static_cast<Real*>(nullptr))) * double(r2);
+            }
+            return w;
         });
     }
 
@@ -454,12 +492,15 @@ private:
             const size_t sj = size_t(m_species[size_t(j)]);
             return resolvePairEvent(m_x[size_t(i)], m_v[size_t(i)], m_contactAcceleration[size_t(i)], m_mass[si], m_x[size_t(j)],
                                     m_v[size_t(j)], m_contactAcceleration[size_t(j)], m_mass[sj], m_radius[si] + m_radius[sj], e.key,
-                                    m_window.maxRewind, eParticle, elasticBelow, &m_loss[size_t(i)]);
+                                    m_window.maxRewind, eParticle, elasticBelow, &m_loss[size_t(i)], &m_impulses[size_t(i)].pairVirial);
         }
         const int code = int(-1 - e.partner), axis = code / 2;
-        return resolveWallEvent(m_x[size_t(i)][axis], m_v[size_t(i)][axis], m_contactAcceleration[size_t(i)][axis], m_mass[si],
-                                m_radius[si], m_boxLength[axis], code % 2, e.key, m_window.maxRewind, eWall, elasticBelow,
-                                &m_loss[size_t(i)]);
+        double impulse = 0;
+        const int kind = resolveWallEvent(m_x[size_t(i)][axis], m_v[size_t(i)][axis], m_contactAcceleration[size_t(i)][axis], m_mass[si],
+                                          m_radius[si], m_boxLength[axis], code % 2, e.key, m_window.maxRewind, eWall, elasticBelow,
+                                          &m_loss[size_t(i)], &impulse);
+        m_impulses[size_t(i)].addWall(code, impulse, atWallCentre(m_x[size_t(i)], m_radius[si], m_boxLength, axis));
+        return kind;
     }
 
     int m_threads;
@@ -483,6 +524,7 @@ private:
     std::vector<int64_t> m_needAcceleration;
     std::vector<int> m_kind;
     std::vector<double> m_loss;
+    std::vector<ImpulseSums> m_impulses;  // per particle (resolved by its lower index), summed in index order
     CollisionTally m_tally;
     ImpactWindow<Real> m_window{0, 0};
     CellList m_grid;

@@ -2,7 +2,8 @@
 // event (kernels/collision_kernels.cu), end-of-step accelerations of the particles about to be
 // resolved, and the resolution of the mutual-earliest matching. With several GPUs all of it runs on
 // the home GPU on the gathered state (design note in cuda_device.h). One host read-back per round (the
-// counts of findEvents); everything else stays on the stream.
+// counts of findEvents); everything else stays on the stream. Impulses for the pressure observables
+// (impulse_sums.h) go into per-particle rows, summed in a fixed order when the tally is read.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -34,6 +35,7 @@ gpu::CollisionArgs<Real> CudaDevice<Real>::collisionArgs() {
     a.counters = m_counters.data();
     a.kindCounts = m_kindCounts.data();
     a.loss = m_loss.data();
+    a.impulses = m_impactImpulses.data();
     a.restitution = Real(m_model.restitution);
     a.wallRestitution = Real(m_model.wallRestitution);
     a.elasticBelow = Real(m_model.elasticBelowSpeed);
@@ -53,10 +55,12 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     m_hasContactAcceleration.resize(n);
     m_needList.resize(n);
     m_loss.resize(n);
+    m_impactImpulses.resize(size_t(kImpulseRows) * n);
     cudaStream_t s = stream();
     cudaCheck(cudaMemsetAsync(m_active.data(), 1, n, s), "memset");
     cudaCheck(cudaMemsetAsync(m_hasContactAcceleration.data(), 0, n, s), "memset");
     cudaCheck(cudaMemsetAsync(m_loss.data(), 0, n * sizeof(double), s), "memset");
+    cudaCheck(cudaMemsetAsync(m_impactImpulses.data(), 0, size_t(kImpulseRows) * n * sizeof(double), s), "memset");
     cudaCheck(cudaMemsetAsync(m_kindCounts.data(), 0, 3 * sizeof(unsigned long long), s), "memset");
 }
 
@@ -111,6 +115,7 @@ CollisionTally CudaDevice<Real>::collisionTally() {
     t.pairCollisions = int64_t(kinds[0]);
     t.wallCollisions = int64_t(kinds[1]);
     t.dissipated = t.total() > 0 ? dissipated : 0.0;
+    if (t.total() > 0) t.impulses = sumImpulseRows(m_impactImpulses);
     return t;
 }
 
@@ -128,6 +133,7 @@ gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
     a.dv = m_dv.data();
     a.dx = m_dx.data();
     a.residual = m_residual.data();
+    a.impulses = m_contactImpulses.data();
     return a;
 }
 
@@ -152,6 +158,8 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     const int64_t total = readBack(m_contactStart, size_t(m_n));
     if (total == 0) return 0;
     m_contactPartner.resize(size_t(total));
+    m_contactImpulses.resize(size_t(kImpulseRows) * size_t(m_n));
+    cudaCheck(cudaMemsetAsync(m_contactImpulses.data(), 0, size_t(kImpulseRows) * size_t(m_n) * sizeof(double), s), "memset");
     gpu::launchFillContacts(contactArgs(), s);
     cudaCheck(cudaMemcpyAsync(m_xListed.data(), home().x.data(), size_t(m_n) * sizeof(Vec3<Real>), cudaMemcpyDeviceToDevice, s), "contacts");
     return total;
@@ -176,6 +184,11 @@ double CudaDevice<Real>::contactLiftWork() {
     m_rows.resize(size_t(m_n));
     gpu::launchLiftWorkRow(arrays(), table(), m_gravity, m_xListed.data(), m_rows.data(), stream());
     return sumRows(1)[0];
+}
+
+template <class Real>
+ImpulseSums CudaDevice<Real>::contactImpulses() {
+    return sumImpulseRows(m_contactImpulses);
 }
 
 template class CudaDevice<float>;

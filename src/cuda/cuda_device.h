@@ -86,11 +86,13 @@ public:
     int64_t listContacts(const RestingContact<double>& resting) override;
     ContactResidual<double> relaxContacts(int sweeps) override;
     double contactLiftWork() override;
+    ImpulseSums contactImpulses() override;
 
     // ---- reductions, timing, output (cuda_backend.cpp) ----
     double kineticEnergy() override;
     void scaleVelocities(double alpha) override;
     EnergySums energies() override;
+    double pairVirial() override;  // cuda_pressure.cpp
     HealthReport health() override;
     StepCheck checkStep() override;
     void markPhase(StepPhase phase) override;
@@ -154,6 +156,8 @@ private:
     // Health kernel and its read-back queued (host arrays below); healthReport() reads them after a sync.
     void queueHealth();
     HealthReport healthReport() const;
+    // Sums the kImpulseRows rows of `rows` (impulse_sums.h) in a fixed order (cuda_pressure.cpp).
+    ImpulseSums sumImpulseRows(const DeviceBuffer<double>& rows);
     gpu::CollisionArgs<Real> collisionArgs();
     gpu::ContactArgs<Real> contactArgs();
 
@@ -200,6 +204,7 @@ private:
     PinnedBuffer<long long> m_hostHealthExamples;
     PinnedBuffer<double> m_hostPartials;
     DeviceBuffer<double> m_loss, m_rows, m_partials, m_pairEnergy;
+    DeviceBuffer<double> m_impactImpulses, m_contactImpulses;  // kImpulseRows x n each (impulse_sums.h)
     DeviceBuffer<ParticleInstance> m_instances;  // staging for host instance targets
 };
 

@@ -22,10 +22,16 @@ void ObservableHistory::push(const ObservablesRow& row, double conserved0, doubl
     append(target, targetTemperature, m_capacity);
     append(collisionsPerStep, stepsSinceLast > 0 ? double(row.collisionsPair + row.collisionsWall) / double(stepsSinceLast) : 0.0,
            m_capacity);
+    if (row.window > 0) {
+        append(pressureWall, row.pressureWall, m_capacity);
+        append(pressureVirial, row.pressureVirial, m_capacity);
+    }
 }
 
 void ObservableHistory::clear() {
-    for (auto* s : {&time, &kinetic, &potential, &total, &dissipated, &drift, &temperature, &target, &collisionsPerStep}) s->clear();
+    for (auto* s : {&time, &kinetic, &potential, &total, &dissipated, &drift, &temperature, &target, &collisionsPerStep, &pressureWall,
+                    &pressureVirial})
+        s->clear();
 }
 
 }  // namespace corebox

@@ -21,6 +21,8 @@ public:
     void clear();
 
     std::vector<float> time, kinetic, potential, total, dissipated, drift, temperature, target, collisionsPerStep;
+    // Averaged over the window since the previous row (pressure.h); rows with no window are skipped.
+    std::vector<float> pressureWall, pressureVirial;
 
 private:
     size_t m_capacity;

@@ -40,6 +40,9 @@ void drawTimePlots(const ObservableHistory& h, bool place) {
         else ImGui::TextDisabled("no thermostat");
     }
     plot("collisions / step", h.collisionsPerStep, 40);
+    // Two routes to one pressure (pressure.h): they agree in the time average.
+    plot("pressure (walls)", h.pressureWall, 40);
+    plot("pressure (virial)", h.pressureVirial, 40);
     ImGui::End();
 }
 

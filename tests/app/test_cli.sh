@@ -114,8 +114,12 @@ rm -rf "$work/out" && mkdir -p "$work/out"
 if "$COREBOX" run "$SRC/assets/hard_spheres.toml" --steps 25 --every 10 --observables "$work/out/obs.csv" \
     --state-out "$work/out/state.csv" --quiet 2>"$work/err"; then
     pass
-    head -1 "$work/out/obs.csv" | grep -q '^step,time,kinetic,potential,total,dissipated,thermostat,px,py,pz,temperature,collisions_pair,collisions_wall' \
+    head -1 "$work/out/obs.csv" | grep -q '^step,time,kinetic,potential,total,dissipated,thermostat,px,py,pz,temperature,collisions_pair,collisions_wall,pressure_wall,pressure_virial,pressure_wall_centre,' \
         && pass || fail "observables header"
+    # Pressures: 0 in the row at step 0 (no window); then the virial route is positive (its kinetic
+    # term) and the walls' is not negative (a window of 5 steps may see no wall hit).
+    awk -F, 'NR == 2 && ($14 != 0 || $15 != 0) { bad = 1 } NR > 2 && !($14 >= 0 && $15 > 0) { bad = 1 } END { exit bad }' \
+        "$work/out/obs.csv" && pass || fail "pressure columns"
     steps=$(cut -d, -f1 "$work/out/obs.csv" | tail -n +2 | tr '\n' ' ')
     [ "$steps" = "0 10 20 25 " ] && pass || fail "observable rows at steps '$steps', expected '0 10 20 25 '"
     head -1 "$work/out/state.csv" | grep -q '^id,species,x,y,z,vx,vy,vz$' && pass || fail "state header"
@@ -126,6 +130,16 @@ particles = \"$work/out/state.csv\""
     "$COREBOX" run "$work/restart.toml" --steps 5 --quiet >/dev/null 2>"$work/err2" && pass || fail "restart from state: $(cat "$work/err2")"
 else
     fail "normal run failed: $(cat "$work/err")"
+fi
+
+# The dense preset loads and runs: 4,000 spheres at packing fraction 0.45, the pressures positive and
+# the energy kept (elastic: nothing dissipated in 40 steps).
+if "$COREBOX" run "$SRC/assets/dense_hard_spheres.toml" --steps 40 --every 20 --observables "$work/out/dense.csv" --quiet \
+    --no-window 2>"$work/err"; then
+    awk -F, 'NR > 2 && !($14 > 0 && $15 > 0 && $16 > 0 && $6 == 0) { bad = 1 } END { exit bad }' "$work/out/dense.csv" \
+        && pass || fail "dense preset: pressures or energy"
+else
+    fail "dense preset run: $(cat "$work/err")"
 fi
 
 # A blow-up: euler with a huge step on an LJ gas stops with exit 3, names the step and the cause,

@@ -3,7 +3,9 @@
 //   energy never rises, the overlaps are gone to the relaxation's tolerance, and momentum is exact
 //   (away from the walls, which are the only external impulses);
 // - a ball resting on the floor and a column of ten balls stay put for 10^4 steps under gravity: no
-//   creep sideways, no sinking, no overlap, and the energy they lose is what the conserved sum books.
+//   creep sideways, no sinking, no overlap, and the energy they lose is what the conserved sum books;
+// - the pressure bookkeeping of both phases: a resting ball presses on the floor with its weight, and
+//   in a pile the momentum given to the walls balances gravity and the pile's momentum change.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,6 +13,7 @@
 #include <random>
 
 #include "physics_fixtures.h"
+#include "pressure.h"
 
 using namespace corebox;
 using namespace corebox::testing;
@@ -114,5 +117,79 @@ TEST_P(DenseContact, ABallOnTheFloorAndAColumnOfTenStayPut) {
         EXPECT_LT(worstOverlap(end, 0.5, scene.box.size), 2e-4) << count;
         EXPECT_LT(row.kinetic, 1e-3 * count) << count << " balls are not at rest";
         EXPECT_NEAR(row.conserved(), conserved0, 1e-9 * std::fabs(conserved0)) << count;
+    }
+}
+
+// ---- pressure bookkeeping of the contact phase (pressure.h, impulse_sums.h) ----
+
+TEST_P(DenseContact, ABallOnTheFloorPressesWithItsWeight) {
+    // The ball of the test above: it rests, so every step the contact phase gives the floor the
+    // momentum gravity gave the ball, m g dt. Over a window of 480 steps the floor received m g t and
+    // nothing else did: the wall pressure is m g over the area of the six walls (pressure.h), and m g
+    // over a quarter of it at the walls' centres, where the ball sits.
+    Scene scene = hardSphereScene(1, 12.0, Method::Verlet, 1.0 / 240);
+    scene.interaction.gravity = {0, -9.81, 0};
+    scene.interaction.restitution = 0.5;
+    scene.box.wallRestitution = 0.5;
+    auto sim = makeSimulation(backendName(), scene, stateOf({{6.0, 0.5, 6.0}}, {{0, 0, 0}}));
+    for (int s = 0; s < 240; ++s) sim->step();
+    sim->observe();  // opens the window
+    for (int s = 0; s < 480; ++s) sim->step();
+    const ObservablesRow row = sim->observe();
+    const double weight = 9.81 * row.window;  // m g t, m = 1
+    const int floor = 2 * 1 + 0;              // axis y, side 0
+    EXPECT_NEAR(row.window, 2.0, 1e-12);
+    EXPECT_NEAR(row.impulses.wall[floor], weight, 1e-9 * weight);
+    EXPECT_NEAR(row.impulses.wallCentre[floor], weight, 1e-9 * weight);
+    for (int w = 0; w < kWallCount; ++w) {
+        if (w != floor) {
+            EXPECT_EQ(row.impulses.wall[w], 0.0) << "wall " << w;
+        }
+    }
+    EXPECT_EQ(row.impulses.pairVirial, 0.0);
+    const PressureGeometry g = pressureGeometryOf(scene);  // faces of the 11^3 region open to centres
+    EXPECT_NEAR(g.totalArea, 6 * 11.0 * 11.0, 1e-12);
+    EXPECT_NEAR(row.pressureWall, 9.81 / g.totalArea, 1e-9 * 9.81 / g.totalArea);
+    EXPECT_NEAR(row.pressureWallCentre, 9.81 / (0.25 * g.totalArea), 1e-9 * 9.81 / g.totalArea);
+    // The virial route: no kinetic energy, no pairs; the floor's push is not a pair impulse.
+    EXPECT_NEAR(row.pressureVirial, 0.0, 1e-12);
+}
+
+TEST_P(DenseContact, MomentumGivenToTheWallsBalancesGravityInAPile) {
+    // 400 balls of radius 0.5 dropped from a lattice into a 10 x 24 x 10 box (gravity -9.81 along y,
+    // restitution 0.5, dt = 1/240). Newton over any window, with the walls the only external impulses
+    // besides gravity: p(t1) - p(t0) = M g (t1 - t0) + sum over walls of the momentum they gave (each
+    // wall receives I_w along its outward normal and gives it back inward), to rounding. This holds
+    // while the balls land (impacts) and once the pile rests (contacts carry the weight, layer by
+    // layer, to the floor). Once the pile rests (4 s after the drop) p hardly changes: the floor bears the
+// weight, M g t, within 1%.
+    Scene scene = hardSphereScene(400, 10.0, Method::Verlet, 1.0 / 240);
+    scene.box.size = {10.0, 24.0, 10.0};
+    scene.interaction.gravity = {0, -9.81, 0};
+    scene.interaction.restitution = 0.5;
+    scene.box.wallRestitution = 0.5;
+    scene.init.temperature = 0.1;
+    auto sim = makeSimulation(backendName(), scene);
+    const double mass = 400.0, g = 9.81;
+    ObservablesRow start = sim->observe();
+    const double potential0 = start.potential;
+    for (const auto& [steps, settledWindow] : {std::pair<int, bool>{480, false}, {720, false}, {240, true}}) {
+        for (int s = 0; s < steps; ++s) sim->step();
+        const ObservablesRow end = sim->observe();
+        const ImpulseSums& I = end.impulses;
+        const double weight = mass * g * end.window;
+        SCOPED_TRACE("window ending at t = " + std::to_string(end.time));
+        // Outward normals: -x, +x, -y, +y, -z, +z for walls 0 .. 5.
+        EXPECT_NEAR(end.px - start.px, I.wall[0] - I.wall[1], 1e-9 * weight);
+        EXPECT_NEAR(end.py - start.py, -weight + I.wall[2] - I.wall[3], 1e-9 * weight);
+        EXPECT_NEAR(end.pz - start.pz, I.wall[4] - I.wall[5], 1e-9 * weight);
+        if (settledWindow) {
+            // At rest as `corebox bench pile` judges it: kinetic energy a small fraction of what fell.
+            EXPECT_LT(end.kinetic, 1e-3 * (potential0 - end.potential)) << "the pile is not at rest";
+            EXPECT_NEAR(I.wall[2], weight, 0.01 * weight) << "the floor does not bear the pile's weight";
+            EXPECT_GT(I.pairVirial, 0.0);  // contacts between balls carry it down
+            RecordProperty("floor_over_weight", std::to_string(I.wall[2] / weight));
+        }
+        start = end;
     }
 }

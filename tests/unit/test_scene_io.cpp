@@ -150,6 +150,23 @@ TEST(SceneIoPresets, PresetsSetTheirDefiningPhysics) {
     EXPECT_EQ(bouncing.thermostat.kind, ThermostatKind::None);
 }
 
+// assets/dense_hard_spheres.toml (4,000 spheres at packing fraction 0.45: outside kPresets, which are
+// dilute) is the elastic hard-sphere fluid of the dense tests and `corebox bench hardspheres`.
+TEST(SceneIoPresets, DenseHardSpheresIsTheElasticFluidAtPhi045) {
+    const Scene dense = loadScene(presetPath("dense_hard_spheres"));
+    ASSERT_EQ(dense.species.size(), 1u);
+    const SpeciesDef& s = dense.species[0];
+    EXPECT_EQ(s.epsilon, 0.0);
+    EXPECT_EQ(s.radius, 0.5);
+    EXPECT_EQ(dense.interaction.restitution, 1.0);
+    EXPECT_EQ(dense.box.wallRestitution, 1.0);
+    EXPECT_EQ(dense.interaction.gravity, (std::array<double, 3>{0, 0, 0}));
+    EXPECT_EQ(dense.thermostat.kind, ThermostatKind::None);
+    const double volume = dense.box.size[0] * dense.box.size[1] * dense.box.size[2];
+    EXPECT_NEAR(double(s.count) * 3.14159265358979323846 / 6.0 / volume, 0.45, 5e-4);
+    expectSameScene(parseScene(sceneToToml(dense), "round_trip.toml"), dense);
+}
+
 // assets/pile.toml (10^4 balls, not cheap: outside kPresets) is the scene the pile benchmark builds in
 // code at that N, field for field, so the preset and the benchmark measure one scene.
 TEST(SceneIoPresets, PileIsTheBenchmarkScene) {

@@ -1,0 +1,34 @@
+// The CUDA backend's sums for the pressure observables (src/core/pressure.h): the pair-force virial
+// (kernels/pressure_kernels.cu) and the impulse rows the collision stage fills per particle
+// (impulse_sums.h). Only the sums cross to the host, added in block order: deterministic.
+#include "cuda_device.h"
+
+namespace corebox {
+
+template <class Real>
+ImpulseSums CudaDevice<Real>::sumImpulseRows(const DeviceBuffer<double>& rows) {
+    const int blocks = queuePartialSums(rows.data(), kImpulseRows);
+    sync();
+    const std::vector<double> sums = hostPartialSums(kImpulseRows, blocks);
+    ImpulseSums out;
+    for (int k = 0; k < kWallCount; ++k) {
+        out.wall[k] = sums[size_t(k)];
+        out.wallCentre[k] = sums[size_t(kWallCount + k)];
+    }
+    out.pairVirial = sums[size_t(kPairVirialRow)];
+    return out;
+}
+
+template <class Real>
+double CudaDevice<Real>::pairVirial() {
+    if (!m_model.anyPairForce || m_n == 0) return 0;
+    gatherToHome();
+    m_rows.resize(size_t(m_n));
+    gpu::launchPairVirialRow(arrays(), table(), m_rows.data(), stream());
+    return sumRows(1)[0];
+}
+
+template class CudaDevice<float>;
+template class CudaDevice<double>;
+
+}  // namespace corebox
