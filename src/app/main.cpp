@@ -298,6 +298,8 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     spheresCmd->add_option("--sample-every", spheres.sampleEvery, "Bulk sample every K steps (default: 1 on cpu, 10 on cuda)")
         ->check(CLI::PositiveNumber);
+    spheresCmd->add_option("--margin", spheres.margin,
+                           "Bulk region: diameters inside the region open to centres (default: 3 below phi 0.4, 5 from it)");
     spheresCmd->add_option("--seed", spheres.seed, "Initial velocities' seed")->capture_default_str();
     spheresCmd->add_option("--threads", spheres.threads, "CPU threads (0: all cores)")->capture_default_str();
     spheresCmd->add_option("--out", spheres.outputPrefix, "Write OUT.csv and OUT.json");

@@ -27,6 +27,7 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDefaultMeasureTime = 8.0;  // tau, when --steps is not given
+constexpr int kEquilibrationStretches = 8;   // velocities redrawn before each
 
 std::string csvQuote(const std::string& text) {
     std::string out = "\"";
@@ -49,20 +50,20 @@ HardSphereRunResult runOne(const HardSphereBenchmarkOptions& o, const std::strin
     const int sampleEvery = o.sampleEvery > 0 ? o.sampleEvery : (backend == "cpu" ? 1 : 10);
     std::unique_ptr<Simulation> sim;
     try {
-        sim = std::make_unique<Simulation>(scene, makeBackend(BackendChoice{backend, o.precision, o.threads, 0}), makeInitialState(scene));
+        // Isothermal equilibration (hard_sphere_measures.h): stretches with velocities redrawn before each.
+        int stretch = 0;
+        sim = equilibrateIsothermally(scene, makeInitialState(scene), o.equilibrate, kEquilibrationStretches,
+                                      [&](const Scene& sc, const ParticleState& st) {
+                                          std::fprintf(stderr, "[corebox] bench hardspheres: phi %.3g, N = %lld: equilibrating, stretch %d of %d\n",
+                                                       phi, (long long)o.n, ++stretch, kEquilibrationStretches);
+                                          return std::make_unique<Simulation>(
+                                              sc, makeBackend(BackendChoice{backend, o.precision, o.threads, 0}), st);
+                                      });
         r.device = sim->backend().deviceName();
-        const int64_t equilibrationSteps = std::llround(o.equilibrate / r.dt);
         Clock::time_point lastProgress = Clock::now();
-        for (int64_t s = 0; s < equilibrationSteps; ++s) {
-            sim->step();
-            if (secondsSince(lastProgress) > 2.0) {
-                lastProgress = Clock::now();
-                std::fprintf(stderr, "[corebox] bench hardspheres: phi %.3g, N = %lld: equilibrating, t = %.3f of %.3f\n", phi,
-                             (long long)o.n, sim->time(), o.equilibrate);
-            }
-        }
         const ObservablesRow start = sim->observe();  // opens the pressure window
-        BulkSampler bulk{bulkRegionOf(scene.box.size, 0.5, o.margin)};
+        r.margin = o.margin > 0 ? o.margin : (phi < 0.4 ? 3.0 : 5.0);
+        BulkSampler bulk{bulkRegionOf(scene.box.size, 0.5, r.margin)};
         double stepSeconds = 0;
         int64_t pairs = 0;
         ParticleState before;
@@ -131,7 +132,7 @@ HardSphereRunResult runOne(const HardSphereBenchmarkOptions& o, const std::strin
 }
 
 const char* const kCsvHeader =
-    "backend,device,precision,threads,n,phi,box,dt,equilibrate,steps,measured_time,phi_bulk,density_bulk,temperature_bulk,"
+    "backend,device,precision,threads,n,phi,box,dt,equilibrate,steps,measured_time,margin,phi_bulk,density_bulk,temperature_bulk,"
     "temperature,z_cs,z_wall,z_wall_centre,z_virial,z_bulk_virial,pressure_wall,pressure_wall_centre,pressure_virial,"
     "pressure_bulk_virial,rate_bulk,rate_enskog,rate_box,energy_drift,dissipated_relative,steps_per_second,"
     "collisions_per_particle_step,round_cap_hits,max_rounds,outcome,message\n";
@@ -139,10 +140,10 @@ const char* const kCsvHeader =
 std::string csvRow(const HardSphereRunResult& r) {
     char line[2048];
     std::snprintf(line, sizeof line,
-                  "%s,%s,%s,%d,%lld,%.4g,%.6g,%.6g,%.4g,%lld,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,"
+                  "%s,%s,%s,%d,%lld,%.4g,%.6g,%.6g,%.4g,%lld,%.6g,%g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,"
                   "%.6g,%.6g,%.6g,%.3e,%.3e,%.4g,%.5g,%lld,%d,%s,",
                   r.backend.c_str(), csvQuote(r.device).c_str(), r.precision.c_str(), r.threads, (long long)r.n, r.phi, r.box, r.dt,
-                  r.equilibrate, (long long)r.steps, r.measuredTime, r.phiBulk, r.densityBulk, r.temperatureBulk, r.temperature, r.zCs,
+                  r.equilibrate, (long long)r.steps, r.measuredTime, r.margin, r.phiBulk, r.densityBulk, r.temperatureBulk, r.temperature, r.zCs,
                   r.zWall, r.zWallCentre, r.zVirial, r.zBulkVirial, r.pressureWall, r.pressureWallCentre, r.pressureVirial,
                   r.pressureBulkVirial, r.rateBulk, r.rateEnskog, r.rateBox, r.energyDrift, r.dissipatedRelative, r.stepsPerSecond,
                   r.collisionsPerParticleStep, (long long)r.roundCapHits, r.maxRounds, r.outcome.c_str());
@@ -152,7 +153,7 @@ std::string csvRow(const HardSphereRunResult& r) {
 nlohmann::json resultJson(const HardSphereRunResult& r) {
     return {{"backend", r.backend}, {"device", r.device}, {"precision", r.precision}, {"threads", r.threads}, {"n", r.n},
             {"phi", r.phi}, {"box", r.box}, {"dt", r.dt}, {"equilibrate", r.equilibrate}, {"steps", r.steps},
-            {"measured_time", r.measuredTime}, {"phi_bulk", r.phiBulk}, {"density_bulk", r.densityBulk},
+            {"measured_time", r.measuredTime}, {"margin", r.margin}, {"phi_bulk", r.phiBulk}, {"density_bulk", r.densityBulk},
             {"temperature_bulk", r.temperatureBulk}, {"temperature", r.temperature}, {"z_cs", r.zCs}, {"z_wall", r.zWall},
             {"z_wall_centre", r.zWallCentre}, {"z_virial", r.zVirial}, {"z_bulk_virial", r.zBulkVirial},
             {"pressure_wall", r.pressureWall}, {"pressure_wall_centre", r.pressureWallCentre}, {"pressure_virial", r.pressureVirial},
@@ -163,12 +164,15 @@ nlohmann::json resultJson(const HardSphereRunResult& r) {
 }
 
 nlohmann::json methodJson(const HardSphereBenchmarkOptions& o) {
-    return {{"scene", "N spheres of diameter 1, mass 1, restitution 1 (walls too), no pair force, no gravity, no thermostat, kT = 1, "
+    return {{"equilibration", "the time --equilibrate in " + std::to_string(kEquilibrationStretches) +
+                                  " stretches, every velocity redrawn from Maxwell-Boltzmann (kT = 1) before each, so that the density "
+                                  "settles isothermally; measured without"},
+            {"scene", "N spheres of diameter 1, mass 1, restitution 1 (walls too), no pair force, no gravity, no thermostat, kT = 1, "
                       "simple cubic lattice start, velocity Verlet; cubic box with N pi / (6 L^3) = phi"},
             {"dt", "collisions_per_step / Enskog frequency at the box's phi"},
             {"collisions_per_step", o.collisionsPerStep},
             {"equilibrate", o.equilibrate},
-            {"bulk", "cube " + std::to_string(o.margin) + " diameters inside the region open to centres [a, L - a]^3: density, "
+            {"bulk", "cube `margin` diameters inside the region open to centres [a, L - a]^3: density, "
                      "temperature, collision frequency (-ln(1 - fraction of particles whose velocity changed in a step) / dt) and "
                      "virial pressure (sigma sum m |dv| / (6 V t) + kinetic) from state samples"},
             {"z", "P / (n_bulk kT_bulk); Carnahan-Starling at phi_bulk"},

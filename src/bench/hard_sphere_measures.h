@@ -22,8 +22,11 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 
+#include "initial_conditions.h"
 #include "particle_state.h"
+#include "simulation.h"
 
 namespace corebox {
 
@@ -111,5 +114,23 @@ struct BulkSampler {
         return kinetic2 / (3.0 * region.volume * double(stepSamples)) + sigma * impulse / (6.0 * region.volume * sampledTime);
     }
 };
+
+// Runs the scene for `time` tau in `stretches` stretches from `state`, redrawing every velocity
+// (Maxwell-Boltzmann at the scene's temperature, seed + stretch) before each; returns the simulation
+// that ran the last stretch, ready to measure. make(scene, state) builds a Simulation.
+template <class Make>
+std::unique_ptr<Simulation> equilibrateIsothermally(const Scene& scene, ParticleState state, double time, int stretches, Make&& make) {
+    std::unique_ptr<Simulation> sim;
+    const int64_t steps = std::llround(time / scene.integrator.dt / std::max(stretches, 1));
+    for (int k = 0; k < std::max(stretches, 1); ++k) {
+        Scene draw = scene;
+        draw.init.seed = scene.init.seed + uint64_t(k) + 1;
+        assignMaxwellBoltzmannVelocities(draw, state);
+        sim = make(scene, state);
+        for (int64_t s = 0; s < steps; ++s) sim->step();
+        state = sim->state();
+    }
+    return sim;
+}
 
 }  // namespace corebox
