@@ -114,7 +114,9 @@ inline Scene hardSphereFluidScene(int64_t n, double phi, Precision precision, do
     sphere.sigma = 1.0;
     sphere.epsilon = 0.0;
     scene.species = {sphere};
-    const double edge = std::cbrt(double(n) * 3.14159265358979323846 / (6.0 * phi));
+    // One part in 10^12 larger: the cube root and packing.h's N (4/3) pi a^3 / L^3 round differently, and
+    // phi = 0.45 exactly (packing.h's limit) would otherwise be refused for some N (50000 is one).
+    const double edge = std::cbrt(double(n) * 3.14159265358979323846 / (6.0 * phi)) * (1.0 + 1e-12);
     scene.box.size = {edge, edge, edge};
     scene.box.wallRestitution = 1.0;
     scene.interaction.restitution = 1.0;
