@@ -45,12 +45,12 @@ void prepareHeadless(RunOptions& options) {
     if (h.frames < 1) throw InputError("--frames: must be >= 1 (got " + std::to_string(h.frames) + ")");
     if (h.stepsPerFrame < 1) throw InputError("--steps-per-frame: must be >= 1");
     if (h.outDir.empty()) throw InputError("--headless needs --out DIR for the frames");
+    if (!h.videoPath.empty()) checkVideoPath(h.videoPath);  // before anything is created
     std::error_code ec;
     std::filesystem::create_directories(h.outDir, ec);
     if (ec) throw InputError("--out: cannot create directory '" + h.outDir + "': " + ec.message());
     checkWritable(h.outDir + "/frame_000000.png", "--out");
     if (!h.videoPath.empty()) {
-        checkVideoPath(h.videoPath);
         checkWritable(h.videoPath, "--video");
         requireFfmpeg();
     }
