@@ -132,8 +132,13 @@ private:
                           what.c_str(), value, precision, bound, fp32 ? " or use precision = \"fp64\"" : "");
             m_where.fail(key, text);
         };
+        // Masses and lengths are inverted (1/m, 1/sigma, cells per length), so they have a floor;
+        // energies are not, so a tiny epsilon or temperature is fine.
         auto inRange = [&](const std::string& key, const std::string& what, double value) {
             if (value > 0 && !(value >= 1.0 / bound && value <= bound)) fail(key, what, value);
+        };
+        auto below = [&](const std::string& key, const std::string& what, double value) {
+            if (!(value <= bound)) fail(key, what, value);
         };
         double massMin = std::numeric_limits<double>::infinity(), massMax = 0, sigmaMin = massMin, epsMax = 0;
         for (size_t i = 0; i < scene.species.size(); ++i) {
@@ -142,7 +147,7 @@ private:
             inRange(path + ".mass", "the mass", s.mass);
             inRange(path + ".radius", "the radius", s.radius);
             inRange(path + ".sigma", "sigma", s.sigma);
-            inRange(path + ".epsilon", "epsilon", s.epsilon);
+            below(path + ".epsilon", "epsilon", s.epsilon);
             massMin = std::min(massMin, s.mass);
             massMax = std::max(massMax, s.mass);
             sigmaMin = std::min(sigmaMin, s.sigma);
@@ -154,8 +159,8 @@ private:
         const double n = double(std::max<int64_t>(scene.particleCount(), 1));
         const double g = std::hypot(scene.interaction.gravity[0], scene.interaction.gravity[1], scene.interaction.gravity[2]);
         if (!(g <= bound)) fail("interaction.gravity", "|g|", g);
-        inRange("init.temperature", "kT", scene.init.temperature);
-        inRange("thermostat.temperature", "kT", scene.thermostat.temperature);
+        below("init.temperature", "kT", scene.init.temperature);
+        below("thermostat.temperature", "kT", scene.thermostat.temperature);
         // Energies summed over the system: pair wells, thermal energy, the height of the box in a field.
         const struct {
             const char* key;
