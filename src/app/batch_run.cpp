@@ -1,13 +1,12 @@
 #include "batch_run.h"
 
 #include <cstdio>
-#include <iostream>
 #include <memory>
 
-#include "atomic_file.h"
 #include "error_report.h"
 #include "initial_conditions.h"
-#include "observables.h"
+#include "interruption.h"
+#include "observables_output.h"
 #include "progress.h"
 #include "state_csv.h"
 
@@ -15,7 +14,8 @@ namespace corebox {
 
 int runBatch(const RunOptions& options, const Scene& scene) {
     std::unique_ptr<Simulation> sim;
-    std::unique_ptr<AtomicFile> observablesFile;
+    std::unique_ptr<ObservablesOutput> observables;
+    int exitCode = kExitOk;
     auto body = [&] {
         const ParticleState initial = makeInitialState(scene);
         std::unique_ptr<Backend> backend = makeBackend(backendChoiceFor(scene, options.backend));
@@ -26,17 +26,20 @@ int runBatch(const RunOptions& options, const Scene& scene) {
         SimulationLimits limits;
         limits.maxEnergyDrift = options.maxEnergyDrift;
         sim = std::make_unique<Simulation>(scene, std::move(backend), initial, limits);
-        if (!options.observablesPath.empty()) observablesFile = std::make_unique<AtomicFile>(options.observablesPath);
+        observables = std::make_unique<ObservablesOutput>(options.observablesPath);
 
-        std::ostream& out = observablesFile ? observablesFile->stream() : std::cout;
-        out << observablesHeader(sim->scene()) << '\n';
+        observables->header(sim->scene());
         ProgressReporter progress(options.steps, !options.quiet);
         const double dof = 3.0 * double(std::max<int64_t>(sim->particleCount(), 1));
         int64_t capHitsReported = 0;
-        writeObservablesRow(out, sim->observe());
-        for (int64_t s = 1; s <= options.steps; ++s) {
+        observables->row(sim->observe());
+        int64_t lastRow = 0;
+        for (int64_t s = 1; s <= options.steps && !interruptRequested(); ++s) {
             sim->step();
-            if (s % options.every == 0 || s == options.steps) writeObservablesRow(out, sim->observe());
+            if (s % options.every == 0 || s == options.steps) {
+                observables->row(sim->observe());
+                lastRow = s;
+            }
             if (sim->roundCapHits() > capHitsReported) {
                 std::fprintf(stderr, "[corebox] warning: step %lld: overlaps remained after %d collision rounds (%lld steps so far); "
                              "consider a smaller dt or a larger [interaction] max_collision_rounds\n",
@@ -45,17 +48,30 @@ int runBatch(const RunOptions& options, const Scene& scene) {
             }
             progress.update(s, sim->time(), 2.0 * sim->lastKineticEnergy() / dof);
         }
+        if (interruptRequested()) {
+            // The step in progress has finished: the table ends at the current state, which is kept.
+            const int64_t step = sim->stepIndex();
+            if (step != lastRow) observables->row(sim->observe());
+            observables->commit();
+            const std::string statePath = interruptedStatePath(options);
+            writeStateCsv(statePath, sim->state());
+            std::fprintf(stderr, "[corebox] %s: stopped after step %lld of %lld; observables in %s, state in %s\n", interruptName(),
+                         (long long)step, (long long)options.steps, observables->where().c_str(), statePath.c_str());
+            exitCode = interruptExitCode();
+            return;
+        }
         progress.finish(options.steps, sim->time(), 2.0 * sim->lastKineticEnergy() / dof);
-        if (observablesFile) observablesFile->commit();
+        observables->commit();
         if (!options.stateOutPath.empty()) writeStateCsv(options.stateOutPath, sim->state());
     };
     auto afterInstability = [&] {
         if (!sim) return;
         keepAfterInstability(options, *sim, [&] {
-            if (observablesFile) observablesFile->commit();
+            if (observables) observables->commit();
         });
     };
-    return runReportingErrors(body, afterInstability);
+    const int code = runReportingErrors(body, afterInstability);
+    return code != kExitOk ? code : exitCode;
 }
 
 }  // namespace corebox

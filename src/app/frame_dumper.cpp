@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "atomic_file.h"
 #include "errors.h"
 
 namespace corebox {
@@ -42,8 +43,29 @@ void requireFfmpeg() {
     }
 }
 
+namespace {
+
+// Through atomic_file.h, so a frame or screenshot path that is a link, a device or a FIFO is treated
+// like every other output, and an interrupted run leaves no half-written PNG under a temporary name.
+void writePngBytes(const std::string& path, const std::vector<uint8_t>& png) {
+    writeOutputFile(path, std::string(png.begin(), png.end()));
+}
+
+}  // namespace
+
 void writeOutputPng(const std::string& path, const Image& image) {
-    asOutput(path, [&] { writePng(path, image); });
+    asOutput(path, [&] { writePngBytes(path, encodePng(image)); });
+}
+
+void checkVideoPath(const std::string& path) {
+    const size_t slash = path.find_last_of('/');
+    const size_t dot = path.find_last_of('.');
+    const std::string ext = dot == std::string::npos || (slash != std::string::npos && dot < slash) ? "" : path.substr(dot + 1);
+    for (const char* known : {"mp4", "mkv", "mov", "avi"}) {
+        if (ext == known) return;
+    }
+    throw InputError("--video: '" + path + "' has " + (ext.empty() ? std::string("no extension") : "the extension ." + ext) +
+                     "; the container comes from it: one of .mp4, .mkv, .mov, .avi (H.264 video)");
 }
 
 FrameDumper::FrameDumper(const FrameDumpOptions& options, const std::array<float, 3>& boxSize)
@@ -56,14 +78,24 @@ FrameDumper::FrameDumper(const FrameDumpOptions& options, const std::array<float
     m_timings.encoders = std::max(1, int(std::thread::hardware_concurrency()));
     if (!options.videoPath.empty()) {
         requireFfmpeg();
-        // ffmpeg picks the container from the extension, so the temporary keeps it.
+        checkVideoPath(options.videoPath);
+        // ffmpeg picks the container from the extension, so the temporary keeps it; it lies beside
+        // the file a link names, so that the rename replaces that file and keeps the link.
+        m_videoTarget = inspectOutput(options.videoPath);
         const size_t dot = options.videoPath.find_last_of('.');
-        const std::string ext = dot == std::string::npos ? ".mp4" : options.videoPath.substr(dot);
-        m_videoTemp = options.videoPath + ".tmp-" + std::to_string(::getpid()) + ext;
-        const std::string cmd = "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgba -s " + std::to_string(options.width) + "x" +
+        const std::string ext = options.videoPath.substr(dot);
+        if (m_videoTarget.kind == OutputKind::Regular || m_videoTarget.kind == OutputKind::Missing) {
+            m_videoTemp = m_videoTarget.target + ".tmp-" + std::to_string(::getpid()) + ext;
+            m_videoSlot = registerTemporaryFile(m_videoTemp);
+        }
+        // setsid: ffmpeg in a session of its own, so the terminal's Ctrl-C reaches corebox alone,
+        // which then closes the video properly (interruption.h) instead of losing it with ffmpeg.
+        const std::string output = m_videoTemp.empty() ? m_videoTarget.target : m_videoTemp;
+        const std::string format = m_videoTemp.empty() ? " -f " + std::string(ext == ".mkv" ? "matroska" : ext.substr(1)) : "";
+        const std::string cmd = "exec setsid ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgba -s " + std::to_string(options.width) + "x" +
                                 std::to_string(options.height) + " -r " + std::to_string(options.videoFps) +
-                                " -i - -c:v libx264 -pix_fmt yuv420p -vf " + shellQuote("pad=ceil(iw/2)*2:ceil(ih/2)*2") + " " +
-                                shellQuote(m_videoTemp);
+                                " -i - -c:v libx264 -pix_fmt yuv420p -vf " + shellQuote("pad=ceil(iw/2)*2:ceil(ih/2)*2") + format + " " +
+                                shellQuote(output);
         m_video = ::popen(cmd.c_str(), "w");
         if (!m_video) throw InputError("--video: cannot start ffmpeg for " + options.videoPath);
     }
@@ -78,8 +110,9 @@ FrameDumper::~FrameDumper() {
     }
     if (m_video) {
         ::pclose(m_video);
-        std::remove(m_videoTemp.c_str());
+        if (!m_videoTemp.empty()) std::remove(m_videoTemp.c_str());
     }
+    releaseTemporaryFile(m_videoSlot);
 }
 
 std::string FrameDumper::framePath(const std::string& dir, int64_t index) {
@@ -111,7 +144,7 @@ void FrameDumper::writeFrame(int64_t index, const RenderStyle& style, const std:
     m_timings.encodeWait += since(t);
     auto image = std::make_shared<const Image>(m_image);
     const std::string path = framePath(m_options.outDir, index);
-    m_encoding.push_back(std::async(std::launch::async, [image, path] { asOutput(path, [&] { writeFileAtomic(path, encodePng(*image)); }); }));
+    m_encoding.push_back(std::async(std::launch::async, [image, path] { asOutput(path, [&] { writePngBytes(path, encodePng(*image)); }); }));
     ++m_timings.frames;
 }
 
@@ -126,11 +159,14 @@ bool FrameDumper::finish() {
     if (!m_video) return true;
     const int status = ::pclose(m_video);
     m_video = nullptr;
-    if (status != 0 || std::rename(m_videoTemp.c_str(), m_options.videoPath.c_str()) != 0) {
-        std::remove(m_videoTemp.c_str());
-        return false;
+    bool ok = status == 0;
+    if (!m_videoTemp.empty()) {
+        ok = ok && std::rename(m_videoTemp.c_str(), m_videoTarget.target.c_str()) == 0;
+        if (!ok) std::remove(m_videoTemp.c_str());
     }
-    return true;
+    releaseTemporaryFile(m_videoSlot);
+    m_videoSlot = -1;
+    return ok;
 }
 
 }  // namespace corebox

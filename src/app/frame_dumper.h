@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "atomic_file.h"
 #include "egl_headless_context.h"
 #include "image_io.h"
 #include "offscreen_target.h"
@@ -72,7 +73,9 @@ private:
     OrbitCamera m_camera;
     Image m_image;
     std::FILE* m_video = nullptr;
-    std::string m_videoTemp;
+    OutputTarget m_videoTarget;
+    std::string m_videoTemp;  // "" when ffmpeg writes to a device or FIFO directly
+    int m_videoSlot = -1;     // the temporary's entry in atomic_file.h's registry
     FrameTimings m_timings;
     std::deque<std::future<void>> m_encoding;
     std::chrono::steady_clock::time_point m_firstFrame;
@@ -80,6 +83,10 @@ private:
 
 // Throws InputError with advice when ffmpeg is not on PATH.
 void requireFfmpeg();
+
+// Throws InputError unless the video path ends in a container ffmpeg writes H.264 into (.mp4, .mkv,
+// .mov, .avi): checked when the run starts, not when ffmpeg refuses the file after the first frame.
+void checkVideoPath(const std::string& path);
 
 // writePng for a file the user asked for (frames, screenshots): throws InputError naming the path.
 void writeOutputPng(const std::string& path, const Image& image);

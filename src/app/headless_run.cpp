@@ -6,6 +6,7 @@
 #include "errors.h"
 #include "frame_dumper.h"
 #include "imgui_layer.h"
+#include "interruption.h"
 #include "panels.h"
 #include "platform_error.h"
 #include "progress.h"
@@ -99,11 +100,10 @@ int runHeadlessFrames(const RunOptions& options, const Scene& scene) {
                 std::fprintf(stderr, "[corebox] screenshot written to %s\n", e.screenshotPath.c_str());
             }
             progress.update(live.simulation().stepIndex(), live.simulation().time(), live.history().temperature.empty() ? 0.0 : live.history().temperature.back());
-            if (e.quit) break;
+            if (e.quit || interruptRequested()) break;  // the frame of the current state is drawn
         }
         if (!options.screenshotPath.empty()) writeOutputPng(options.screenshotPath, frames->lastImage());
-        live.finish();
-        if (!options.stateOutPath.empty()) writeStateCsv(options.stateOutPath, live.simulation().state());
+        finishLiveRun(options, live);
         reportFrames(options, *frames);
     });
 }

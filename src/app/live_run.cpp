@@ -1,5 +1,6 @@
 #include "live_run.h"
 
+#include "interruption.h"
 #include "observables.h"
 #include "speed_distributions.h"
 
@@ -10,8 +11,8 @@ using Clock = std::chrono::steady_clock;
 LiveRun::LiveRun(const Scene& scene, const BackendChoice& backend, LiveRunOptions options, SimulationLimits limits)
     : m_options(std::move(options)), m_session(scene, backend, limits), m_controls(m_session), m_rateStart(Clock::now()) {
     if (!m_options.observablesPath.empty()) {
-        m_observables = std::make_unique<AtomicFile>(m_options.observablesPath);
-        m_observables->stream() << observablesHeader(scene) << '\n';
+        m_observables = std::make_unique<ObservablesOutput>(m_options.observablesPath);
+        m_observables->header(scene);
     }
     m_performance.backend = simulation().backend().name();
     m_performance.device = simulation().backend().deviceName();
@@ -27,7 +28,7 @@ void LiveRun::observe(int64_t stepsSinceLast) {
     const Scene& s = simulation().scene();
     m_history.push(m_lastRow, m_conserved0 != 0 ? m_conserved0 : m_lastRow.conserved(),
                    s.thermostat.kind == ThermostatKind::None ? 0.0 : s.thermostat.temperature, stepsSinceLast);
-    if (m_observables) writeObservablesRow(m_observables->stream(), m_lastRow);
+    if (m_observables) m_observables->row(m_lastRow);
     m_lastObservedStep = simulation().stepIndex();
 }
 
@@ -56,6 +57,7 @@ ScriptEffects LiveRun::advance(int64_t steps, double budgetSeconds) {
         if (step % m_options.observeEvery == 0) observe(step - m_lastObservedStep);
         runDue();
         if (budgetSeconds > 0 && std::chrono::duration<double>(Clock::now() - start).count() > budgetSeconds) break;
+        if (interruptRequested()) break;
     }
     return effects;
 }
@@ -99,6 +101,11 @@ void LiveRun::recordFrame(double msInterop, double msRender) {
     m_rateStart = Clock::now();
     m_rateSteps = m_rateFrames = 0;
     m_stepSeconds = m_observeSeconds = m_forceSeconds = m_integrateSeconds = m_collideSeconds = 0;
+}
+
+void LiveRun::observeNow() {
+    const int64_t step = simulation().stepIndex();
+    if (step != m_lastObservedStep) observe(step - m_lastObservedStep);
 }
 
 void LiveRun::finish() {

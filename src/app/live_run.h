@@ -9,7 +9,7 @@
 #include <optional>
 #include <string>
 
-#include "atomic_file.h"
+#include "observables_output.h"
 #include "script.h"
 #include "script_runner.h"
 #include "session.h"
@@ -36,7 +36,8 @@ public:
 
     // Runs up to `steps` steps (stopping early for a script's quit/screenshot/reset, or once
     // `budgetSeconds` > 0 of stepping has passed, so a window stays responsive whatever steps/frame
-    // asks), observing when due. Throws InstabilityError.
+    // asks, or after the step in progress when SIGINT/SIGTERM arrives: interruption.h), observing
+    // when due. Throws InstabilityError.
     ScriptEffects advance(int64_t steps, double budgetSeconds = 0);
     // Restart from the controls' pending scene; clears the plots.
     std::string reset();
@@ -45,6 +46,8 @@ public:
     void refreshSpeedDistributions();
     void recordFrame(double msInterop, double msRender);
     void finish();  // commits the observables file
+    // An interrupted run: a last observables row for the current step (unless it has one).
+    void observeNow();
 
     const ObservableHistory& history() const { return m_history; }
     const SpeedDistributionData& speeds() const { return m_speeds; }
@@ -61,7 +64,7 @@ private:
     ObservableHistory m_history;
     SpeedDistributionData m_speeds;
     PerformanceData m_performance;
-    std::unique_ptr<AtomicFile> m_observables;
+    std::unique_ptr<ObservablesOutput> m_observables;
     ObservablesRow m_lastRow;
     int64_t m_lastObservedStep = 0;
     double m_conserved0 = 0;

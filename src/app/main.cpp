@@ -14,6 +14,7 @@
 #include "force_benchmark.h"
 #include "hard_sphere_benchmark.h"
 #include "glfw_window.h"
+#include "interruption.h"
 #include "p2p_benchmark.h"
 #include "pile_benchmark.h"
 #include "run_command.h"
@@ -95,6 +96,7 @@ std::string commandLine(int argc, char** argv) {
 
 int main(int argc, char** argv) {
     using namespace corebox;
+    ignoreBrokenPipes();
     CLI::App app{"corebox: hard-core particles with Lennard-Jones forces in a rigid box"};
     app.set_version_flag("--version", std::string("corebox ") + COREBOX_VERSION);
     app.require_subcommand(0, 1);
@@ -313,7 +315,10 @@ int main(int argc, char** argv) {
     }
     if (*dtOpt) run.dt = dt;
     if (*seedOpt) run.seed = seed;
-    if (*runCmd) return runCommand(run);
+    if (*runCmd) {
+        installInterruptHandlers();
+        return runCommand(run);
+    }
     if (app.get_subcommands().empty()) {
         // `corebox` alone: the default scene in a window.
         if (!GlfwWindow::displayAvailable()) {
@@ -321,6 +326,7 @@ int main(int argc, char** argv) {
                 InputError("no display; try `corebox run SCENE --headless --frames N --out DIR`, see --help")));
         }
         run.scenePath = COREBOX_DEFAULT_SCENE;
+        installInterruptHandlers();
         return runCommand(run);
     }
     if (*throughputCmd) {

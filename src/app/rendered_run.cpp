@@ -1,8 +1,11 @@
 #include "rendered_run.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "error_report.h"
+#include "interruption.h"
+#include "state_csv.h"
 #include "scene_drawing.h"
 
 namespace corebox {
@@ -21,9 +24,25 @@ LiveRunOptions liveRunOptions(const RunOptions& options, int64_t observeEvery) {
 }
 
 int runRendered(const RunOptions& options, std::unique_ptr<LiveRun>& live, const std::function<void()>& body) {
-    return runReportingErrors(body, [&] {
+    const int code = runReportingErrors(body, [&] {
         if (live) keepAfterInstability(options, live->simulation(), [&] { live->finish(); });
     });
+    return code == kExitOk && interruptRequested() ? interruptExitCode() : code;
+}
+
+void finishLiveRun(const RunOptions& options, LiveRun& live) {
+    if (!interruptRequested()) {
+        live.finish();
+        if (!options.stateOutPath.empty()) writeStateCsv(options.stateOutPath, live.simulation().state());
+        return;
+    }
+    live.observeNow();
+    live.finish();
+    const std::string statePath = interruptedStatePath(options);
+    writeStateCsv(statePath, live.simulation().state());
+    std::fprintf(stderr, "[corebox] %s: stopped after step %lld; observables in %s, state in %s\n", interruptName(),
+                 (long long)live.simulation().stepIndex(), options.observablesPath.empty() ? "(none)" : options.observablesPath.c_str(),
+                 statePath.c_str());
 }
 
 RenderStyle liveRenderStyle(LiveRun& live) { return renderStyleFor(live.simulation().scene(), colorModeOf(live)); }

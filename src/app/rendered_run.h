@@ -24,8 +24,14 @@ int runHeadlessFrames(const RunOptions& options, const Scene& scene);
 LiveRunOptions liveRunOptions(const RunOptions& options, int64_t observeEvery);
 
 // Runs a frame loop's `body` through the one error path (runReportingErrors); after a blow-up the
-// observables so far and the last good state of `live` are kept, as in a batch run.
+// observables so far and the last good state of `live` are kept, as in a batch run. An interrupted
+// run that ended cleanly returns 128 + the signal.
 int runRendered(const RunOptions& options, std::unique_ptr<LiveRun>& live, const std::function<void()>& body);
+
+// The end of a frame loop: observables committed, the final state to --state-out; after SIGINT or
+// SIGTERM (interruption.h) a last row for the current step, the state at interruptedStatePath and
+// a line saying where both are.
+void finishLiveRun(const RunOptions& options, LiveRun& live);
 
 // The render style of the running scene in the colour mode the display settings ask for.
 RenderStyle liveRenderStyle(LiveRun& live);

@@ -1,5 +1,6 @@
 #include "run_command.h"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -11,6 +12,7 @@
 #include "glfw_window.h"
 #include "rendered_run.h"
 #include "scene_io.h"
+#include "scene_validation.h"
 #include "script.h"
 #include "state_csv.h"
 
@@ -24,7 +26,7 @@ void applyOverrides(const RunOptions& options, Scene& scene) {
         if (scene.integrator.adaptive && scene.integrator.method != Method::Dp5) scene.integrator.adaptive = false;
     }
     if (options.dt) {
-        if (!(*options.dt > 0)) throw InputError("--dt: must be > 0");
+        if (!(*options.dt > 0) || !std::isfinite(*options.dt)) throw InputError("--dt: must be a finite number > 0");
         scene.integrator.dt = *options.dt;
     }
     if (options.gpus) scene.devices.gpus = *options.gpus;
@@ -43,6 +45,7 @@ void prepareHeadless(RunOptions& options) {
     if (h.frames < 1) throw InputError("--frames: must be >= 1 (got " + std::to_string(h.frames) + ")");
     if (h.stepsPerFrame < 1) throw InputError("--steps-per-frame: must be >= 1");
     if (h.outDir.empty()) throw InputError("--headless needs --out DIR for the frames");
+    if (!h.videoPath.empty()) checkVideoPath(h.videoPath);  // before anything is created
     std::error_code ec;
     std::filesystem::create_directories(h.outDir, ec);
     if (ec) throw InputError("--out: cannot create directory '" + h.outDir + "': " + ec.message());
@@ -64,6 +67,21 @@ void checkOptions(const RunOptions& options) {
     if (!options.stateOutPath.empty()) checkWritable(options.stateOutPath, "--state-out");
 }
 
+// Every file the run reads and every file it writes: an output must be none of the inputs and no
+// other output (atomic_file.h).
+void checkOutputsApart(const RunOptions& options, const Scene& scene) {
+    std::vector<NamedPath> inputs{{"scene", options.scenePath}, {"init.particles file", scene.init.particlesFile},
+                                  {"--script", options.scriptPath}};
+    std::vector<NamedPath> outputs{{"--observables", options.observablesPath},
+                                   {"--state-out", options.stateOutPath},
+                                   {"--screenshot", options.screenshotPath}};
+    if (options.headless.enabled) {
+        outputs.push_back({"--video", options.headless.videoPath});
+        outputs.push_back({"--out (its first frame)", FrameDumper::framePath(options.headless.outDir, 0)});
+    }
+    checkDistinctPaths(inputs, outputs);
+}
+
 }  // namespace
 
 std::string lastGoodPath(const RunOptions& options) {
@@ -72,7 +90,7 @@ std::string lastGoodPath(const RunOptions& options) {
         if (base.size() > 4 && base.compare(base.size() - 4, 4, ".csv") == 0) base.resize(base.size() - 4);
         return base + ".last_good.csv";
     }
-    if (!options.observablesPath.empty()) {
+    if (!options.observablesPath.empty() && inspectOutput(options.observablesPath).kind != OutputKind::Stream) {
         const size_t slash = options.observablesPath.find_last_of('/');
         return (slash == std::string::npos ? std::string() : options.observablesPath.substr(0, slash + 1)) + "last_good_state.csv";
     }
@@ -97,8 +115,10 @@ int runCommand(const RunOptions& requested) {
         checkOptions(options);
         scene = loadScene(options.scenePath);
         applyOverrides(options, scene);
+        validateScene(scene, SceneLocations(options.scenePath));  // the overrides too (precision changes the bounds)
         if (!options.scriptPath.empty()) Script::load(options.scriptPath);  // errors before anything runs
         if (!options.screenshotPath.empty()) checkWritable(options.screenshotPath, "--screenshot");
+        checkOutputsApart(options, scene);
     });
     if (checked != kExitOk) return checked;
     if (options.headless.enabled) return runHeadlessFrames(options, scene);

@@ -13,6 +13,7 @@
 #include "frame_dumper.h"
 #include "glfw_window.h"
 #include "imgui_layer.h"
+#include "interruption.h"
 #include "panels.h"
 #include "preset_paths.h"
 #include "rendered_run.h"
@@ -136,7 +137,8 @@ int runWindow(const RunOptions& options, const Scene& scene) {
                     live->status = e.what();
                 }
             }
-            const bool lastFrame = (options.headless.frames > 0 && frame + 1 >= options.headless.frames) || effects.quit || quit;
+            const bool lastFrame =
+                (options.headless.frames > 0 && frame + 1 >= options.headless.frames) || effects.quit || quit || interruptRequested();
             if (actions.screenshot || !effects.screenshotPath.empty() || (lastFrame && !options.screenshotPath.empty())) {
                 const std::string path = !effects.screenshotPath.empty() ? effects.screenshotPath
                                          : actions.screenshot          ? timestampedScreenshotName()
@@ -153,8 +155,7 @@ int runWindow(const RunOptions& options, const Scene& scene) {
             if (lastFrame) break;
         }
         settingsFile.save(live->display());
-        live->finish();
-        if (!options.stateOutPath.empty()) writeStateCsv(options.stateOutPath, live->simulation().state());
+        finishLiveRun(options, *live);
     });
 }
 

@@ -6,6 +6,7 @@
 
 #include "errors.h"
 #include "host_cell_list.h"
+#include "memory_estimate.h"
 #include "packing.h"
 #include "rng.h"
 #include "state_csv.h"
@@ -149,6 +150,7 @@ ParticleState makeInitialState(const Scene& scene) {
     if (const std::optional<PackingProblem> problem = packingProblem(scene)) {
         throw InputError(locatedMessage(scene.sourcePath, 0, problem->key, problem->message));
     }
+    checkHostMemory(scene);  // before the first allocation sized by N or by the box
     if (!scene.init.particlesFile.empty()) {
         ParticleState state = readStateCsv(scene.init.particlesFile);
         std::vector<int64_t> counts(scene.species.size(), 0);

@@ -168,6 +168,125 @@ expect "unwritable screenshot" 2 "cannot write '$work/missing_dir/shot.png'" -- 
     run "$SRC/assets/hard_spheres.toml" --headless --software-gl --frames 3 --steps-per-frame 2 --size 64x64 \
     --out "$work/out/shots" --script "$work/shot.script"
 
+# Issue 11, never a crash: values that pass "> 0" but overflow (inf, products beyond the precision)
+# and scenes too large for the machine are input errors naming the key and the size, exit 2.
+rm -rf "$work/out" && mkdir -p "$work/out"
+expect "dt inf" 2 "--dt: must be a finite number" -- run "$work/good.toml" --dt inf --observables "$work/out/o.csv"
+scene eps_huge.toml "$(sed 's/radius = 0.5/radius = 0.5\nepsilon = 1e300/' <<<"$base")"
+expect "epsilon 1e300" 2 "eps_huge.toml:9: species\[0\].epsilon: epsilon is 1e\+300, beyond what fp64" -- run "$work/eps_huge.toml" --steps 5
+scene gravity_huge.toml "$base
+[interaction]
+gravity = [0, 0, -1e308]"
+expect "gravity 1e308" 2 "interaction.gravity: \|g\| is 1e\+308" -- run "$work/gravity_huge.toml" --steps 5
+scene temperature_huge.toml "$base
+[init]
+temperature = 1e308"
+expect "temperature 1e308" 2 "init.temperature: kT is 1e\+308" -- run "$work/temperature_huge.toml" --steps 5
+scene tiny_mass.toml "$(sed 's/mass = 1.0/mass = 1e-40/' <<<"$base")"
+expect "mass 1e-40 in fp32" 2 "species\[0\].mass: the mass is 1e-40, beyond what fp32" -- run "$work/tiny_mass.toml" --precision fp32 --steps 5
+scene huge_count.toml "$(sed -e 's/count = 20/count = 100000000000000/' -e 's/size = \[10, 10, 10\]/size = [1e6, 1e6, 1e6]/' <<<"$base")"
+expect "huge count" 2 "species: 100000000000000 particles need about .* of memory .* this machine has" -- run "$work/huge_count.toml" --steps 5
+scene long_box.toml "$(sed 's/size = \[10, 10, 10\]/size = [1e18, 10, 10]/' <<<"$base")"
+expect "very long box" 2 "sites of the lattice placement" -- run "$work/long_box.toml" --steps 5
+expect "video with an unknown extension" 2 "--video: '$work/out/v.xyz' has the extension .xyz" -- \
+    run "$work/good.toml" --headless --software-gl --frames 3 --size 64x64 --out "$work/out/f" --video "$work/out/v.xyz"
+no_outputs "refused runs"
+
+# Never damage what is at an output path: links followed, devices and FIFOs streamed to, a directory
+# refused before the run, an output that is an input (or another output) refused.
+rm -rf "$work/out" && mkdir -p "$work/out/real"
+echo old >"$work/out/real/obs.csv"
+ln -s real/obs.csv "$work/out/link.csv"
+"$COREBOX" run "$work/good.toml" --steps 5 --every 1 --observables "$work/out/link.csv" --quiet 2>/dev/null \
+    && [ -L "$work/out/link.csv" ] && [ "$(wc -l <"$work/out/real/obs.csv")" -eq 7 ] && pass || fail "observables through a symbolic link"
+"$COREBOX" run "$work/good.toml" --steps 5 --observables /dev/null --state-out /dev/null --quiet 2>/dev/null \
+    && [ -c /dev/null ] && pass || fail "observables to /dev/null"
+mkfifo "$work/out/fifo"
+cat "$work/out/fifo" >"$work/out/from_fifo" &
+reader=$!
+"$COREBOX" run "$work/good.toml" --steps 5 --every 1 --observables "$work/out/fifo" --quiet 2>/dev/null && pass || fail "observables to a FIFO"
+wait $reader
+[ -p "$work/out/fifo" ] && [ "$(wc -l <"$work/out/from_fifo")" -eq 7 ] && pass || fail "FIFO replaced or rows lost"
+cp "$work/good.toml" "$work/out/scene.toml"
+expect "observables over the scene" 2 "--observables: '$work/out/scene.toml' is this run's scene" -- \
+    run "$work/out/scene.toml" --observables "$work/out/scene.toml"
+cmp -s "$work/good.toml" "$work/out/scene.toml" && pass || fail "the input scene was changed"
+expect "state over the particles file" 2 "--state-out: .* is this run's init.particles file" -- \
+    run "$work/overlap.toml" --state-out "$work/overlap.csv"
+expect "two outputs, one file" 2 "--state-out and --observables both name" -- \
+    run "$work/good.toml" --observables "$work/out/o.csv" --state-out "$work/out/./o.csv"
+expect "directory as output" 2 "--observables: '$work/out/real' is a directory" -- run "$work/good.toml" --steps 100000 --observables "$work/out/real"
+
+# Write errors are errors: a full device and a closed pipe on stdout exit non-zero with a message.
+expect "observables to /dev/full" 2 "cannot write '/dev/full': No space left on device" -- run "$work/good.toml" --steps 5 --observables /dev/full
+err=$("$COREBOX" run "$work/good.toml" --steps 20000 --every 1 2>&1 >/dev/full)
+[ $? -eq 2 ] && grep -q "cannot write the observables to stdout: No space left" <<<"$err" && pass || fail "stdout on /dev/full: $err"
+"$COREBOX" run "$work/good.toml" --steps 20000 --every 1 2>"$work/err" | head -2 >/dev/null
+rc=${PIPESTATUS[0]}
+[ "$rc" -eq 2 ] && grep -q "cannot write the observables to stdout: Broken pipe" "$work/err" && pass || fail "closed stdout pipe: exit $rc, $(cat "$work/err")"
+
+# Interruption loses nothing: SIGINT and SIGTERM after a few rows (waited for, not timed) finish the
+# step, commit the observables (complete rows up to the current step), write the state, exit 128 +
+# signal and leave no temporary; a second signal exits at once and still removes the temporaries.
+wait_rows() {  # wait_rows FILE_GLOB N: until a file matching the glob has N lines (at most ~60 s)
+    for _ in $(seq 600); do
+        for f in $1; do [ -e "$f" ] && [ "$(wc -l <"$f")" -ge "$2" ] && return 0; done
+        sleep 0.1
+    done
+    return 1
+}
+for sig in INT TERM; do
+    code=$([ $sig = INT ] && echo 130 || echo 143)
+    rm -rf "$work/out" && mkdir -p "$work/out"
+    "$COREBOX" run "$SRC/assets/argon_gas.toml" --steps 100000000 --every 5 --observables "$work/out/obs.csv" --quiet 2>"$work/err" &
+    pid=$!
+    wait_rows "$work/out/obs.csv.tmp-*" 4 || fail "batch SIG$sig: no rows appeared"
+    kill -$sig $pid
+    wait $pid
+    rc=$?
+    [ "$rc" -eq "$code" ] && pass || fail "batch SIG$sig: exit $rc, expected $code: $(cat "$work/err")"
+    grep -q "SIG$sig: stopped after step [0-9]*.*observables in $work/out/obs.csv, state in $work/out/interrupted_state.csv" "$work/err" \
+        && pass || fail "batch SIG$sig message: $(cat "$work/err")"
+    last=$(tail -1 "$work/out/obs.csv" | cut -d, -f1)
+    stopped=$(sed -n 's/.*stopped after step \([0-9]*\).*/\1/p' "$work/err")
+    [ -n "$last" ] && [ "$last" = "$stopped" ] && pass || fail "batch SIG$sig: last row at step '$last', stopped at '$stopped'"
+    python3 -c "import csv,sys; rows=list(csv.reader(open(sys.argv[1]))); assert all(len(r)==len(rows[0]) for r in rows)" "$work/out/obs.csv" \
+        && pass || fail "batch SIG$sig: ragged observables"
+    [ "$(wc -l <"$work/out/interrupted_state.csv")" -eq 513 ] && pass || fail "batch SIG$sig: state incomplete"
+    ls "$work/out" | grep -q tmp- && fail "batch SIG$sig: temporaries left: $(ls "$work/out")" || pass
+done
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$COREBOX" run "$SRC/assets/argon_gas.toml" --steps 100000000 --every 5 --observables "$work/out/obs.csv" --state-out "$work/out/s.csv" --quiet 2>/dev/null &
+pid=$!
+wait_rows "$work/out/obs.csv.tmp-*" 4 || fail "second signal: no rows appeared"
+kill -STOP $pid; kill -INT $pid; kill -TERM $pid; kill -CONT $pid
+wait $pid
+rc=$?
+# Both arrive at once on SIGCONT, in an order the kernel picks: either exit code is the second's.
+{ [ "$rc" -eq 143 ] || [ "$rc" -eq 130 ]; } && pass || fail "second signal: exit $rc, expected 130 or 143"
+[ -z "$(ls -A "$work/out")" ] && pass || fail "second signal left files: $(ls "$work/out")"
+# Headless with a video: frames complete, the video closed and playable, no temporaries.
+for sig in INT TERM; do
+    code=$([ $sig = INT ] && echo 130 || echo 143)
+    rm -rf "$work/out" && mkdir -p "$work/out"
+    "$COREBOX" run "$SRC/assets/argon_gas.toml" --headless --software-gl --frames 1000000 --steps-per-frame 2 --size 64x64 \
+        --out "$work/out/f" --video "$work/out/v.mp4" --quiet 2>"$work/err" &
+    pid=$!
+    for _ in $(seq 600); do [ -e "$work/out/f/frame_000003.png" ] && break; sleep 0.1; done
+    kill -$sig $pid
+    wait $pid
+    rc=$?
+    [ "$rc" -eq "$code" ] && pass || fail "headless SIG$sig: exit $rc, expected $code: $(cat "$work/err")"
+    frames=$(ls "$work/out/f" | grep -c '^frame_.*\.png$')
+    ffprobe -v error "$work/out/f/frame_$(printf %06d $((frames - 1))).png" >/dev/null 2>&1 \
+        && pass || fail "headless SIG$sig: last frame unreadable"
+    [ -s "$work/out/f/observables.csv" ] && [ -s "$work/out/f/interrupted_state.csv" ] && [ -s "$work/out/v.mp4" ] \
+        && pass || fail "headless SIG$sig: outputs missing: $(ls "$work/out" "$work/out/f" | tr '\n' ' ')"
+    n=$(ffprobe -v error -count_frames -show_entries stream=nb_read_frames -of csv=p=0 "$work/out/v.mp4" 2>/dev/null)
+    [ "$n" = "$frames" ] && pass || fail "headless SIG$sig: video has '$n' frames, $frames PNGs"
+    find "$work/out" -name '*tmp-*' | grep -q . && fail "headless SIG$sig: temporaries left" || pass
+done
+
 # `corebox bench pile` on a tiny pile (200 balls, 0.2 s): CSV and JSON written with their columns and
 # keys, one corebox row per precision and a Bullet row where the driver was built, whatever the runs'
 # outcome (a blow-up is a recorded result, not an exit code 3).

@@ -1,0 +1,53 @@
+#include "observables_output.h"
+
+#include <cerrno>
+#include <cstring>
+#include <iostream>
+#include <sstream>
+
+#include "errors.h"
+
+namespace corebox {
+
+ObservablesOutput::ObservablesOutput(const std::string& path) : m_path(path) {
+    if (!path.empty()) m_file = std::make_unique<AtomicFile>(path);
+}
+
+void ObservablesOutput::header(const Scene& scene) { write(observablesHeader(scene) + "\n"); }
+
+void ObservablesOutput::row(const ObservablesRow& row) {
+    // Formatted first, then written and flushed in one piece: the file never ends inside a row.
+    std::ostringstream text;
+    writeObservablesRow(text, row);
+    write(text.str());
+}
+
+void ObservablesOutput::write(const std::string& text) {
+    if (m_file) {
+        m_file->stream() << text;
+        m_file->flush();
+        return;
+    }
+    errno = 0;
+    std::cout << text;
+    std::cout.flush();
+    if (!std::cout) {
+        throw InputError(std::string("cannot write the observables to stdout: ") + (errno ? std::strerror(errno) : "write failed") +
+                         " (was the reading end of a pipe closed? use --observables FILE)");
+    }
+}
+
+void ObservablesOutput::commit() {
+    if (m_committed) return;  // an instability after a commit, a second finish()
+    m_committed = true;
+    if (m_file) {
+        m_file->commit();
+        m_file.reset();
+    } else {
+        write("");
+    }
+}
+
+std::string ObservablesOutput::where() const { return m_path.empty() ? "stdout" : m_path; }
+
+}  // namespace corebox
