@@ -47,6 +47,16 @@ The measurement runs with no heat bath.
 - **Energy drift**: relative change of the kinetic energy over the measurement; `dissipated` is what
   the contact relaxation took (rare dense configurations the impact rounds hand to it).
 - **steps/s**: measured steps over their wall time, state downloads for the bulk measures excluded.
+
+Notes. The bulk's kinetic temperature differs from the box's mean by a few percent: a region of a few
+thousand particles keeps the random temperature it got at the last velocity draw (standard deviation
+sqrt(2 / (3 N_region))) for as long as heat takes to conduct out of it, longer than a run (seen even
+at phi = 0.05); so Z and Enskog use the bulk's own temperature. Open: rare dense configurations that
+the parallel impact rounds cannot order go to the contact relaxation, which then takes a little
+kinetic energy (booked as dissipated, the `dissipated` column: up to a few 1e-5 over 8 tau; none in
+most runs of a few thousand spheres; more with larger steps). On a 2-core CPU, steps/s drop several
+times over while another process competes for the cores (each parallel loop waits for its slowest
+thread): compare steps/s only between rows measured on a quiet machine.
 """
 
 

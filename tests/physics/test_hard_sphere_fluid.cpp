@@ -2,9 +2,10 @@
 // pair force, no gravity, no thermostat, a simple cubic lattice start at packing fraction phi over
 // the box (bench_scenes.h: hardSphereFluidScene), equilibrated, then measured:
 // - energy: no potential, so the kinetic energy is the energy; the conserved sum is exact over the
-//   measurement, and at phi = 0.35 so is the kinetic energy itself, to rounding (1e-9); at 0.45 rare
-//   dense configurations that the impact rounds cannot order go to the contact relaxation, which
-//   takes ~1e-5 of the energy over the measurement (booked as dissipated);
+//   measurement, and the kinetic energy itself changes by less than 1e-4 of itself: mostly not at all
+//   (this test at phi = 0.35 on the CPU: 0), but rare dense configurations that the parallel impact
+//   rounds cannot order go to the contact relaxation, which takes a little (booked as dissipated:
+//   2.8e-5 at phi = 0.35 with N = 8000 over 8 tau, 1.4e-5 at 0.45 with N = 32,000 over 6 tau);
 // - pressure: the whole walls and the whole-box virial (pressure.h) agree within 1% (one identity in
 //   the time average); the walls' centres, where the momentum is the bulk's pressure, give
 //   Z = P / (n_b kT_b) within 3% of Carnahan-Starling at the bulk packing fraction, and so does the
@@ -14,9 +15,9 @@
 // The bulk (hard_sphere_measures.h) is a cube 3 (phi = 0.35) or 5 (0.45) diameters inside the region
 // open to centres: the layering next to the walls has died out there (the density does not change
 // when the margin grows), and its density, not N / V, is what Z and Enskog need. Its temperature is
-// measured too and used: the bulk ran 1-4% hotter than the box's mean in every run at 0.45 (with or
-// without the isothermal equilibration; not understood, see the report in docs/hard_spheres.md), and
-// heat leaves it only by conduction, slowly.
+// measured too and used: a region of a few thousand particles keeps the random temperature it got
+// at the last velocity draw (standard deviation sqrt(2 / (3 N_region)), 1-3% here) for as long as
+// heat takes to conduct out of it, longer than the run.
 //
 // Tolerances against statistics: at phi = 0.35, N = 2000, 12 tau measured, the wall centres receive
 // ~6,000 hits and the bulk ~50,000 collisions: about 1% on Z and on the rate (this run, CPU: Z at the
@@ -86,8 +87,7 @@ FluidResult runFluid(const std::string& backend, int64_t n, double phi, double e
     return r;
 }
 
-// kineticTolerance: largest relative change of the kinetic energy over the measurement.
-void expectTheory(const FluidResult& r, double kineticTolerance) {
+void expectTheory(const FluidResult& r) {
     ::testing::Test::RecordProperty("phi_bulk", std::to_string(r.phiBulk));
     ::testing::Test::RecordProperty("z_cs", std::to_string(r.zCs));
     ::testing::Test::RecordProperty("z_wall_centre", std::to_string(r.zWallCentre));
@@ -95,7 +95,7 @@ void expectTheory(const FluidResult& r, double kineticTolerance) {
     ::testing::Test::RecordProperty("rate_over_enskog", std::to_string(r.rate / r.enskog));
     ::testing::Test::RecordProperty("kinetic_change", std::to_string(r.kineticChange));
     EXPECT_LT(std::fabs(r.conservedChange), 1e-12);
-    EXPECT_LT(std::fabs(r.kineticChange), kineticTolerance);
+    EXPECT_LT(std::fabs(r.kineticChange), 1e-4);
     EXPECT_NEAR(r.pressureWall / r.pressureVirial, 1.0, 0.01) << "the two whole-box routes are one identity";
     EXPECT_NEAR(r.zWallCentre / r.zCs, 1.0, 0.03) << "Z at the walls' centres " << r.zWallCentre << ", Carnahan-Starling "
                                                   << r.zCs << " at phi_bulk " << r.phiBulk;
@@ -110,7 +110,7 @@ INSTANTIATE_TEST_SUITE_P(Backends, HardSphereFluid, ::testing::ValuesIn(backendN
 TEST_P(HardSphereFluid, AtPhi035MatchesCarnahanStarlingAndEnskog) {
     // 2,000 spheres (box 14.4, bulk phi ~0.378), dt = 1.4e-3: 2 tau of equilibration (~30 collisions
     // per particle, the lattice long molten), 12 tau measured (8,500 steps). ~30 s on 2 CPU cores.
-    expectTheory(runFluid(backendName(), 2000, 0.35, 2.0, 12.0, 3.0), 1e-9);
+    expectTheory(runFluid(backendName(), 2000, 0.35, 2.0, 12.0, 3.0));
 }
 
 TEST_P(HardSphereFluid, AtPhi045MatchesCarnahanStarlingAndEnskog) {
@@ -118,10 +118,8 @@ TEST_P(HardSphereFluid, AtPhi045MatchesCarnahanStarlingAndEnskog) {
     // equilibration (~60 collisions per particle), 6 tau measured, ~11,400 steps. The walls' layering
     // reaches further at this density: the bulk cube is 5 diameters inside (at 3 it still held part
     // of the layers and Z came out 3-6% high; at 5, 6 and 8 the CPU measured Z within 1% and the rate
-    // within 0.6%). Rare dense configurations go to the contact relaxation here: the kinetic energy
-    // fell by 1.4e-5 of itself over the measurement on the CPU (booked as dissipated; the conserved
-    // sum stays exact), hence 1e-4. ~15 minutes on a 2-core CPU: the cpu instance runs only when asked.
+    // within 0.6%). ~15 minutes on a 2-core CPU: the cpu instance runs only when asked.
     if (backendName() == "cpu" && !std::getenv("COREBOX_SLOW_TESTS"))
         GTEST_SKIP() << "too slow for CI on the CPU (~15 min): runs on cuda; set COREBOX_SLOW_TESTS=1 to run it on the cpu";
-    expectTheory(runFluid(backendName(), 32000, 0.45, 2.0, 6.0, 5.0), 1e-4);
+    expectTheory(runFluid(backendName(), 32000, 0.45, 2.0, 6.0, 5.0));
 }
