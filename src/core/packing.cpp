@@ -46,7 +46,13 @@ std::array<int64_t, 3> latticeSites(const Scene& scene) {
     const std::array<double, 3>& box = scene.box.size;
     const double density = double(n) / (box[0] * box[1] * box[2]);
     std::array<int64_t, 3> sites{};
-    for (int a = 0; a < 3; ++a) sites[size_t(a)] = std::max<int64_t>(1, int64_t(std::ceil(box[size_t(a)] * std::cbrt(density))));
+    // L cbrt(n / V) is a whole number when the particles fill a cubic lattice exactly (343 in a cube,
+    // 4^3 in bench forces' box); rounded up it may come out a part in 10^16 above it, and one site
+    // too many shrinks the spacing below the contact distance: round a whole number down first.
+    for (int a = 0; a < 3; ++a) {
+        const double perAxis = box[size_t(a)] * std::cbrt(density);
+        sites[size_t(a)] = std::max<int64_t>(1, int64_t(std::ceil(perAxis * (1.0 - 1e-12))));
+    }
     while (sites[0] * sites[1] * sites[2] < n) {
         int widest = 0;
         for (int a = 1; a < 3; ++a) {

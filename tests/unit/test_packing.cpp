@@ -78,6 +78,19 @@ TEST(Packing, ValidationAndPlacementAgreeOnEveryScene) {
     }
 }
 
+// A lattice that the particles fill exactly (7^3 = 343 spheres of diameter 1 in a 7.7 cube, packing
+// fraction 0.39) is accepted and placed with spacing 1.1, whatever the rounding of L cbrt(N / V).
+TEST(Packing, AnExactlyFilledLatticeIsAccepted) {
+    for (int side : {4, 5, 7, 10}) {
+        const Scene scene = cubic(int64_t(side) * side * side, 0.5, {1.1 * side, 1.1 * side, 1.1 * side});
+        EXPECT_FALSE(packingProblem(scene).has_value()) << side << "^3: " << packingProblem(scene)->message;
+        EXPECT_EQ(latticeSites(scene), (std::array<int64_t, 3>{side, side, side}));
+    }
+    const Scene reported = cubic(343, 0.5, {7.7, 7.7, 7.7});
+    EXPECT_EQ(latticeSites(reported), (std::array<int64_t, 3>{7, 7, 7}));
+    EXPECT_FALSE(packingProblem(reported).has_value());
+}
+
 TEST(Packing, LatticeHasASiteForEveryParticle) {
     for (int64_t count : {1, 7, 64, 65, 1000, 1234}) {
         const std::array<int64_t, 3> sites = latticeSites(cubic(count, 0.1, {13, 5, 8}));
