@@ -128,10 +128,24 @@ ObservablesRow Simulation::observe() {
 }
 
 void Simulation::setStepParameters(const StepParameters& parameters) {
+    // An edit of the potential (gravity, mixing, cutoff) changes E_pot of the same state: that is work
+    // done on the system, not integration error. It is measured (a force pass before and after) and the
+    // conserved sum re-based by it, so the drift check keeps watching the integration alone.
+    const InteractionDef& was = m_scene.interaction;
+    const InteractionDef& next = parameters.interaction;
+    const bool potentialEdited = was.gravity != next.gravity || was.mixing != next.mixing || was.cutoff != next.cutoff ||
+                                 was.shift != next.shift;
+    const double before = potentialEdited ? m_backend->energies().potential : 0.0;
     m_scene.integrator = parameters.integrator;
     m_scene.interaction = parameters.interaction;
     m_scene.box.wallRestitution = parameters.box.wallRestitution;
     applyParameters();
+    if (!potentialEdited) return;
+    const EnergySums after = m_backend->energies();
+    const double work = after.potential - before;  // the kinetic energy is the same state's
+    m_conserved0 += work;
+    m_parameterWork += work;
+    m_energyScale = std::max(m_energyScale, std::fabs(after.kinetic) + std::fabs(after.potential));
 }
 
 void Simulation::setThermostat(const ThermostatDef& thermostat) { m_scene.thermostat = thermostat; }

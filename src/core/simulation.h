@@ -63,6 +63,9 @@ public:
     double thermostatEnergy() const { return m_thermostatEnergy; }
     int64_t roundCapHits() const { return m_roundCapHits; }
     double energyScale() const { return m_energyScale; }
+    // Work done on the system by live edits of the potential (gravity, mixing, cutoff) [eps]: the
+    // conserved sum is re-based by it at each edit.
+    double parameterWork() const { return m_parameterWork; }
     double lastKineticEnergy() const { return m_lastKinetic; }
     ParticleState state() const { return m_backend->state(); }
     ParticleState lastGoodState() const { return m_backend->snapshot(); }
@@ -90,6 +93,7 @@ private:
     PressureWindow m_pressureWindow;  // since the last observe()
     double m_energyScale = 1;
     double m_conserved0 = 0;
+    double m_parameterWork = 0;
     double m_lastKinetic = 0;
     std::vector<int64_t> m_countPerSpecies;
 };

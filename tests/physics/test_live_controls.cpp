@@ -214,6 +214,34 @@ TEST_P(LiveEdits, GravityEditChangesTheMomentumByMGDtPerStep) {
     checkSteps({0, 0, 0});
 }
 
+TEST_P(LiveEdits, AGravityEditIsWorkDoneNotDrift) {
+    // 300 hard spheres at T = 1 with no gravity, then g = 50 switched on: the potential energy of the
+    // same state moves by sum m g z ~ 300 x 50 x 4, a hundred times the energy scale (the drift bound
+    // is half of it). The edit is work done on the system: the run goes on, the conserved sum keeps
+    // its value across the edit up to that work, and afterwards moves only by integration error.
+    Scene scene = hardSphereScene(300, 8.0, Method::Verlet, 1e-3);
+    Session session(scene, choice());
+    LiveControls controls(session);
+    Simulation& sim = session.simulation();
+    for (int s = 0; s < 5; ++s) sim.step();
+    const double scale = sim.energyScale();
+    const double before = sim.observe().conserved();
+    controls.setGravity({0, 0, -50});
+    const double work = sim.parameterWork();
+    EXPECT_GT(std::fabs(work), 50 * scale) << "the edit should move the potential far beyond the drift bound";
+    ObservablesRow row;
+    ASSERT_NO_THROW(row = sim.observe());
+    EXPECT_NEAR(row.conserved(), before + work, 1e-9 * std::fabs(work));
+    for (int s = 0; s < 50; ++s) ASSERT_NO_THROW(sim.step());
+    ASSERT_NO_THROW(row = sim.observe());
+    EXPECT_LT(std::fabs(row.conserved() - (before + work)), 1e-3 * std::fabs(work));
+    // Switching it off again is work too (of the state the spheres have fallen to).
+    const double beforeOff = row.conserved(), workOn = sim.parameterWork();
+    controls.setGravity({0, 0, 0});
+    ASSERT_NO_THROW(row = sim.observe());
+    EXPECT_NEAR(row.conserved(), beforeOff + (sim.parameterWork() - workOn), 1e-9 * std::fabs(work));
+}
+
 TEST_P(LiveEdits, RestitutionEditsChangeTheDissipatedEnergy) {
     // A dense elastic hard-sphere gas (packing fraction 0.31, T = 2): many pair and wall collisions in
     // every phase of 40 steps. Elastic collisions dissipate exactly nothing ((1 - e^2) = 0, no forces),
