@@ -1,11 +1,26 @@
 #include "gpu_records.h"
 
+#include <algorithm>
+#include <cstdio>
+
 #include <cstdio>
 #include <sstream>
 
 #include "atomic_file.h"
 
 namespace corebox {
+
+double median(std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    const size_t n = values.size();
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+std::string number(double value) {
+    char text[40];
+    std::snprintf(text, sizeof text, "%.6g", value);
+    return text;
+}
 
 std::string csvQuote(const std::string& text) {
     std::string out = "\"";

@@ -9,12 +9,17 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "hardware_info.h"
 
 namespace corebox {
 
 std::string csvQuote(const std::string& text);
+// A CSV field of `value` with 6 significant digits.
+std::string number(double value);
+// The median of the values (the mean of the middle two for an even count).
+double median(std::vector<double> values);
 // `text` with "# " before each of its lines (an empty line becomes "#").
 std::string csvComment(const std::string& text);
 // The comment lines: the command, then `notes` (what was measured, how it was timed), the GPUs and

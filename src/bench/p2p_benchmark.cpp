@@ -77,18 +77,6 @@ std::vector<uint64_t> transferSizes(uint64_t minBytes, uint64_t maxBytes) {
     return sizes;
 }
 
-double median(std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    const size_t n = values.size();
-    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
-std::string number(double value) {
-    char text[40];
-    std::snprintf(text, sizeof text, "%.6g", value);
-    return text;
-}
-
 std::string csvRow(const P2pResult& r, const std::string& device) {
     const bool timed = r.outcome == "ok";
     return r.method + "," + std::to_string(r.gpus) + "," + std::to_string(r.bytes) + "," +

@@ -50,18 +50,6 @@ constexpr const char* kCsvHeader =
     "n,precision,method,gpus,exchange,outcome,ms_per_step,ms_min,ms_max,batches,steps_per_batch,speedup,efficiency,"
     "pair_interactions_per_second,collisions_per_step,report_dts_ms,report_dta_ms,report_da_ms,device,message\n";
 
-double median(std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    const size_t n = values.size();
-    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
-std::string number(double value) {
-    char text[40];
-    std::snprintf(text, sizeof text, "%.6g", value);
-    return text;
-}
-
 std::string optionalNumber(const std::optional<double>& value) { return value ? number(*value) : ""; }
 
 std::string configName(const Table1Result& r) {

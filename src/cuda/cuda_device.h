@@ -110,6 +110,7 @@ private:
     // since), or every GPU its own slice (scattering what the home GPU changed). Both cheap no-ops
     // when already so, and always with one GPU.
     void gatherToHome() const;
+    std::vector<std::vector<void*>> stateBuffers() const;  // X and V, each one buffer per GPU
     void scatterFromHome() const;
     // The home GPU changed X or V (collisions, thermostat): the other GPUs' slices are stale.
     void homeChanged() const { m_slicesCurrent = gpuCount() == 1; }

@@ -6,26 +6,26 @@
 namespace corebox {
 
 template <class Real>
-void CudaDevice<Real>::gatherToHome() const {
-    if (m_homeCurrent) return;
+std::vector<std::vector<void*>> CudaDevice<Real>::stateBuffers() const {
     std::vector<void*> x, v;
     for (auto& r : m_replicas) {
         x.push_back(r->x.data());
         v.push_back(r->v.data());
     }
-    m_exchange->gather({x, v}, sizeof(Vec3<Real>));
+    return {x, v};
+}
+
+template <class Real>
+void CudaDevice<Real>::gatherToHome() const {
+    if (m_homeCurrent) return;
+    m_exchange->gather(stateBuffers(), sizeof(Vec3<Real>));
     m_homeCurrent = true;
 }
 
 template <class Real>
 void CudaDevice<Real>::scatterFromHome() const {
     if (m_slicesCurrent) return;
-    std::vector<void*> x, v;
-    for (auto& r : m_replicas) {
-        x.push_back(r->x.data());
-        v.push_back(r->v.data());
-    }
-    m_exchange->scatter({x, v}, sizeof(Vec3<Real>));
+    m_exchange->scatter(stateBuffers(), sizeof(Vec3<Real>));
     m_slicesCurrent = true;
 }
 
