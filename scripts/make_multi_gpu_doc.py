@@ -108,6 +108,36 @@ def table1_section(f):
     return out + [""] + topology(f) + [""]
 
 
+def scaling_section(files):
+    """Strong scaling per host: the fastest exchange for each N and P, all of one host's files together."""
+    out = []
+    for host in sorted({f.gpu_count for f in files}, reverse=True):
+        rows = [r for f in files if f.gpu_count == host for r in f.rows if r["outcome"] == "ok"]
+        counts = sorted({int(r["gpus"]) for r in rows})
+        if len(counts) < 2:
+            continue
+        sources = ", ".join(f"`{relative(f.path)}`" for f in files if f.gpu_count == host)
+        out += [f"### Strong scaling on the {host}-GPU host (fastest exchange per P; from {sources})", "",
+                "| N | precision | " + " | ".join(f"P = {p}" for p in counts) + " |",
+                "|---:|---|" + "---|" * len(counts)]
+        for n, precision in sorted({(int(r["n"]), r["precision"]) for r in rows}):
+            cells = []
+            for p in counts:
+                mine = [r for r in rows if int(r["n"]) == n and r["precision"] == precision and int(r["gpus"]) == p]
+                if not mine:
+                    cells.append("")
+                    continue
+                r = min(mine, key=lambda r: number(r["ms_per_step"]))
+                cell = f"{number(r['ms_per_step']):.3f} ms"
+                if p > 1:
+                    cell += (f" {METHOD_NAMES.get(r['exchange'], r['exchange'])},"
+                             f" {fmt(number(r['speedup']), '.2f')}x, {fmt(number(r['efficiency']) * 100, '.1f')}%")
+                cells.append(cell)
+            out.append(f"| {n} | {precision} | " + " | ".join(cells) + " |")
+        out.append("")
+    return out
+
+
 def p2p_section(f):
     rows = f.rows
     counts = sorted({int(r["gpus"]) for r in rows})
@@ -181,6 +211,7 @@ def main():
                  " state, the exchanges), so the speed-up at that N is set by how that fixed part compares with N^2 / P:"
                  " see the speed-up column; at small N that part is all there is, and one GPU is fastest"
                  " (`--gpus auto` follows this table).", ""]
+        text += scaling_section(table1)
         for f in table1:
             text += table1_section(f)
     if p2p:

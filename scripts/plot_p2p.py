@@ -45,7 +45,9 @@ def main():
 
     files = [BenchCsv(p) for p in paths]
     several_p = len({r["gpus"] for f in files for r in f.rows}) > 1
-    several_files = len(files) > 1
+    # A file's stem names a line only where two files hold the same GPU count.
+    counts = [r["gpus"] for f in files for r in {r["gpus"]: r for r in f.rows}.values()]
+    shared_p = {p for p in counts if counts.count(p) > 1}
     fig, ax = plt.subplots(figsize=(11, 6.5))
     notes, missing = [], []
     for k, f in enumerate(files):
@@ -62,7 +64,7 @@ def main():
             label = NAMES.get(method, method)
             if several_p:
                 label += f", {p} GPUs"
-            if several_files:
+            if str(p) in shared_p:
                 label += f" [{f.path.stem}]"
             through_host = any(r["path"] == "host" for r in ok)
             if through_host:
@@ -83,7 +85,7 @@ def main():
     ax.set_xticklabels([size_label(b) for b in ticks], rotation=30)
     ax.set_xlabel("buffer per GPU")
     ax.set_ylabel("transfer time, median [us]")
-    p_text = ", ".join(sorted({r["gpus"] for f in files for r in f.rows}))
+    p_text = ", ".join(map(str, sorted({int(r["gpus"]) for f in files for r in f.rows})))
     ax.set_title(f"Every GPU fetches its neighbour's buffer at once ({p_text} GPUs): the report's Figure 5")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8, loc="upper left")

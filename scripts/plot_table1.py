@@ -39,14 +39,20 @@ def main():
         return 1
 
     files = [BenchCsv(p) for p in paths]
+    if not args.results:
+        # By default the chart shows the largest host measured (its runs cover every P the smaller hosts
+        # ran, and more); docs/multi_gpu.md tabulates every file. Its files (the report's N, the large N)
+        # join into one line per P and exchange.
+        most = max(f.gpu_count for f in files)
+        files = [f for f in files if f.gpu_count == most]
     precisions = sorted({r["precision"] for f in files for r in f.rows})
-    several_files = len(files) > 1
+    several_hosts = len({f.gpu_count for f in files}) > 1
     fig, ax = plt.subplots(figsize=(12, 7))
     notes, failed = [], []
     report = {}
+    series = {}
     for f in files:
         notes.append(f"{f.path.name}: {f.hardware_line()}\n    {f.command}")
-        series = {}
         for r in f.rows:
             for column, _, _ in REPORT:
                 if number(r[column]) is not None:
@@ -54,18 +60,18 @@ def main():
             if r["outcome"] != "ok":
                 failed.append(f"N = {r['n']} {r['precision']} P = {r['gpus']} {r['exchange']}: {r['outcome']}: {r['message'][:140]}")
                 continue
-            series.setdefault((int(r["gpus"]), r["exchange"], r["precision"]), []).append(r)
-        for (p, exchange, precision), rows in sorted(series.items()):
-            rows.sort(key=lambda r: int(r["n"]))
-            marker, line = P_STYLES[min(p - 1, len(P_STYLES) - 1)]
-            label = "1 GPU" if p == 1 else f"{p} GPUs, {exchange}"
-            if len(precisions) > 1:
-                label += f", {precision}"
-            if several_files:
-                label += f" [{f.path.stem}]"
-            ax.plot([int(r["n"]) for r in rows], [number(r["ms_per_step"]) for r in rows], linestyle=line, marker=marker,
-                    markersize=5, color=EXCHANGE_COLORS.get(exchange, "tab:gray"),
-                    alpha=1.0 if precision == precisions[0] else 0.55, label=label)
+            series.setdefault((f.gpu_count, int(r["gpus"]), r["exchange"], r["precision"]), []).append(r)
+    for (host, p, exchange, precision), rows in sorted(series.items()):
+        rows.sort(key=lambda r: int(r["n"]))
+        marker, line = P_STYLES[min(p - 1, len(P_STYLES) - 1)]
+        label = "1 GPU" if p == 1 else f"{p} GPUs, {exchange}"
+        if len(precisions) > 1:
+            label += f", {precision}"
+        if several_hosts:
+            label += f" [{host}-GPU host]"
+        ax.plot([int(r["n"]) for r in rows], [number(r["ms_per_step"]) for r in rows], linestyle=line, marker=marker,
+                markersize=5, color=EXCHANGE_COLORS.get(exchange, "tab:gray"),
+                alpha=1.0 if precision == precisions[0] else 0.55, label=label)
     for column, name, line in REPORT:
         points = sorted(report.get(column, {}).items())
         if points:

@@ -63,7 +63,8 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
         m_replicas.push_back(std::make_unique<Replica<Real>>());
         m_replicas.back()->device = s.device;
     }
-    const Exchange exchange = options.exchange == Exchange::Auto ? fastestExchange(options.gpus) : options.exchange;
+    const Exchange exchange = options.exchange != Exchange::Auto ? options.exchange
+                              : fastestExchange(options.gpus, peerAccessProblem(devicesOf(options)).empty());
     m_exchange = std::make_unique<PeerExchange>(m_partition, exchange);
     cudaCheck(cudaSetDevice(home().device), "cudaSetDevice");
     for (cudaEvent_t& e : m_phase) cudaCheck(cudaEventCreate(&e), "cudaEventCreate");

@@ -25,10 +25,11 @@ int cudaDeviceCount();
 std::string cudaDeviceDescription(int device);
 
 // The GPU count `--gpus auto` picks for n particles out of `visible` GPUs: the measured crossover
-// (docs/table1.md), one GPU where splitting costs more than it saves.
+// (docs/multi_gpu.md), one GPU where splitting costs more than it saves.
 int gpusFor(int64_t n, int visible);
-// What Exchange::Auto means for `gpus` GPUs: the fastest method measured by `corebox bench table1`.
-Exchange fastestExchange(int gpus);
+// What Exchange::Auto means for `gpus` GPUs, with or without peer access between every pair: the
+// fastest method measured by `corebox bench table1`.
+Exchange fastestExchange(int gpus, bool peerAccess);
 
 // Throws DeviceError when the device cannot be used (a device missing, more GPUs asked for than
 // exist, DA between GPUs without peer access), naming the devices found.

@@ -67,7 +67,7 @@ TEST(CudaSanitized, SmallSceneWithCollisions) {
     runSmallScene(1, Exchange::Auto);
 }
 
-// The same on two and on four GPUs with each exchange: peer copies, direct peer reads (the force
+// The same on two, four and eight GPUs with each exchange: peer copies, direct peer reads (the force
 // kernel's DA path) and NCCL. NCCL is apart: its own start-up probes kernels for other architectures
 // and so hits API errors of its own, which the memcheck run does not count against corebox
 // (tests/gpu/sanitize.sh).
@@ -90,3 +90,4 @@ TEST(CudaSanitized, SmallSceneWithCollisions) {
 
 COREBOX_SANITIZED_ON(2, TwoGpus)
 COREBOX_SANITIZED_ON(4, FourGpus)
+COREBOX_SANITIZED_ON(8, EightGpus)
