@@ -2,7 +2,8 @@
 // event (kernels/collision_kernels.cu), end-of-step accelerations of the particles about to be
 // resolved, and the resolution of the mutual-earliest matching. With several GPUs all of it runs on
 // the home GPU on the gathered state (design note in cuda_device.h). One host read-back per round (the
-// counts of findEvents); everything else stays on the stream. Impulses for the pressure observables
+// counts of findEvents) and one for the tally of the step (none when nothing was resolved);
+// everything else stays on the stream. Impulses for the pressure observables
 // (impulse_sums.h) go into per-particle rows, summed in a fixed order when the tally is read.
 #include <algorithm>
 #include <cmath>
@@ -34,8 +35,8 @@ gpu::CollisionArgs<Real> CudaDevice<Real>::collisionArgs() {
     a.needList = m_needList.data();
     a.counters = m_counters.data();
     a.kindCounts = m_kindCounts.data();
-    a.loss = m_loss.data();
-    a.impulses = m_impactImpulses.data();
+    a.impulses = m_impactRows.data();
+    a.loss = m_impactRows.data() + size_t(kImpulseRows) * size_t(m_n);
     a.restitution = Real(m_model.restitution);
     a.wallRestitution = Real(m_model.wallRestitution);
     a.elasticBelow = Real(m_model.elasticBelowSpeed);
@@ -54,13 +55,12 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     m_active.resize(n);
     m_hasContactAcceleration.resize(n);
     m_needList.resize(n);
-    m_loss.resize(n);
-    m_impactImpulses.resize(size_t(kImpulseRows) * n);
+    m_impactRows.resize(size_t(kImpulseRows + 1) * n);
+    m_eventsApplied = false;
     cudaStream_t s = stream();
     cudaCheck(cudaMemsetAsync(m_active.data(), 1, n, s), "memset");
     cudaCheck(cudaMemsetAsync(m_hasContactAcceleration.data(), 0, n, s), "memset");
-    cudaCheck(cudaMemsetAsync(m_loss.data(), 0, n * sizeof(double), s), "memset");
-    cudaCheck(cudaMemsetAsync(m_impactImpulses.data(), 0, size_t(kImpulseRows) * n * sizeof(double), s), "memset");
+    cudaCheck(cudaMemsetAsync(m_impactRows.data(), 0, size_t(kImpulseRows + 1) * n * sizeof(double), s), "memset");
     cudaCheck(cudaMemsetAsync(m_kindCounts.data(), 0, 3 * sizeof(unsigned long long), s), "memset");
 }
 
@@ -99,23 +99,29 @@ void CudaDevice<Real>::applyEvents() {
     }
     gpu::launchResolve(a, s);
     gpu::launchUpdateActive(a, s);
+    m_eventsApplied = true;
     homeChanged();
     m_cellsMatchPositions = false;
 }
 
 template <class Real>
 CollisionTally CudaDevice<Real>::collisionTally() {
-    // The counts and the losses' block sums come back with one wait (sumRows).
+    CollisionTally t;
+    // Nothing resolved since beginCollisions zeroed the counters: nothing to read back.
+    if (!m_eventsApplied) return t;
+    // The counts, the losses and the impulses come back with one wait: the loss is the last of the
+    // impact rows, summed with them in block order.
     unsigned long long* kinds = m_hostWords.resize(kHostWords);
     cudaCheck(cudaMemcpyAsync(kinds, m_kindCounts.data(), 3 * sizeof(unsigned long long), cudaMemcpyDeviceToHost, stream()), "counts");
-    const int blocks = queuePartialSums(m_loss.data(), 1);
+    const int blocks = queuePartialSums(m_impactRows.data(), kImpulseRows + 1);
     sync();
-    const double dissipated = hostPartialSums(1, blocks)[0];
-    CollisionTally t;
+    const std::vector<double> sums = hostPartialSums(kImpulseRows + 1, blocks);
     t.pairCollisions = int64_t(kinds[0]);
     t.wallCollisions = int64_t(kinds[1]);
-    t.dissipated = t.total() > 0 ? dissipated : 0.0;
-    if (t.total() > 0) t.impulses = sumImpulseRows(m_impactImpulses);
+    if (t.total() > 0) {
+        t.dissipated = sums[size_t(kImpulseRows)];
+        t.impulses = impulseSumsOf(sums);
+    }
     return t;
 }
 

@@ -159,6 +159,7 @@ private:
     HealthReport healthReport() const;
     // Sums the kImpulseRows rows of `rows` (impulse_sums.h) in a fixed order (cuda_pressure.cpp).
     ImpulseSums sumImpulseRows(const DeviceBuffer<double>& rows);
+    static ImpulseSums impulseSumsOf(const std::vector<double>& rowSums);  // kImpulseRows sums, in order
     gpu::CollisionArgs<Real> collisionArgs();
     gpu::ContactArgs<Real> contactArgs();
 
@@ -186,6 +187,7 @@ private:
     DeviceCellList<Real> m_contactCells;
     CellListView m_cellList{};  // of the last findEvents or listContacts
     bool m_cellsMatchPositions = false;  // m_cellList was built from the current positions
+    bool m_eventsApplied = false;        // applyEvents ran since beginCollisions
     ImpactWindow<Real> m_window{0, 0};
     RestingContact<Real> m_resting{0, 0};
     DeviceBuffer<int64_t> m_contactStart, m_contactPartner;
@@ -204,8 +206,10 @@ private:
     PinnedBuffer<unsigned long long> m_hostWords;
     PinnedBuffer<long long> m_hostHealthExamples;
     PinnedBuffer<double> m_hostPartials;
-    DeviceBuffer<double> m_loss, m_rows, m_partials, m_pairEnergy;
-    DeviceBuffer<double> m_impactImpulses, m_contactImpulses;  // kImpulseRows x n each (impulse_sums.h)
+    DeviceBuffer<double> m_rows, m_partials, m_pairEnergy;
+    // Impact rows: kImpulseRows x n (impulse_sums.h), then the kinetic energy each particle lost.
+    DeviceBuffer<double> m_impactRows;
+    DeviceBuffer<double> m_contactImpulses;  // kImpulseRows x n (impulse_sums.h)
     DeviceBuffer<ParticleInstance> m_instances;  // staging for host instance targets
 };
 

@@ -9,7 +9,11 @@ template <class Real>
 ImpulseSums CudaDevice<Real>::sumImpulseRows(const DeviceBuffer<double>& rows) {
     const int blocks = queuePartialSums(rows.data(), kImpulseRows);
     sync();
-    const std::vector<double> sums = hostPartialSums(kImpulseRows, blocks);
+    return impulseSumsOf(hostPartialSums(kImpulseRows, blocks));
+}
+
+template <class Real>
+ImpulseSums CudaDevice<Real>::impulseSumsOf(const std::vector<double>& sums) {
     ImpulseSums out;
     for (int k = 0; k < kWallCount; ++k) {
         out.wall[k] = sums[size_t(k)];
