@@ -19,7 +19,8 @@ int runBatch(const RunOptions& options, const Scene& scene) {
     auto body = [&] {
         const ParticleState initial = makeInitialState(scene);
         std::unique_ptr<Backend> backend = makeBackend(backendChoiceFor(scene, options.backend));
-        std::fprintf(stderr, "[corebox] %s: %lld particles, %zu species, %s %s dt = %g, backend %s (%s), %lld steps\n",
+        if (!options.quiet)
+            std::fprintf(stderr, "[corebox] %s: %lld particles, %zu species, %s %s dt = %g, backend %s (%s), %lld steps\n",
                      options.scenePath.c_str(), (long long)initial.size(), scene.species.size(), methodName(scene.integrator.method),
                      precisionName(scene.integrator.precision), scene.integrator.dt, backend->name().c_str(),
                      backend->deviceName().c_str(), (long long)options.steps);

@@ -1,6 +1,6 @@
 #include "display_vocabulary.h"
 
-#include <cstdio>
+#include <string>
 
 namespace corebox {
 namespace {
@@ -13,11 +13,18 @@ constexpr Vocabulary<ColorMode> kColorModeTable("colour mode", kColorModes);
 const Vocabulary<ColorMode>& colorModeTable() { return kColorModeTable; }
 
 bool parseFrameSize(const std::string& text, FrameSize* size) {
-    int w = 0, h = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X')) return false;
+    // Digits only on each side, read without overflow (sscanf's %d wrapped 4294967312 to 16).
+    const size_t x = text.find_first_of("xX");
+    if (x == std::string::npos) return false;
+    const auto side = [](const std::string& digits, long* value) {
+        if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos) return false;
+        *value = std::stol(digits);
+        return true;
+    };
+    long w = 0, h = 0;
+    if (!side(text.substr(0, x), &w) || !side(text.substr(x + 1), &h)) return false;
     if (w < kMinFrameSide || h < kMinFrameSide || w > kMaxFrameSide || h > kMaxFrameSide) return false;
-    *size = {w, h};
+    *size = {int(w), int(h)};
     return true;
 }
 

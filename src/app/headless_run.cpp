@@ -25,7 +25,8 @@ void reportFrames(const RunOptions& options, FrameDumper& frames) {
     const bool videoOk = frames.finish();
     const FrameTimings& t = frames.timings();
     const double n = double(std::max<int64_t>(t.frames, 1));
-    std::fprintf(stderr,
+    if (!options.quiet)
+        std::fprintf(stderr,
                  "[corebox] %lld frames in %s/ (frame_000000.png ...): %.1f frames/s including simulation and output; per frame "
                  "%.1f ms render, %.1f ms read-back, %.1f ms waiting for PNG encoding (%d encoder threads)\n",
                  (long long)t.frames, options.headless.outDir.c_str(), t.wall > 0 ? double(t.frames) / t.wall : 0.0, 1e3 * t.render / n,
@@ -33,7 +34,7 @@ void reportFrames(const RunOptions& options, FrameDumper& frames) {
     if (!options.headless.videoPath.empty()) {
         if (videoOk) std::fprintf(stderr, "[corebox] video written to %s\n", options.headless.videoPath.c_str());
         else throw InputError("--video: ffmpeg failed to write " + options.headless.videoPath);
-    } else {
+    } else if (!options.quiet) {
         std::fprintf(stderr, "[corebox] make a video with: ffmpeg -framerate 30 -i %s/frame_%%06d.png -pix_fmt yuv420p %s/movie.mp4\n",
                      options.headless.outDir.c_str(), options.headless.outDir.c_str());
     }
@@ -74,7 +75,7 @@ int runHeadlessFrames(const RunOptions& options, const Scene& scene) {
         std::unique_ptr<ImGuiLayer> hud;
         if (h.hud) hud = std::make_unique<ImGuiLayer>(nullptr, "");
         LiveFeed feed;
-        std::fprintf(stderr, "[corebox] headless rendering on %s\n", frames->contextDescription().c_str());
+        if (!options.quiet) std::fprintf(stderr, "[corebox] headless rendering on %s\n", frames->contextDescription().c_str());
         ProgressReporter progress((h.frames - 1) * h.stepsPerFrame, !options.quiet);
         auto overlay = [&](int w, int hgt) {
             live.refreshSpeedDistributions();

@@ -15,6 +15,7 @@
 #include "hard_sphere_benchmark.h"
 #include "glfw_window.h"
 #include "interruption.h"
+#include "option_guards.h"
 #include "p2p_benchmark.h"
 #include "pile_benchmark.h"
 #include "run_command.h"
@@ -106,7 +107,8 @@ int main(int argc, char** argv) {
     int64_t seed = -1;
     CLI::App* runCmd = app.add_subcommand("run", "Run a scene and write observables and the final state");
     runCmd->add_option("scene", run.scenePath, "Scene file (TOML), e.g. assets/argon_gas.toml")->required();
-    runCmd->add_option("--steps", run.steps, "Number of steps")->capture_default_str();
+    auto* stepsOpt = runCmd->add_option("--steps", run.steps, "Number of steps (batch and window runs; --headless: from --frames)")
+                         ->capture_default_str();
     runCmd->add_option("--every", run.every, "Observables row every K steps")->capture_default_str();
     runCmd->add_option("--observables", run.observablesPath, "Observables CSV (default: stdout)");
     runCmd->add_option("--state-out", run.stateOutPath, "Write the final state as CSV");
@@ -146,10 +148,10 @@ int main(int argc, char** argv) {
     runCmd->add_option("--max-drift", run.maxEnergyDrift,
                        "Stop (exit 3) when the conserved energy moves by more than this fraction of the energy scale")
         ->capture_default_str();
-    runCmd->add_flag("--quiet", run.quiet, "No progress lines on stderr");
+    runCmd->add_flag("--quiet", run.quiet, "Only warnings and errors on stderr (no start line, progress or summary)");
     HeadlessOptions& h = run.headless;
     runCmd->add_flag("--headless", h.enabled, "Render frames without a display (EGL) into --out");
-    runCmd->add_option("--frames", h.frames, "Number of frames (frame 0 is the initial state)");
+    auto* framesOpt = runCmd->add_option("--frames", h.frames, "Number of frames (frame 0 is the initial state); required with --headless");
     runCmd->add_option("--steps-per-frame", h.stepsPerFrame, "Simulation steps between frames")->capture_default_str();
     addFrameSize(runCmd, h.size);
     runCmd->add_option("--out", h.outDir, "Directory for frame_NNNNNN.png and observables.csv");
@@ -306,6 +308,7 @@ int main(int argc, char** argv) {
     spheresCmd->add_option("--threads", spheres.threads, "CPU threads (0: all cores)")->capture_default_str();
     spheresCmd->add_option("--out", spheres.outputPrefix, "Write OUT.csv and OUT.json");
 
+    addIntegerRangeChecks(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {  // --help, --version
@@ -313,6 +316,10 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         return reportError(std::make_exception_ptr(InputError(std::string(e.what()) + " (see corebox --help)")));
     }
+    for (int* threads : {&run.backend.threads, &forces.threads, &pile.threads, &spheres.threads})
+        *threads = capThreads(*threads, "--threads");
+    run.stepsGiven = stepsOpt->count() > 0;
+    run.headless.framesGiven = framesOpt->count() > 0;
     if (*dtOpt) run.dt = dt;
     if (*seedOpt) run.seed = seed;
     if (*runCmd) {

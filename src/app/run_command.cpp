@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 
 #include "atomic_file.h"
 #include "batch_run.h"
@@ -42,6 +43,7 @@ void applyOverrides(const RunOptions& options, Scene& scene) {
 void prepareHeadless(RunOptions& options) {
     HeadlessOptions& h = options.headless;
     if (!h.enabled) return;
+    if (!h.framesGiven) throw InputError("--headless needs --frames N: the number of frames to write (frame 0 is the initial state)");
     if (h.frames < 1) throw InputError("--frames: must be >= 1 (got " + std::to_string(h.frames) + ")");
     if (h.stepsPerFrame < 1) throw InputError("--steps-per-frame: must be >= 1");
     if (h.outDir.empty()) throw InputError("--headless needs --out DIR for the frames");
@@ -54,6 +56,11 @@ void prepareHeadless(RunOptions& options) {
         checkWritable(h.videoPath, "--video");
         requireFfmpeg();
     }
+    if (h.frames - 1 > std::numeric_limits<int64_t>::max() / h.stepsPerFrame)
+        throw InputError("--frames x --steps-per-frame: more steps than a 64-bit count holds");
+    if (options.stepsGiven)
+        std::fprintf(stderr, "corebox: warning: --steps is ignored with --headless: the run lasts (frames - 1) x steps-per-frame = "
+                             "%lld steps\n", (long long)((h.frames - 1) * h.stepsPerFrame));
     options.steps = (h.frames - 1) * h.stepsPerFrame;
     options.every = h.stepsPerFrame;
     if (options.observablesPath.empty()) options.observablesPath = h.outDir + "/observables.csv";
@@ -123,6 +130,12 @@ int runCommand(const RunOptions& requested) {
     if (checked != kExitOk) return checked;
     if (options.headless.enabled) return runHeadlessFrames(options, scene);
     if (!options.noWindow && GlfwWindow::displayAvailable()) return runWindow(options, scene);
+    // A batch run has no frames to script or to save.
+    for (const NamedPath& ignored : {NamedPath{"--script", options.scriptPath}, NamedPath{"--screenshot", options.screenshotPath}}) {
+        if (!ignored.path.empty())
+            std::fprintf(stderr, "corebox: warning: %s is ignored in a batch run (%s); it acts in a window or with --headless\n",
+                         ignored.what.c_str(), options.noWindow ? "--no-window" : "no display");
+    }
     return runBatch(options, scene);
 }
 

@@ -18,6 +18,7 @@ namespace corebox {
 struct HeadlessOptions {
     bool enabled = false;
     int64_t frames = 0;           // frame 0 is the initial state, then one every stepsPerFrame steps
+    bool framesGiven = false;     // --frames was on the command line
     int64_t stepsPerFrame = 10;
     FrameSize size{1280, 720};
     std::string outDir;
@@ -43,6 +44,7 @@ struct RunOptions {
     std::optional<Exchange> exchange;      // overrides [devices] exchange
     double maxEnergyDrift = 0.5;
     bool quiet = false;                    // no progress lines
+    bool stepsGiven = false;               // --steps was on the command line (headless runs warn: frames decide)
     HeadlessOptions headless;              // frames also bounds a window run
     std::string scriptPath;                // --script: timed commands (window and headless)
     std::string screenshotPath;            // --screenshot: the last frame as PNG

@@ -331,6 +331,25 @@ expect "bench pile: missing Bullet driver" 2 "--bullet: no program at '$work/non
     bench pile --n 200 --seconds 0.1 --bullet "$work/none"
 expect "bench pile: zero balls" 2 "--n" -- bench pile --n 0 --seconds 0.1
 
+# Numbers that do not fit, thread counts above the cores, options that a batch run cannot honour,
+# --headless without --frames, and --quiet.
+scene guards.toml "$base"
+expect "steps beyond 64 bits" 2 "--steps: value 99999999999999999999 is out of the range of a 64-bit integer" -- \
+    run "$work/guards.toml" --steps 99999999999999999999 --observables /dev/null
+expect "seed beyond 64 bits" 2 "--seed: value 99999999999999999999 is out of the range" -- \
+    run "$work/guards.toml" --seed 99999999999999999999 --observables /dev/null
+expect "bench sizes beyond 64 bits" 2 "--n: value 99999999999999999999999 is out of the range" -- \
+    bench forces --n 99999999999999999999999
+expect "frame size that wraps" 2 "--size: expected WIDTHxHEIGHT with each between 16 and 16384, got '4294967312x720'" -- \
+    run "$work/guards.toml" --headless --frames 1 --out "$work/frames" --size 4294967312x720
+expect "headless without --frames" 2 "--headless needs --frames N" -- run "$work/guards.toml" --headless --out "$work/frames"
+expect "threads above the cores" 0 "warning: --threads 100000 is more than the [0-9]+ hardware threads here; using [0-9]+" -- \
+    run "$work/guards.toml" --steps 2 --threads 100000 --no-window --observables /dev/null
+expect "script in a batch run" 0 "warning: --script is ignored in a batch run \(--no-window\)" -- \
+    run "$work/guards.toml" --steps 2 --no-window --script /dev/null --observables /dev/null
+quiet_err=$("$COREBOX" run "$work/guards.toml" --steps 2 --no-window --quiet --observables /dev/null 2>&1 >/dev/null)
+[ -z "$quiet_err" ] && pass || fail "--quiet still printed: $quiet_err"
+
 # `corebox bench p2p` and `corebox bench table1` where GPUs are missing: exit 4 (device error) with a
 # message naming what is missing. Where nvidia-smi lists GPUs, only what that count still lacks is
 # checked (p2p needs two, table1 one). Option errors come first and exit 2 on any machine.
