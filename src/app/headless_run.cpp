@@ -8,6 +8,7 @@
 #include "imgui_layer.h"
 #include "interruption.h"
 #include "panels.h"
+#include "particle_renderer.h"
 #include "platform_error.h"
 #include "progress.h"
 #include "rendered_run.h"
@@ -80,7 +81,8 @@ int runHeadlessFrames(const RunOptions& options, const Scene& scene) {
         auto overlay = [&](int w, int hgt) {
             live.refreshSpeedDistributions();
             hud->beginFrame(w, hgt, 1.0 / 30.0);
-            drawHud(live.speeds(), live.history(), live.performance(), float(w), float(hgt));
+            drawHud(live.speeds(), live.history(), live.performance(), float(w), float(hgt),
+                    ParticleRenderer::legendBottomHeight(h.colorBy, hgt));
             hud->endFrame();
         };
         auto render = [&](int64_t index) {

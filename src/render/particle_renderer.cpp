@@ -34,7 +34,10 @@ void addQuad(std::vector<OverlayVertex>& out, float x0, float y0, float x1, floa
 // Text at pixel (x, y), top-left, scaled up from stb_easy_font's ~7 px glyphs.
 void addText(std::vector<OverlayVertex>& out, float x, float y, const std::string& text, float scale,
              const std::array<float, 4>& color) {
-    std::vector<char> buffer(text.size() * 270 + 64);
+    // stb_easy_font stops writing when the buffer is full, and its "~270 bytes per character" is an
+    // average: digit-heavy text needs more ("(32768)" lost its last glyphs). Each segment is a quad
+    // of 64 bytes; 16 per character is more than any glyph of the font has.
+    std::vector<char> buffer(text.size() * 16 * 64 + 64);
     std::string copy = text;
     const int quads = stb_easy_font_print(0, 0, copy.data(), nullptr, buffer.data(), int(buffer.size()));
     const float* v = reinterpret_cast<const float*>(buffer.data());
@@ -171,10 +174,17 @@ void ParticleRenderer::drawBox(const glm::mat4& viewProjection, const std::array
     glDrawArrays(GL_LINES, 0, 24);
 }
 
+float ParticleRenderer::legendScale(int height) { return height >= 480 ? 2.0f : 1.0f; }
+
+float ParticleRenderer::legendBottomHeight(ColorMode mode, int height) {
+    // drawLegend's speed key: margin + 10 (value labels) + 8 (bar) + 12 (key label), in legend pixels.
+    return mode == ColorMode::Species ? 0.0f : (10.0f + 10.0f + 8.0f + 12.0f) * legendScale(height);
+}
+
 void ParticleRenderer::drawLegend(const RenderStyle& style, int width, int height) {
     std::vector<OverlayVertex> v;
     const std::array<float, 4> text{0.88f, 0.9f, 0.93f, 1.0f};
-    const float scale = height >= 480 ? 2.0f : 1.0f;
+    const float scale = legendScale(height);
     const float margin = 10.0f * scale;
     if (style.mode == ColorMode::Species) {
         float y = margin;
@@ -188,6 +198,7 @@ void ParticleRenderer::drawLegend(const RenderStyle& style, int width, int heigh
         const float barWidth = std::min(180.0f * scale, 0.4f * float(width));
         const float barHeight = 8.0f * scale;
         const float x0 = margin, y1 = float(height) - margin - 10.0f * scale;
+        // The label's top is legendBottomHeight above the bottom edge.
         addText(v, x0, y1 - barHeight - 12.0f * scale, style.keyLabel, scale, text);
         addQuad(v, x0, y1 - barHeight, x0 + barWidth, y1, text, 0.0f, 1.0f);
         addText(v, x0, y1 + 3.0f * scale, formatValue(style.keyMin), scale, text);

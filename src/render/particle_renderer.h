@@ -37,10 +37,14 @@ public:
     // Draws into the currently bound framebuffer of the given size.
     void render(const OrbitCamera& camera, const std::array<float, 3>& boxSize, const RenderStyle& style, int width,
                 int height);
+    // Pixels the legend takes at the bottom of a frame `height` tall (the speed key; 0 in species
+    // mode, whose swatches sit at the top left): overlays keep clear of them.
+    static float legendBottomHeight(ColorMode mode, int height);
 
 private:
     void drawBox(const glm::mat4& viewProjection, const std::array<float, 3>& boxSize, const RenderStyle& style);
     void drawLegend(const RenderStyle& style, int width, int height);
+    static float legendScale(int height);
 
     GLuint m_sphereProgram = 0, m_lineProgram = 0, m_overlayProgram = 0;
     GLuint m_sphereVao = 0, m_instanceBuffer = 0;

@@ -15,12 +15,13 @@ void drawControlPanel(LiveControls& controls, DisplaySettings& display, PanelAct
                       const std::vector<std::string>& presetPaths, const std::string& status);
 // place: give the window its default position and size on first use (the HUD places them itself).
 void drawSpeedHistogram(const SpeedDistributionData& speeds, bool place = true);
-void drawTimePlots(const ObservableHistory& history, bool place = true);
+void drawTimePlots(const ObservableHistory& history, bool place = true, float plotHeight = 40);
 void drawPerformance(const PerformanceData& performance, bool place = true);
 void drawHelp(bool* open);
 
-// Read-only heads-up display for dumped frames: histogram, plots and performance in one column.
+// Read-only heads-up display for dumped frames: histogram and plots in one column on the right,
+// performance at the bottom left, above the `bottomReserved` pixels of the frame's own legend.
 void drawHud(const SpeedDistributionData& speeds, const ObservableHistory& history, const PerformanceData& performance, float width,
-             float height);
+             float height, float bottomReserved);
 
 }  // namespace corebox

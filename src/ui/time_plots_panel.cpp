@@ -23,26 +23,26 @@ void plot(const char* label, const std::vector<float>& values, float height) {
 
 }  // namespace
 
-void drawTimePlots(const ObservableHistory& h, bool place) {
+void drawTimePlots(const ObservableHistory& h, bool place, float plotHeight) {
     if (place) {
         ImGui::SetNextWindowPos(ImVec2(1180, 540), ImGuiCond_FirstUseEver);
         ImGui::SetNextWindowSize(ImVec2(410, 350), ImGuiCond_FirstUseEver);
     }
     ImGui::Begin("Time plots");
-    plot("kinetic", h.kinetic, 40);
-    plot("potential", h.potential, 40);
-    plot("total", h.total, 40);
-    plot("dissipated", h.dissipated, 40);
-    plot("conserved drift (rel.)", h.drift, 40);
-    plot("temperature", h.temperature, 40);
+    plot("kinetic", h.kinetic, plotHeight);
+    plot("potential", h.potential, plotHeight);
+    plot("total", h.total, plotHeight);
+    plot("dissipated", h.dissipated, plotHeight);
+    plot("conserved drift (rel.)", h.drift, plotHeight);
+    plot("temperature", h.temperature, plotHeight);
     if (!h.target.empty()) {
         if (h.target.back() > 0) ImGui::Text("target T %.4g", double(h.target.back()));
         else ImGui::TextDisabled("no thermostat");
     }
-    plot("collisions / step", h.collisionsPerStep, 40);
+    plot("collisions / step", h.collisionsPerStep, plotHeight);
     // Two routes to one pressure (pressure.h): they agree in the time average.
-    plot("pressure (walls)", h.pressureWall, 40);
-    plot("pressure (virial)", h.pressureVirial, 40);
+    plot("pressure (walls)", h.pressureWall, plotHeight);
+    plot("pressure (virial)", h.pressureVirial, plotHeight);
     ImGui::End();
 }
 
@@ -60,15 +60,19 @@ void drawPerformance(const PerformanceData& p, bool place) {
 }
 
 void drawHud(const SpeedDistributionData& speeds, const ObservableHistory& history, const PerformanceData& performance, float width,
-             float height) {
+             float height, float bottomReserved) {
     const float column = std::min(420.0f, 0.34f * width);
     ImGui::SetNextWindowPos(ImVec2(width - column - 8, 8), ImGuiCond_Always);
     ImGui::SetNextWindowSize(ImVec2(column, height * 0.62f), ImGuiCond_Always);
     drawSpeedHistogram(speeds, false);
+    // The time plots share what is left of the column: ten plots and a line of text, with the
+    // window's title bar and padding (about 50 px) and ImGui's item spacing (about 6 px each).
+    const float plotsHeight = height * 0.38f - 20;
     ImGui::SetNextWindowPos(ImVec2(width - column - 8, height * 0.62f + 12), ImGuiCond_Always);
-    ImGui::SetNextWindowSize(ImVec2(column, height * 0.38f - 20), ImGuiCond_Always);
-    drawTimePlots(history, false);
-    ImGui::SetNextWindowPos(ImVec2(8, height - 110), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(column, plotsHeight), ImGuiCond_Always);
+    drawTimePlots(history, false, std::clamp((plotsHeight - 50) / 10 - 6, 12.0f, 40.0f));
+    // Bottom left, its lower edge above the renderer's colour key (the window sizes itself).
+    ImGui::SetNextWindowPos(ImVec2(8, height - bottomReserved - 8), ImGuiCond_Always, ImVec2(0, 1));
     drawPerformance(performance, false);
 }
 

@@ -17,7 +17,7 @@ png_size() {  # prints WIDTHxHEIGHT from a PNG's IHDR chunk
 
 scene="$SRC/assets/binary_mixture.toml"
 if "$COREBOX" run "$scene" --headless --software-gl --frames 4 --steps-per-frame 5 --size 200x120 --out "$work/frames" \
-    --quiet 2>"$work/err"; then
+    2>"$work/err"; then
     pass
     names=$(cd "$work/frames" && ls frame_*.png | tr '\n' ' ')
     [ "$names" = "frame_000000.png frame_000001.png frame_000002.png frame_000003.png " ] && pass || fail "frame names: $names"
@@ -26,6 +26,10 @@ if "$COREBOX" run "$scene" --headless --software-gl --frames 4 --steps-per-frame
     done
     ls "$work/frames" | grep -q tmp && fail "temporary files left in the frame directory" || pass
     grep -q "make a video with: ffmpeg" "$work/err" && pass || fail "no hint on making a video: $(cat "$work/err")"
+    # --quiet: the same run says nothing but warnings and errors.
+    "$COREBOX" run "$scene" --headless --software-gl --frames 2 --steps-per-frame 5 --size 200x120 --out "$work/quiet" \
+        --quiet 2>"$work/err"
+    [ ! -s "$work/err" ] && pass || fail "--quiet headless run printed: $(cat "$work/err")"
     # Rendering must not change the physics: same observables as a plain run over the same steps.
     "$COREBOX" run "$scene" --steps 15 --every 5 --observables "$work/plain.csv" --quiet 2>/dev/null
     cmp -s "$work/plain.csv" "$work/frames/observables.csv" && pass || fail "observables differ from a run without rendering"
