@@ -17,7 +17,7 @@ int runBatch(const RunOptions& options, const Scene& scene) {
     std::unique_ptr<ObservablesOutput> observables;
     int exitCode = kExitOk;
     auto body = [&] {
-        const ParticleState initial = makeInitialState(scene);
+        const ParticleState initial = makeInitialState(scene, setupProgressLines(!options.quiet));
         std::unique_ptr<Backend> backend = makeBackend(backendChoiceFor(scene, options.backend));
         if (!options.quiet)
             std::fprintf(stderr, "[corebox] %s: %lld particles, %zu species, %s %s dt = %g, backend %s (%s), %lld steps\n",

@@ -9,7 +9,7 @@ namespace corebox {
 using Clock = std::chrono::steady_clock;
 
 LiveRun::LiveRun(const Scene& scene, const BackendChoice& backend, LiveRunOptions options, SimulationLimits limits)
-    : m_options(std::move(options)), m_session(scene, backend, limits), m_controls(m_session), m_rateStart(Clock::now()) {
+    : m_options(std::move(options)), m_session(scene, backend, limits, m_options.setupProgress), m_controls(m_session), m_rateStart(Clock::now()) {
     if (!m_options.observablesPath.empty()) {
         m_observables = std::make_unique<ObservablesOutput>(m_options.observablesPath);
         m_observables->header(scene);

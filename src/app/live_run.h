@@ -22,6 +22,7 @@ struct LiveRunOptions {
     int64_t observeEvery = 10;     // observables row (and plot point) every K steps
     std::string observablesPath;   // "" : none
     std::optional<Script> script;
+    SetupProgress setupProgress;   // long set-ups and restarts report here (progress.h); null: silent
 };
 
 class LiveRun {

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <string>
 
+#include "initial_conditions.h"
+
 namespace corebox {
 
 class ProgressReporter {
@@ -25,5 +27,9 @@ private:
     Clock::time_point m_start;
     Clock::time_point m_last;
 };
+
+// Progress lines for the set-up of a scene (placement, overlap check), about every two seconds
+// once it has lasted that long: small scenes print nothing. Null when not enabled.
+SetupProgress setupProgressLines(bool enabled, double intervalSeconds = 2.0);
 
 }  // namespace corebox

@@ -1,5 +1,7 @@
 #include "rendered_run.h"
 
+#include "progress.h"
+
 #include <algorithm>
 #include <cstdio>
 
@@ -20,6 +22,7 @@ LiveRunOptions liveRunOptions(const RunOptions& options, int64_t observeEvery) {
     live.observeEvery = std::max<int64_t>(1, observeEvery);
     live.observablesPath = options.observablesPath;
     if (!options.scriptPath.empty()) live.script = Script::load(options.scriptPath);
+    live.setupProgress = setupProgressLines(!options.quiet);
     return live;
 }
 

@@ -1,10 +1,11 @@
 #include "session.h"
 
-#include "initial_conditions.h"
+#include <utility>
 
 namespace corebox {
 
-Session::Session(const Scene& scene, const BackendChoice& backend, SimulationLimits limits) : m_backend(backend), m_limits(limits) {
+Session::Session(const Scene& scene, const BackendChoice& backend, SimulationLimits limits, SetupProgress setupProgress)
+    : m_backend(backend), m_limits(limits), m_setupProgress(std::move(setupProgress)) {
     restart(scene);
 }
 
@@ -19,7 +20,7 @@ void Session::switchPrecision(Precision precision) {
 }
 
 void Session::restart(const Scene& scene) {
-    const ParticleState initial = makeInitialState(scene);  // throws InputError before anything changes
+    const ParticleState initial = makeInitialState(scene, m_setupProgress);  // throws InputError before anything changes
     m_sim = std::make_unique<Simulation>(scene, makeBackend(backendChoiceFor(scene, m_backend)), initial, m_limits);
     ++m_generation;
 }

@@ -7,15 +7,17 @@
 #include <memory>
 
 #include "backend_factory.h"
-#include "simulation.h"
+#include "initial_conditions.h"
 #include "live_controls.h"
+#include "simulation.h"
 
 namespace corebox {
 
 class Session final : public SimulationHost {
 public:
-    // Throws InputError (bad scene), DeviceError.
-    Session(const Scene& scene, const BackendChoice& backend, SimulationLimits limits = SimulationLimits{});
+    // Throws InputError (bad scene), DeviceError. `setupProgress` hears of long set-ups (and restarts).
+    Session(const Scene& scene, const BackendChoice& backend, SimulationLimits limits = SimulationLimits{},
+            SetupProgress setupProgress = nullptr);
 
     Simulation& simulation() { return *m_sim; }
     uint64_t generation() const { return m_generation; }
@@ -29,6 +31,7 @@ public:
 private:
     BackendChoice m_backend;
     SimulationLimits m_limits;
+    SetupProgress m_setupProgress;
     std::unique_ptr<Simulation> m_sim;
     uint64_t m_generation = 0;
 };

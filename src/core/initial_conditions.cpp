@@ -1,8 +1,10 @@
 #include "initial_conditions.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <sstream>
+#include <thread>
 
 #include "errors.h"
 #include "host_cell_list.h"
@@ -29,8 +31,15 @@ std::vector<int32_t> speciesOfIds(const Scene& scene) {
     return species;
 }
 
+// Progress every this many particles.
+constexpr int64_t kProgressEvery = 1 << 16;
+
+void report(const SetupProgress& progress, const char* stage, int64_t done, int64_t total) {
+    if (progress && (done % kProgressEvery == 0 || done == total)) progress(stage, done, total);
+}
+
 // The sites come from latticeSites(), the lattice that packingProblem() checked the scene against.
-void placeOnLattice(const Scene& scene, ParticleState& state) {
+void placeOnLattice(const Scene& scene, ParticleState& state, const SetupProgress& progress) {
     const int64_t n = int64_t(state.size());
     const std::array<double, 3>& box = scene.box.size;
     const std::array<int64_t, 3> sites = latticeSites(scene);
@@ -42,7 +51,9 @@ void placeOnLattice(const Scene& scene, ParticleState& state) {
         const Philox4 r = drawBlock(scene.init.seed, 0, uint64_t(k), RngPurpose::LatticeShuffle);
         const int64_t j = int64_t(uniformOpen(r.v[0], r.v[1]) * double(k + 1));
         std::swap(order[size_t(k)], order[size_t(std::min(j, k))]);
+        report(progress, "lattice placement", total - k, total);
     }
+    report(progress, "lattice placement", total, total);
     for (int64_t i = 0; i < n; ++i) {
         const int64_t site = order[size_t(i)];
         const int64_t ix = site % sites[0], iy = (site / sites[0]) % sites[1], iz = site / (sites[0] * sites[1]);
@@ -51,7 +62,7 @@ void placeOnLattice(const Scene& scene, ParticleState& state) {
     }
 }
 
-void placeRandomly(const Scene& scene, ParticleState& state) {
+void placeRandomly(const Scene& scene, ParticleState& state, const SetupProgress& progress) {
     const int64_t n = int64_t(state.size());
     double maxDistance = 0;
     for (const SpeciesDef& a : scene.species)
@@ -60,6 +71,7 @@ void placeRandomly(const Scene& scene, ParticleState& state) {
     IncrementalCellList grid(cellGeometry(box, n, maxDistance), n);
     constexpr int kAttempts = 2000;
     for (int64_t i = 0; i < n; ++i) {
+        report(progress, "random placement", i, n);
         const SpeciesDef& si = scene.species[size_t(state.species[size_t(i)])];
         bool placed = false;
         for (int attempt = 0; attempt < kAttempts && !placed; ++attempt) {
@@ -86,6 +98,7 @@ void placeRandomly(const Scene& scene, ParticleState& state) {
                                                 " tries: the box is too full for random insertion; use placement = \"lattice\" or a larger box"));
         }
     }
+    report(progress, "random placement", n, n);
 }
 
 }  // namespace
@@ -109,7 +122,8 @@ void assignMaxwellBoltzmannVelocities(const Scene& scene, ParticleState& state) 
     for (Vec3<double>& v : state.velocity) v -= drift;
 }
 
-void checkPlacement(const Scene& scene, const ParticleState& state, const std::string& source) {
+void checkPlacement(const Scene& scene, const ParticleState& state, const std::string& source,
+                    const SetupProgress& progress) {
     const double slack = 1e-9;
     for (size_t i = 0; i < state.size(); ++i) {
         const double a = scene.species[size_t(state.species[i])].radius;
@@ -117,34 +131,68 @@ void checkPlacement(const Scene& scene, const ParticleState& state, const std::s
             const double x = state.position[i][ax];
             if (x < a - slack || x > scene.box.size[size_t(ax)] - a + slack) {
                 std::ostringstream msg;
-                msg << "particle " << i << " lies outside the box: " << "xyz"[ax] << " = " << x << " but its centre must be in ["
-                    << a << ", " << scene.box.size[size_t(ax)] - a << "] (radius " << a << ")";
+                msg << "particle " << i << " lies outside the box: "
+                    << "xyz"[ax] << " = " << x << " but its centre must be in [" << a << ", "
+                    << scene.box.size[size_t(ax)] - a << "] (radius " << a << ")";
                 throw InputError(locatedMessage(source, 0, "", msg.str()));
             }
         }
     }
     double maxContact = 0;
     for (const SpeciesDef& s : scene.species) maxContact = std::max(maxContact, 2 * s.radius);
-    // Each pair is checked once, from its higher index, so the first overlap reported is the one a
-    // check in file order meets first.
     CellList grid;
     grid.build(state.position, Vec3<double>{scene.box.size[0], scene.box.size[1], scene.box.size[2]}, maxContact);
-    for (size_t i = 0; i < state.size(); ++i) {
-        const double ai = scene.species[size_t(state.species[i])].radius;
-        grid.forNeighbours(state.position[i], [&](int64_t j) {
-            if (j >= int64_t(i)) return;
-            const double d = ai + scene.species[size_t(state.species[size_t(j)])].radius;
-            const double r = std::sqrt(norm2(state.position[i] - state.position[size_t(j)]));
-            if (r < d * (1 - slack)) {
-                std::ostringstream msg;
-                msg << "particles " << j << " and " << i << " overlap: centre distance " << r << " < contact distance " << d;
-                throw InputError(locatedMessage(source, 0, "", msg.str()));
+    // Each pair is checked once, from its higher index. Blocks of particles go to the threads in
+    // turn; each thread keeps the first overlap of its blocks, and the one with the lowest index is
+    // reported: the overlap a check in file order meets first, whatever the thread count.
+    const int64_t n = int64_t(state.size());
+    constexpr int64_t kBlock = 4096;
+    const int64_t blocks = (n + kBlock - 1) / kBlock;
+    struct Overlap {
+        int64_t i = -1, j = -1;
+        double r = 0, d = 0;
+    };
+    std::atomic<int64_t> nextBlock{0}, checked{0};
+    // Only the calling thread reports (the callback need not be thread-safe), with every thread's count.
+    int64_t reported = 0;
+    auto work = [&](Overlap& first, bool reporting) {
+        for (int64_t b = nextBlock++; b < blocks; b = nextBlock++) {
+            const int64_t end = std::min(n, (b + 1) * kBlock);
+            for (int64_t i = b * kBlock; i < end && (first.i < 0 || i < first.i); ++i) {
+                const double ai = scene.species[size_t(state.species[size_t(i)])].radius;
+                grid.forNeighbours(state.position[size_t(i)], [&](int64_t j) {
+                    if (j >= i || (first.i == i && j >= first.j)) return;
+                    const double d = ai + scene.species[size_t(state.species[size_t(j)])].radius;
+                    const double r = std::sqrt(norm2(state.position[size_t(i)] - state.position[size_t(j)]));
+                    if (r < d * (1 - slack)) first = Overlap{i, j, r, d};
+                });
             }
-        });
+            const int64_t done = checked += end - b * kBlock;
+            if (reporting && progress && done - reported >= kProgressEvery) {
+                progress("overlap check", done, n);
+                reported = done;
+            }
+        }
+    };
+    const int threads = int(std::max<int64_t>(1, std::min<int64_t>(std::thread::hardware_concurrency(), blocks)));
+    std::vector<Overlap> firsts(static_cast<size_t>(threads));
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(work, std::ref(firsts[size_t(t)]), false);
+    work(firsts[0], true);
+    for (std::thread& t : pool) t.join();
+    if (progress) progress("overlap check", n, n);
+    const Overlap* found = nullptr;
+    for (const Overlap& o : firsts)
+        if (o.i >= 0 && (!found || o.i < found->i || (o.i == found->i && o.j < found->j))) found = &o;
+    if (found) {
+        std::ostringstream msg;
+        msg << "particles " << found->j << " and " << found->i << " overlap: centre distance " << found->r
+            << " < contact distance " << found->d;
+        throw InputError(locatedMessage(source, 0, "", msg.str()));
     }
 }
 
-ParticleState makeInitialState(const Scene& scene) {
+ParticleState makeInitialState(const Scene& scene, const SetupProgress& progress) {
     // The rule scene validation applies: a scene from a file passed it already; one built in code
     // (a test, a benchmark, the panel's staged edits) meets it here.
     if (const std::optional<PackingProblem> problem = packingProblem(scene)) {
@@ -169,16 +217,16 @@ ParticleState makeInitialState(const Scene& scene) {
                                                     " holds " + std::to_string(counts[s]) + " particles of species " + std::to_string(s)));
             }
         }
-        checkPlacement(scene, state, scene.init.particlesFile);
+        checkPlacement(scene, state, scene.init.particlesFile, progress);
         return state;
     }
     ParticleState state;
     state.resize(size_t(scene.particleCount()));
     state.species = speciesOfIds(scene);
-    if (scene.init.placement == Placement::Lattice) placeOnLattice(scene, state);
-    else placeRandomly(scene, state);
+    if (scene.init.placement == Placement::Lattice) placeOnLattice(scene, state, progress);
+    else placeRandomly(scene, state, progress);
     assignMaxwellBoltzmannVelocities(scene, state);
-    checkPlacement(scene, state, scene.sourcePath.empty() ? "placement" : scene.sourcePath);
+    checkPlacement(scene, state, scene.sourcePath.empty() ? "placement" : scene.sourcePath, progress);
     return state;
 }
 
