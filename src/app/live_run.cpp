@@ -38,7 +38,7 @@ ScriptEffects LiveRun::advance(int64_t steps, double budgetSeconds) {
     auto runDue = [&]() {
         if (!m_options.script) return;
         for (const ScriptCommand& c : m_options.script->due(simulation().stepIndex())) {
-            const ScriptEffects e = runScriptCommand(c, m_options.script->path(), m_controls, m_display);
+            const ScriptEffects e = runScriptCommand(c, m_options.script->path(), m_controls, m_display, !m_options.quiet);
             effects.quit = effects.quit || e.quit;
             effects.reset = effects.reset || e.reset;
             if (!e.screenshotPath.empty()) effects.screenshotPath = e.screenshotPath;

@@ -23,6 +23,7 @@ struct LiveRunOptions {
     std::string observablesPath;   // "" : none
     std::optional<Script> script;
     SetupProgress setupProgress;   // long set-ups and restarts report here (progress.h); null: silent
+    bool quiet = false;            // script lines only when refused (--quiet)
 };
 
 class LiveRun {

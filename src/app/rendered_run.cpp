@@ -23,6 +23,7 @@ LiveRunOptions liveRunOptions(const RunOptions& options, int64_t observeEvery) {
     live.observablesPath = options.observablesPath;
     if (!options.scriptPath.empty()) live.script = Script::load(options.scriptPath);
     live.setupProgress = setupProgressLines(!options.quiet);
+    live.quiet = options.quiet;
     return live;
 }
 

@@ -16,8 +16,11 @@ struct ScriptEffects {
     std::string screenshotPath;
 };
 
-// Throws InputError naming the script's file and line for a bad value.
+// Throws InputError naming the script's file and line for a value that is not a number or a name.
+// A value the scene rules refuse (set dt -1, set mixing 0 1 -1, ...) changes nothing, as in the panel,
+// and a warning names the line and the rule; the run goes on. `announce`: also a line for each
+// command carried out.
 ScriptEffects runScriptCommand(const ScriptCommand& command, const std::string& scriptPath, LiveControls& controls,
-                               DisplaySettings& display);
+                               DisplaySettings& display, bool announce = true);
 
 }  // namespace corebox

@@ -35,6 +35,10 @@ bool comboBox(const char* label, const Vocabulary<Enum>& table, Enum current, En
     return changed;
 }
 
+// Sliders and drags keep typed values (Ctrl+click) within their range too.
+constexpr ImGuiSliderFlags kClamped = ImGuiSliderFlags_AlwaysClamp;
+constexpr ImGuiSliderFlags kClampedLog = ImGuiSliderFlags_AlwaysClamp | ImGuiSliderFlags_Logarithmic;
+
 bool inputDouble(const char* label, double* value, double step, const char* format = "%.4g") {
     return ImGui::InputDouble(label, value, step, step * 10, format, ImGuiInputTextFlags_EnterReturnsTrue);
 }
@@ -46,9 +50,9 @@ void liveSection(LiveControls& c) {
     ThermostatKind thermostat;
     if (comboBox("thermostat", thermostatTable(), s.thermostat.kind, &thermostat)) c.setThermostatKind(thermostat);
     float target = float(s.thermostat.temperature);
-    if (ImGui::SliderFloat("target T", &target, 0.05f, 10.0f, "%.3f", ImGuiSliderFlags_Logarithmic)) c.setTargetTemperature(target);
+    if (ImGui::SliderFloat("target T", &target, 0.05f, 10.0f, "%.3f", kClampedLog)) c.setTargetTemperature(target);
     float tau = float(s.thermostat.tau);
-    if (ImGui::SliderFloat("tau", &tau, 0.005f, 10.0f, "%.3f", ImGuiSliderFlags_Logarithmic)) c.setThermostatTau(tau);
+    if (ImGui::SliderFloat("tau", &tau, 0.005f, 10.0f, "%.3f", kClampedLog)) c.setThermostatTau(tau);
 
     Method method;
     if (comboBox("integrator", methodTable(), s.integrator.method, &method)) c.setMethod(method);
@@ -60,22 +64,22 @@ void liveSection(LiveControls& c) {
     }
 
     float e = float(s.interaction.restitution);
-    if (ImGui::SliderFloat("restitution", &e, 0.0f, 1.0f)) c.setRestitution(e);
+    if (ImGui::SliderFloat("restitution", &e, 0.0f, 1.0f, "%.3f", kClamped)) c.setRestitution(e);
     float ew = float(s.box.wallRestitution);
-    if (ImGui::SliderFloat("wall restitution", &ew, 0.0f, 1.0f)) c.setWallRestitution(ew);
+    if (ImGui::SliderFloat("wall restitution", &ew, 0.0f, 1.0f, "%.3f", kClamped)) c.setWallRestitution(ew);
     float g[3] = {float(s.interaction.gravity[0]), float(s.interaction.gravity[1]), float(s.interaction.gravity[2])};
-    if (ImGui::DragFloat3("gravity", g, 0.01f, -20.0f, 20.0f)) c.setGravity({g[0], g[1], g[2]});
+    if (ImGui::DragFloat3("gravity", g, 0.01f, -20.0f, 20.0f, "%.3f", kClamped)) c.setGravity({g[0], g[1], g[2]});
 
     if (s.species.size() > 1 && ImGui::TreeNode("species mixing x_ij")) {
         static float like = 1.0f, unlike = 0.5f;
-        ImGui::SliderFloat("like", &like, 0.0f, 2.0f);
-        ImGui::SliderFloat("unlike", &unlike, 0.0f, 2.0f);
+        ImGui::SliderFloat("like", &like, 0.0f, 2.0f, "%.3f", kClamped);
+        ImGui::SliderFloat("unlike", &unlike, 0.0f, 2.0f, "%.3f", kClamped);
         if (ImGui::Button("apply like/unlike")) c.setLikeUnlikeMixing(like, unlike);
         for (size_t i = 0; i < s.species.size(); ++i) {
             for (size_t j = i; j < s.species.size(); ++j) {
                 float x = float(s.mixing(i, j));
                 const std::string label = "x " + s.species[i].name + "-" + s.species[j].name;
-                if (ImGui::SliderFloat(label.c_str(), &x, 0.0f, 2.0f)) c.setMixing(i, j, x);
+                if (ImGui::SliderFloat(label.c_str(), &x, 0.0f, 2.0f, "%.3f", kClamped)) c.setMixing(i, j, x);
             }
         }
         ImGui::TreePop();
@@ -117,11 +121,14 @@ void drawControlPanel(LiveControls& controls, DisplaySettings& display, PanelAct
     if (ImGui::Button("Step (Right)")) actions.singleStep = true;
     ImGui::SameLine();
     if (ImGui::Button("Screenshot (F12)")) actions.screenshot = true;
-    ImGui::SliderInt("steps/frame", &display.stepsPerFrame, 1, 200);
+    ImGui::SliderInt("steps/frame", &display.stepsPerFrame, 1, 200, "%d", kClamped);
     ImGui::Checkbox("vsync", &display.vsync);
     ImGui::SameLine();
     ImGui::Checkbox("colour by speed", &display.colorBySpeed);
     if (!status.empty()) ImGui::TextWrapped("%s", status.c_str());
+    // A typed value the scene rules refuse (dt <= 0, a mass of 1e300, ...) changes nothing; say why.
+    if (!controls.lastRefusal().empty())
+        ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.35f, 1.0f), "refused: %s", controls.lastRefusal().c_str());
 
     if (ImGui::CollapsingHeader("Live parameters", ImGuiTreeNodeFlags_DefaultOpen)) liveSection(controls);
     if (ImGui::CollapsingHeader("Scene (restart)")) restartSection(controls, actions);

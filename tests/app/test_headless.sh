@@ -26,6 +26,14 @@ if "$COREBOX" run "$scene" --headless --software-gl --frames 4 --steps-per-frame
     done
     ls "$work/frames" | grep -q tmp && fail "temporary files left in the frame directory" || pass
     grep -q "make a video with: ffmpeg" "$work/err" && pass || fail "no hint on making a video: $(cat "$work/err")"
+    # Script values the scene rules refuse change nothing and say so; the run goes on (exit 0).
+    printf '1 set dt -1\n2 set mixing 0 5 1\n3 set temperature 1.2\n' >"$work/bad.script"
+    if "$COREBOX" run "$scene" --headless --software-gl --frames 3 --steps-per-frame 2 --size 64x64 --out "$work/refused" \
+        --script "$work/bad.script" 2>"$work/err"; then pass; else fail "refused script values ended the run: $(cat "$work/err")"; fi
+    grep -q "bad.script:1: script step 1: 'set dt -1' refused, nothing changed: .*integrator.dt: must be" "$work/err" && pass ||
+        fail "no refusal of set dt -1: $(cat "$work/err")"
+    grep -q "bad.script:2: .*'set mixing 0 5 1' refused" "$work/err" && pass || fail "no refusal of set mixing 0 5 1: $(cat "$work/err")"
+    grep -q "script step 3: set temperature 1.2" "$work/err" && pass || fail "set temperature 1.2 not applied: $(cat "$work/err")"
     # --quiet: the same run says nothing but warnings and errors.
     "$COREBOX" run "$scene" --headless --software-gl --frames 2 --steps-per-frame 5 --size 200x120 --out "$work/quiet" \
         --quiet 2>"$work/err"

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -383,4 +384,42 @@ TEST_P(LiveEdits, SwitchingMethodOrPrecisionKeepsTheState) {
         EXPECT_LT(moved, 20 * 2e-3 * (1 + std::sqrt(norm2(after.velocity[i])))) << i;
     }
     EXPECT_EQ(session.simulation().stepIndex(), 11);
+}
+
+TEST_P(LiveEdits, ValuesTheSceneRulesRefuseChangeNothing) {
+    // The values a scene file may not hold are refused live too, with the rule's message, and the run
+    // steps exactly as one that never saw them.
+    Session edited(twoSpecies(), choice()), untouched(twoSpecies(), choice());
+    LiveControls controls(edited);
+    const double nan = std::nan("");
+    const std::vector<std::pair<std::string, std::string>> refusals{
+        {controls.setDt(-1), "integrator.dt"},
+        {controls.setDt(nan), "integrator.dt"},
+        {controls.setTargetTemperature(-5), "thermostat.temperature"},
+        {controls.setThermostatTau(0), "thermostat.tau"},
+        {controls.setMixing(0, 1, -1), "interaction.mixing"},
+        {controls.setMixing(0, 7, 1), "out of range"},
+        {controls.setLikeUnlikeMixing(1, nan), "interaction.mixing"},
+        {controls.setRestitution(1.5), "interaction.restitution"},
+        {controls.setWallRestitution(-0.1), "box.wall_restitution"},
+        {controls.setGravity({nan, 0, 0}), "interaction.gravity"},
+        {controls.setGravity({1e308, 0, 0}), "interaction.gravity"},
+        {controls.setSpeciesMass(0, -1), "species.mass"},
+        {controls.setSpeciesRadius(1, std::numeric_limits<double>::infinity()), "species.radius"},
+        {controls.setBoxSize({8, 0, 8}), "box.size"},
+    };
+    for (const auto& [message, key] : refusals) {
+        EXPECT_NE(message.find(key), std::string::npos) << "expected a refusal naming " << key << ", got: '" << message << "'";
+    }
+    EXPECT_FALSE(controls.lastRefusal().empty());
+    EXPECT_FALSE(controls.restartPending());
+    for (int s = 0; s < 20; ++s) {
+        edited.simulation().step();
+        untouched.simulation().step();
+    }
+    EXPECT_EQ(maxDifference(edited.simulation().state(), untouched.simulation().state()), 0.0);
+    // A good value after refusals is applied, and clears the refusal.
+    EXPECT_EQ(controls.setDt(1e-3), "");
+    EXPECT_TRUE(controls.lastRefusal().empty());
+    EXPECT_EQ(edited.runningScene().integrator.dt, 1e-3);
 }
