@@ -28,6 +28,10 @@ std::string trimmed(const std::string& s) {
 ParticleState readStateCsv(const std::string& path) {
     std::ifstream in(path);
     if (!in) throw InputError("cannot read '" + path + "': " + std::strerror(errno));
+    return parseStateCsv(in, path);
+}
+
+ParticleState parseStateCsv(std::istream& in, const std::string& path) {
     std::string line;
     long lineNo = 0;
     if (!std::getline(in, line)) throw InputError(locatedMessage(path, 1, "", "empty file; expected the header " + std::string(kHeader)));
