@@ -3,7 +3,9 @@
 #include <cstdio>
 #include <memory>
 
+#include "checkpoint.h"
 #include "error_report.h"
+#include "errors.h"
 #include "initial_conditions.h"
 #include "interruption.h"
 #include "observables_output.h"
@@ -17,27 +19,54 @@ int runBatch(const RunOptions& options, const Scene& scene) {
     std::unique_ptr<ObservablesOutput> observables;
     int exitCode = kExitOk;
     auto body = [&] {
-        const ParticleState initial = makeInitialState(scene, setupProgressLines(!options.quiet));
-        std::unique_ptr<Backend> backend = makeBackend(backendChoiceFor(scene, options.backend));
-        if (!options.quiet)
-            std::fprintf(stderr, "[corebox] %s: %lld particles, %zu species, %s %s dt = %g, backend %s (%s), %lld steps\n",
-                     options.scenePath.c_str(), (long long)initial.size(), scene.species.size(), methodName(scene.integrator.method),
-                     precisionName(scene.integrator.precision), scene.integrator.dt, backend->name().c_str(),
-                     backend->deviceName().c_str(), (long long)options.steps);
         SimulationLimits limits;
         limits.maxEnergyDrift = options.maxEnergyDrift;
-        sim = std::make_unique<Simulation>(scene, std::move(backend), initial, limits);
+        if (options.restartPath.empty()) {
+            const ParticleState initial = makeInitialState(scene, setupProgressLines(!options.quiet));
+            sim = std::make_unique<Simulation>(scene, makeBackend(backendChoiceFor(scene, options.backend)), initial, limits);
+        } else {
+            const SimulationCheckpoint checkpoint = readCheckpoint(options.restartPath);
+            sim = std::make_unique<Simulation>(scene, makeBackend(backendChoiceFor(scene, options.backend)), checkpoint, limits);
+        }
+        Backend& backend = sim->backend();
+        const int64_t first = sim->stepIndex();  // 0, or the checkpoint's step
+        if (first > options.steps)
+            throw InputError("--restart: the checkpoint is at step " + std::to_string(first) + ", beyond --steps " +
+                             std::to_string(options.steps) + " (--steps counts the whole run)");
+        if (!options.quiet) {
+            std::fprintf(stderr, "[corebox] %s: %lld particles, %zu species, %s %s dt = %g, backend %s (%s), %lld steps%s\n",
+                         options.scenePath.empty() ? options.restartPath.c_str() : options.scenePath.c_str(),
+                         (long long)sim->particleCount(), scene.species.size(), methodName(scene.integrator.method),
+                         precisionName(scene.integrator.precision), scene.integrator.dt, backend.name().c_str(),
+                         backend.deviceName().c_str(), (long long)options.steps,
+                         first > 0 ? (", going on from step " + std::to_string(first)).c_str() : "");
+        }
         observables = std::make_unique<ObservablesOutput>(options.observablesPath);
+        auto writeCheckpointNow = [&] {
+            if (options.checkpointPath.empty()) return;
+            writeCheckpoint(options.checkpointPath, sim->checkpoint());
+        };
 
         observables->header(sim->scene());
         ProgressReporter progress(options.steps, !options.quiet);
         const double dof = 3.0 * double(std::max<int64_t>(sim->particleCount(), 1));
         int64_t capHitsReported = 0;
-        observables->row(sim->observe());
-        int64_t lastRow = 0;
-        for (int64_t s = 1; s <= options.steps && !interruptRequested(); ++s) {
+        // A restarted run's rows go on after the checkpoint's step (the row at that step, if any, is in
+        // the first run's file).
+        if (first == 0) observables->row(sim->observe());
+        int64_t lastRow = first;
+        for (int64_t s = first + 1; s <= options.steps && !interruptRequested(); ++s) {
             sim->step();
-            if (s % options.every == 0 || s == options.steps) {
+            // A checkpoint carries what the rows have not reported yet: it follows the regular rows
+            // (every K steps, which a run that never stopped writes too) and precedes the extra row at
+            // the end of this run (which such a run does not write).
+            const bool regularRow = s % options.every == 0;
+            if (regularRow) {
+                observables->row(sim->observe());
+                lastRow = s;
+            }
+            if (s == options.steps || (options.checkpointEvery > 0 && s % options.checkpointEvery == 0)) writeCheckpointNow();
+            if (!regularRow && s == options.steps) {
                 observables->row(sim->observe());
                 lastRow = s;
             }
@@ -52,16 +81,19 @@ int runBatch(const RunOptions& options, const Scene& scene) {
         if (interruptRequested()) {
             // The step in progress has finished: the table ends at the current state, which is kept.
             const int64_t step = sim->stepIndex();
+            writeCheckpointNow();  // before the row below resets the counters it carries
             if (step != lastRow) observables->row(sim->observe());
             observables->commit();
             const std::string statePath = interruptedStatePath(options);
             writeStateCsv(statePath, sim->state());
-            std::fprintf(stderr, "[corebox] %s: stopped after step %lld of %lld; observables in %s, state in %s\n", interruptName(),
-                         (long long)step, (long long)options.steps, observables->where().c_str(), statePath.c_str());
+            std::fprintf(stderr, "[corebox] %s: stopped after step %lld of %lld; observables in %s, state in %s%s\n", interruptName(),
+                         (long long)step, (long long)options.steps, observables->where().c_str(), statePath.c_str(),
+                         options.checkpointPath.empty() ? "" : (", checkpoint in " + options.checkpointPath).c_str());
             exitCode = interruptExitCode();
             return;
         }
         progress.finish(options.steps, sim->time(), 2.0 * sim->lastKineticEnergy() / dof);
+        if (first == options.steps) writeCheckpointNow();  // nothing left to run: the checkpoint as read
         observables->commit();
         if (!options.stateOutPath.empty()) writeStateCsv(options.stateOutPath, sim->state());
     };

@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
     double dt = 0;
     int64_t seed = -1;
     CLI::App* runCmd = app.add_subcommand("run", "Run a scene and write observables and the final state");
-    runCmd->add_option("scene", run.scenePath, "Scene file (TOML), e.g. assets/argon_gas.toml")->required();
+    runCmd->add_option("scene", run.scenePath, "Scene file (TOML), e.g. assets/argon_gas.toml (not with --restart)");
     auto* stepsOpt = runCmd->add_option("--steps", run.steps, "Number of steps (batch and window runs; --headless: from --frames)")
                          ->capture_default_str();
     runCmd->add_option("--every", run.every, "Observables row every K steps")->capture_default_str();
@@ -164,6 +164,14 @@ int main(int argc, char** argv) {
     runCmd->add_option("--script", run.scriptPath, "Timed commands (set, pause, resume, reset, screenshot, quit), window or headless");
     runCmd->add_option("--screenshot", run.screenshotPath, "Save the last frame (window or headless) as PNG");
     runCmd->add_flag("--no-window", run.noWindow, "Batch run (observables only) even where there is a display");
+    runCmd->add_option("--checkpoint", run.checkpointPath,
+                       "Batch runs: write a checkpoint to this file (atomically, the previous one kept as FILE.prev) at the "
+                       "end, on interruption and every --checkpoint-every steps");
+    runCmd->add_option("--checkpoint-every", run.checkpointEvery, "Steps between checkpoints (0: only at the end and on interruption)")
+        ->capture_default_str();
+    runCmd->add_option("--restart", run.restartPath,
+                       "Batch runs: go on from a checkpoint (its scene, state, step and bookkeeping) up to --steps in all; "
+                       "bit-identical to a run that never stopped on the same backend and precision");
 
     CLI::App* benchCmd = app.add_subcommand("bench", "Benchmarks that write CSV and JSON results");
     benchCmd->require_subcommand(1);

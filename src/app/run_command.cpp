@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "atomic_file.h"
+#include "checkpoint.h"
 #include "batch_run.h"
 #include "error_report.h"
 #include "errors.h"
@@ -67,6 +68,21 @@ void prepareHeadless(RunOptions& options) {
 }
 
 void checkOptions(const RunOptions& options) {
+    if (options.restartPath.empty() && options.scenePath.empty()) throw InputError("run: give a SCENE file (or --restart CHECKPOINT)");
+    if (!options.restartPath.empty()) {
+        if (!options.scenePath.empty())
+            throw InputError("--restart: the checkpoint holds the scene; give no SCENE file with it");
+        if (options.precision || options.method || options.dt || options.seed)
+            throw InputError("--restart: --precision, --method, --dt and --seed would change the run the checkpoint continues; "
+                             "they are not allowed with it");
+        if (options.headless.enabled || !options.scriptPath.empty())
+            throw InputError("--restart: batch runs only (no --headless, no --script)");
+    }
+    if (!options.checkpointPath.empty()) {
+        if (options.headless.enabled) throw InputError("--checkpoint: batch runs only (not with --headless)");
+        if (options.checkpointEvery < 0) throw InputError("--checkpoint-every: must be >= 0");
+        checkWritable(options.checkpointPath, "--checkpoint");
+    }
     if (options.steps < 0) throw InputError("--steps: must be >= 0");
     if (options.every < 1) throw InputError("--every: must be >= 1");
     if (!(options.maxEnergyDrift > 0)) throw InputError("--max-drift: must be > 0");
@@ -78,10 +94,17 @@ void checkOptions(const RunOptions& options) {
 // other output (atomic_file.h).
 void checkOutputsApart(const RunOptions& options, const Scene& scene) {
     std::vector<NamedPath> inputs{{"scene", options.scenePath}, {"init.particles file", scene.init.particlesFile},
-                                  {"--script", options.scriptPath}};
+                                  {"--script", options.scriptPath}, {"--restart", options.restartPath}};
     std::vector<NamedPath> outputs{{"--observables", options.observablesPath},
                                    {"--state-out", options.stateOutPath},
-                                   {"--screenshot", options.screenshotPath}};
+                                   {"--screenshot", options.screenshotPath},
+                                   {"--checkpoint", options.checkpointPath}};
+    // Going on from a checkpoint and writing the next ones to the same file is the usual way to run
+    // in pieces: the checkpoint is read whole before the run, and the one replaced is kept as .prev.
+    std::error_code ec;
+    if (!options.restartPath.empty() && !options.checkpointPath.empty() &&
+        std::filesystem::equivalent(options.restartPath, options.checkpointPath, ec))
+        outputs.pop_back();
     if (options.headless.enabled) {
         outputs.push_back({"--video", options.headless.videoPath});
         outputs.push_back({"--out (its first frame)", FrameDumper::framePath(options.headless.outDir, 0)});
@@ -120,7 +143,12 @@ int runCommand(const RunOptions& requested) {
     const int checked = runReportingErrors([&] {
         prepareHeadless(options);
         checkOptions(options);
-        scene = loadScene(options.scenePath);
+        if (options.restartPath.empty()) {
+            scene = loadScene(options.scenePath);
+        } else {
+            scene = parseScene(readCheckpoint(options.restartPath).sceneToml, options.restartPath);
+            scene.sourcePath = options.restartPath;
+        }
         applyOverrides(options, scene);
         validateScene(scene, SceneLocations(options.scenePath));  // the overrides too (precision changes the bounds)
         if (!options.scriptPath.empty()) Script::load(options.scriptPath);  // errors before anything runs
@@ -129,7 +157,8 @@ int runCommand(const RunOptions& requested) {
     });
     if (checked != kExitOk) return checked;
     if (options.headless.enabled) return runHeadlessFrames(options, scene);
-    if (!options.noWindow && GlfwWindow::displayAvailable()) return runWindow(options, scene);
+    const bool batchOnly = !options.restartPath.empty() || !options.checkpointPath.empty();
+    if (!options.noWindow && !batchOnly && GlfwWindow::displayAvailable()) return runWindow(options, scene);
     // A batch run has no frames to script or to save.
     for (const NamedPath& ignored : {NamedPath{"--script", options.scriptPath}, NamedPath{"--screenshot", options.screenshotPath}}) {
         if (!ignored.path.empty())

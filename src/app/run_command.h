@@ -49,6 +49,9 @@ struct RunOptions {
     std::string scriptPath;                // --script: timed commands (window and headless)
     std::string screenshotPath;            // --screenshot: the last frame as PNG
     bool noWindow = false;                 // batch run even where there is a display
+    std::string checkpointPath;            // --checkpoint: written every checkpointEvery steps, at the end and on interruption
+    int64_t checkpointEvery = 0;           // 0: only at the end and on interruption
+    std::string restartPath;               // --restart: go on from this checkpoint (its scene, step, state)
 };
 
 // Where a run that blew up writes its last good state: beside --state-out (NAME.last_good.csv),

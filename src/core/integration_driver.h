@@ -25,6 +25,12 @@ public:
     // InstabilityError when the adaptive controller cannot meet its tolerance.
     void integrate(Backend& backend, StepReport& report);
 
+    // The adaptive controller's next step size (checkpoints), and its restoration after configure().
+    double nextDt() const { return m_dtNext; }
+    void restoreNextDt(double dt) {
+        if (dt > 0) m_dtNext = dt;
+    }
+
 private:
     void verletStep(Backend& backend, double dt);
     void rkStep(Backend& backend, double dt, int stages);

@@ -51,8 +51,15 @@ public:
     void reset() { *this = PressureWindow{}; }
 
     double time() const { return m_time; }
+    double kineticTime() const { return m_kineticTime; }
     double meanKinetic() const { return m_time > 0 ? m_kineticTime / m_time : 0.0; }
     const ImpulseSums& impulses() const { return m_impulses; }
+    // A window carried over by a checkpoint.
+    void restore(double time, double kineticTime, const ImpulseSums& impulses) {
+        m_time = time;
+        m_kineticTime = kineticTime;
+        m_impulses = impulses;
+    }
 
     // 0 for an empty window (the row at step 0).
     double wallPressure(const PressureGeometry& g) const;

@@ -7,6 +7,7 @@
 #include "collision_rounds.h"
 #include "device_model.h"
 #include "errors.h"
+#include "scene_io.h"
 #include "thermostat.h"
 
 namespace corebox {
@@ -26,6 +27,57 @@ Simulation::Simulation(Scene scene, std::unique_ptr<Backend> backend, const Part
     m_conserved0 = e.kinetic + e.potential;
     m_lastKinetic = e.kinetic;
     m_pressureGeometry = pressureGeometryOf(m_scene);
+}
+
+Simulation::Simulation(Scene scene, std::unique_ptr<Backend> backend, const SimulationCheckpoint& c, SimulationLimits limits)
+    : m_scene(std::move(scene)), m_backend(std::move(backend)), m_limits(limits) {
+    m_particleCount = int64_t(c.state.size());
+    m_countPerSpecies.assign(m_scene.species.size(), 0);
+    for (int32_t s : c.state.species) {
+        if (s < 0 || size_t(s) >= m_countPerSpecies.size())
+            throw InputError("checkpoint: species index " + std::to_string(s) + " but its scene defines " +
+                             std::to_string(m_countPerSpecies.size()) + " species");
+        ++m_countPerSpecies[size_t(s)];
+    }
+    m_backend->setState(c.state);
+    applyParameters();
+    m_driver.restoreNextDt(c.dtNext);
+    m_backend->keepSnapshot();
+    m_step = c.step;
+    m_time = c.time;
+    m_dissipated = c.dissipated;
+    m_thermostatEnergy = c.thermostatEnergy;
+    m_parameterWork = c.parameterWork;
+    m_conserved0 = c.conserved0;
+    m_energyScale = c.energyScale;
+    m_lastKinetic = c.lastKinetic;
+    m_pairCollisions = c.pairCollisions;
+    m_wallCollisions = c.wallCollisions;
+    m_roundCapHits = c.roundCapHits;
+    m_pressureWindow.restore(c.pressureTime, c.pressureKineticTime, c.pressureImpulses);
+    m_pressureGeometry = pressureGeometryOf(m_scene);
+}
+
+SimulationCheckpoint Simulation::checkpoint() const {
+    SimulationCheckpoint c;
+    c.sceneToml = sceneToToml(m_scene);
+    c.state = m_backend->state();
+    c.step = m_step;
+    c.time = m_time;
+    c.dissipated = m_dissipated;
+    c.thermostatEnergy = m_thermostatEnergy;
+    c.parameterWork = m_parameterWork;
+    c.conserved0 = m_conserved0;
+    c.energyScale = m_energyScale;
+    c.lastKinetic = m_lastKinetic;
+    c.pairCollisions = m_pairCollisions;
+    c.wallCollisions = m_wallCollisions;
+    c.roundCapHits = m_roundCapHits;
+    c.dtNext = m_driver.nextDt();
+    c.pressureTime = m_pressureWindow.time();
+    c.pressureKineticTime = m_pressureWindow.kineticTime();
+    c.pressureImpulses = m_pressureWindow.impulses();
+    return c;
 }
 
 void Simulation::applyParameters() {

@@ -19,6 +19,7 @@
 #include <string>
 
 #include "backend.h"
+#include "checkpoint.h"
 #include "integration_driver.h"
 #include "observables.h"
 #include "particle_state.h"
@@ -41,6 +42,13 @@ class Simulation {
 public:
     Simulation(Scene scene, std::unique_ptr<Backend> backend, const ParticleState& initial,
                SimulationLimits limits = SimulationLimits{});
+    // Goes on from a checkpoint (checkpoint.h) exactly where it was taken; `scene` is the
+    // checkpoint's scene (parseScene of its sceneToml) and the backend of the same kind and precision
+    // for a bit-identical continuation.
+    Simulation(Scene scene, std::unique_ptr<Backend> backend, const SimulationCheckpoint& checkpoint,
+               SimulationLimits limits = SimulationLimits{});
+    // Everything a restart needs (downloads the state).
+    SimulationCheckpoint checkpoint() const;
 
     // One step: integrate + collide, thermostat, health check. Throws InstabilityError.
     StepReport step();

@@ -350,6 +350,29 @@ expect "script in a batch run" 0 "warning: --script is ignored in a batch run \(
 quiet_err=$("$COREBOX" run "$work/guards.toml" --steps 2 --no-window --quiet --observables /dev/null 2>&1 >/dev/null)
 [ -z "$quiet_err" ] && pass || fail "--quiet still printed: $quiet_err"
 
+# Checkpoint and restart: a run stopped at a checkpoint and restarted ends in the same state, bit for
+# bit, with the same observables rows after the checkpoint; the previous checkpoint is kept as .prev.
+ckscene="$SRC/assets/binary_mixture.toml"
+"$COREBOX" run "$ckscene" --steps 120 --every 40 --observables "$work/ck_whole.csv" --state-out "$work/ck_whole_state.csv" --quiet
+"$COREBOX" run "$ckscene" --steps 90 --every 40 --observables "$work/ck_a.csv" --checkpoint "$work/ck.bin" --checkpoint-every 40 --quiet
+[ -f "$work/ck.bin" ] && [ -f "$work/ck.bin.prev" ] && pass || fail "checkpoint and its .prev not written"
+if "$COREBOX" run --restart "$work/ck.bin" --steps 120 --every 40 --observables "$work/ck_b.csv" \
+    --state-out "$work/ck_restarted_state.csv" --checkpoint "$work/ck.bin" --quiet; then
+    cmp -s "$work/ck_whole_state.csv" "$work/ck_restarted_state.csv" && pass || fail "restarted state differs from the uninterrupted one"
+    [ "$(grep -E '^120,' "$work/ck_whole.csv")" = "$(grep -E '^120,' "$work/ck_b.csv")" ] && pass ||
+        fail "row 120 differs: $(grep -E '^120,' "$work/ck_whole.csv") vs $(grep -E '^120,' "$work/ck_b.csv")"
+    grep -qE '^(0|40|80),' "$work/ck_b.csv" && fail "the restarted run repeated rows before its checkpoint" || pass
+else
+    fail "restart failed"
+fi
+expect "restart with a scene too" 2 "--restart: the checkpoint holds the scene" -- run "$ckscene" --restart "$work/ck.bin"
+expect "restart with --dt" 2 "--restart: --precision, --method, --dt and --seed" -- run --restart "$work/ck.bin" --dt 0.001
+expect "restart from a scene file" 2 "not a corebox checkpoint" -- run --restart "$ckscene" --steps 10
+head -c 2000 "$work/ck.bin" >"$work/ck_truncated.bin"
+expect "restart from a truncated checkpoint" 2 "truncated" -- run --restart "$work/ck_truncated.bin" --steps 200
+expect "restart beyond --steps" 2 "the checkpoint is at step 120, beyond --steps 50" -- run --restart "$work/ck.bin" --steps 50 --observables /dev/null
+expect "run without a scene" 2 "give a SCENE file" -- run --steps 5
+
 # `corebox bench p2p` and `corebox bench table1` where GPUs are missing: exit 4 (device error) with a
 # message naming what is missing. Where nvidia-smi lists GPUs, only what that count still lacks is
 # checked (p2p needs two, table1 one). Option errors come first and exit 2 on any machine.

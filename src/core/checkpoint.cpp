@@ -1,0 +1,158 @@
+#include "checkpoint.h"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "atomic_file.h"
+#include "errors.h"
+
+namespace corebox {
+namespace {
+
+constexpr char kMagic[] = "corebox checkpoint\n";
+constexpr uint32_t kVersion = 1;
+constexpr uint32_t kByteOrderProbe = 0x01020304;
+static_assert(sizeof(Vec3<double>) == 3 * sizeof(double), "positions and velocities are written as raw doubles");
+
+uint64_t fnv1a(const std::string& bytes) {
+    uint64_t hash = 1469598103934665603ull;
+    for (unsigned char c : bytes) {
+        hash ^= c;
+        hash *= 1099511628211ull;
+    }
+    return hash;
+}
+
+class Writer {
+public:
+    template <class T>
+    void put(const T& value) {
+        static_assert(std::is_trivially_copyable<T>::value, "raw bytes only");
+        m_bytes.append(reinterpret_cast<const char*>(&value), sizeof(T));
+    }
+    void putString(const std::string& s) {
+        put(uint64_t(s.size()));
+        m_bytes += s;
+    }
+    template <class T>
+    void putArray(const std::vector<T>& values) {
+        if (!values.empty()) m_bytes.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+    }
+    std::string& bytes() { return m_bytes; }
+
+private:
+    std::string m_bytes;
+};
+
+class Reader {
+public:
+    Reader(const std::string& bytes, size_t begin, size_t end, std::string path)
+        : m_bytes(bytes), m_at(begin), m_end(end), m_path(std::move(path)) {}
+
+    template <class T>
+    T get(const char* what) {
+        T value;
+        take(&value, sizeof(T), what);
+        return value;
+    }
+    std::string getString(const char* what) {
+        const uint64_t size = get<uint64_t>(what);
+        if (size > m_end - m_at) fail(std::string(what) + " runs past the end of the file");
+        std::string s = m_bytes.substr(m_at, size_t(size));
+        m_at += size_t(size);
+        return s;
+    }
+    template <class T>
+    void getArray(std::vector<T>& values, const char* what) {
+        if (!values.empty()) take(values.data(), values.size() * sizeof(T), what);
+    }
+    size_t remaining() const { return m_end - m_at; }
+    [[noreturn]] void fail(const std::string& why) const { throw InputError("checkpoint '" + m_path + "': " + why); }
+
+private:
+    void take(void* out, size_t n, const char* what) {
+        if (n > m_end - m_at) fail(std::string("truncated (ends inside ") + what + ")");
+        std::memcpy(out, m_bytes.data() + m_at, n);
+        m_at += n;
+    }
+
+    const std::string& m_bytes;
+    size_t m_at;
+    size_t m_end;
+    std::string m_path;
+};
+
+}  // namespace
+
+void writeCheckpoint(const std::string& path, const SimulationCheckpoint& c) {
+    Writer w;
+    w.bytes().append(kMagic, sizeof(kMagic) - 1);
+    w.put(kVersion);
+    w.put(kByteOrderProbe);
+    w.put(uint32_t(sizeof(double)));
+    w.putString(c.sceneToml);
+    w.put(c.step);
+    for (double v : {c.time, c.dissipated, c.thermostatEnergy, c.parameterWork, c.conserved0, c.energyScale, c.lastKinetic, c.dtNext,
+                     c.pressureTime, c.pressureKineticTime})
+        w.put(v);
+    for (int64_t v : {c.pairCollisions, c.wallCollisions, c.roundCapHits}) w.put(v);
+    w.put(c.pressureImpulses);
+    w.put(uint64_t(c.state.size()));
+    w.putArray(c.state.position);
+    w.putArray(c.state.velocity);
+    w.putArray(c.state.species);
+    w.put(fnv1a(w.bytes()));
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(path, ec)) {
+        std::filesystem::rename(path, path + ".prev", ec);
+        if (ec) throw InputError("checkpoint '" + path + "': cannot keep the previous one as " + path + ".prev: " + ec.message());
+    }
+    writeOutputFile(path, w.bytes());
+}
+
+SimulationCheckpoint readCheckpoint(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError("cannot read checkpoint '" + path + "': " + std::strerror(errno));
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const size_t magic = sizeof(kMagic) - 1;
+    if (bytes.size() < magic || bytes.compare(0, magic, kMagic) != 0)
+        throw InputError("checkpoint '" + path + "': not a corebox checkpoint (those are written by --checkpoint)");
+    const size_t header = magic + 3 * sizeof(uint32_t);
+    if (bytes.size() < header + sizeof(uint64_t)) throw InputError("checkpoint '" + path + "': truncated");
+    const size_t end = bytes.size() - sizeof(uint64_t);
+    Reader r(bytes, magic, end, path);
+    const uint32_t version = r.get<uint32_t>("the version");
+    if (version != kVersion)
+        r.fail("format version " + std::to_string(version) + "; this corebox reads version " + std::to_string(kVersion));
+    if (r.get<uint32_t>("the byte-order probe") != kByteOrderProbe || r.get<uint32_t>("the size probe") != sizeof(double))
+        r.fail("written on a machine with another byte order or number format");
+    uint64_t stored = 0;
+    std::memcpy(&stored, bytes.data() + end, sizeof(stored));
+    if (fnv1a(bytes.substr(0, end)) != stored) r.fail("truncated or damaged (its checksum does not match)");
+
+    SimulationCheckpoint c;
+    c.sceneToml = r.getString("the scene");
+    c.step = r.get<int64_t>("the step");
+    for (double* v : {&c.time, &c.dissipated, &c.thermostatEnergy, &c.parameterWork, &c.conserved0, &c.energyScale, &c.lastKinetic,
+                      &c.dtNext, &c.pressureTime, &c.pressureKineticTime})
+        *v = r.get<double>("the energy bookkeeping");
+    for (int64_t* v : {&c.pairCollisions, &c.wallCollisions, &c.roundCapHits}) *v = r.get<int64_t>("the counters");
+    c.pressureImpulses = r.get<ImpulseSums>("the pressure window");
+    const uint64_t n = r.get<uint64_t>("the particle count");
+    const size_t perParticle = 2 * sizeof(Vec3<double>) + sizeof(int32_t);
+    if (n != r.remaining() / perParticle || r.remaining() % perParticle != 0)
+        r.fail("holds " + std::to_string(r.remaining()) + " bytes of particles, not the " + std::to_string(n) + " it announces");
+    c.state.resize(size_t(n));
+    r.getArray(c.state.position, "the positions");
+    r.getArray(c.state.velocity, "the velocities");
+    r.getArray(c.state.species, "the species");
+    return c;
+}
+
+}  // namespace corebox

@@ -1,0 +1,159 @@
+// Checkpoint and restart (checkpoint.h): a run stopped at step S, written to a file, read back and
+// continued is bit-identical to the run that never stopped, for every integrator, with collisions,
+// a thermostat and a live edit before the checkpoint; and a checkpoint that is truncated, damaged or
+// not a checkpoint at all is refused with a message. Every test runs on each backend present.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "checkpoint.h"
+#include "errors.h"
+#include "initial_conditions.h"
+#include "physics_fixtures.h"
+#include "scene_io.h"
+
+using namespace corebox;
+using namespace corebox::testing;
+
+namespace {
+
+// Two species, A with LJ forces and B hard spheres, whose cores collide (restitution 0.8), walls
+// (0.9) and a Bussi thermostat.
+Scene restartScene(Method method, bool adaptive) {
+    Scene scene;
+    SpeciesDef a, b;
+    a.name = "A";
+    a.count = 70;
+    a.radius = 0.56;  // cores beyond the LJ minimum (2^(1/6) sigma): they meet at T = 1.5
+    b.name = "B";
+    b.count = 50;
+    b.radius = 0.6;
+    b.mass = 2;
+    b.epsilon = 0;  // B meets everything as a hard sphere: collisions from the first steps
+    scene.species = {a, b};
+    scene.box.size = {6, 6, 6};
+    scene.box.wallRestitution = 0.9;
+    scene.interaction.cutoff = 2.5;
+    scene.interaction.restitution = 0.8;
+    scene.integrator.method = method;
+    scene.integrator.dt = method == Method::Hairer10 ? 4e-3 : 2e-3;
+    scene.integrator.adaptive = adaptive;
+    scene.integrator.tolerance = 1e-7;
+    scene.thermostat.kind = ThermostatKind::Bussi;
+    scene.thermostat.temperature = 1.5;
+    scene.init.temperature = 1.5;
+    return scene;
+}
+
+std::string scratchPath(const std::string& name) {
+    return (std::filesystem::temp_directory_path() / ("corebox_checkpoint_" + name)).string();
+}
+
+class Restart : public OnEveryBackend {};
+
+}  // namespace
+
+INSTANTIATE_TEST_SUITE_P(Backends, Restart, ::testing::ValuesIn(backendNames()), backendInstanceName);
+
+TEST_P(Restart, ARestartedRunIsBitIdenticalToOneThatNeverStopped) {
+    struct Case {
+        Method method;
+        bool adaptive;
+        const char* name;
+    };
+    for (const Case& c : {Case{Method::Euler, false, "euler"}, Case{Method::Rk2, false, "rk2"}, Case{Method::Rk4, false, "rk4"},
+                          Case{Method::Dp5, false, "dp5"}, Case{Method::Dp5, true, "dp5 adaptive"},
+                          Case{Method::Hairer10, false, "hairer10"}, Case{Method::Verlet, false, "verlet"}}) {
+        SCOPED_TRACE(c.name);
+        const Scene scene = restartScene(c.method, c.adaptive);
+        const ParticleState initial = makeInitialState(scene);
+        auto whole = std::make_unique<Simulation>(scene, makeTestBackend(backendName(), Precision::Fp64), initial);
+        auto first = std::make_unique<Simulation>(scene, makeTestBackend(backendName(), Precision::Fp64), initial);
+        int64_t collisions = 0;
+        // A live edit of the potential (work re-bases the conserved sum) and an observables row
+        // before the checkpoint; the checkpoint between two rows carries the counters and the
+        // pressure window.
+        for (Simulation* sim : {whole.get(), first.get()}) {
+            for (int s = 0; s < 15; ++s) collisions += sim->step().pairCollisions;
+            StepParameters p = stepParametersOf(sim->scene());
+            p.interaction.gravity = {0, 0, -0.5};
+            sim->setStepParameters(p);
+            (void)sim->observe();
+            for (int s = 0; s < 10; ++s) collisions += sim->step().pairCollisions;
+        }
+        EXPECT_GT(collisions, 0) << "the scene must exercise the collision stage";
+        const std::string path = scratchPath(std::string(backendName()) + "_" + c.name);
+        writeCheckpoint(path, first->checkpoint());
+        first.reset();
+        const SimulationCheckpoint read = readCheckpoint(path);
+        Simulation restarted(parseScene(read.sceneToml, path), makeTestBackend(backendName(), Precision::Fp64), read);
+        std::filesystem::remove(path);
+        EXPECT_EQ(restarted.stepIndex(), whole->stepIndex());
+        for (int s = 0; s < 25; ++s) {
+            const StepReport a = whole->step(), b = restarted.step();
+            ASSERT_EQ(a.dt, b.dt) << "step " << s;
+            ASSERT_EQ(a.pairCollisions, b.pairCollisions) << "step " << s;
+        }
+        const ParticleState sa = whole->state(), sb = restarted.state();
+        ASSERT_EQ(sa.size(), sb.size());
+        for (size_t i = 0; i < sa.size(); ++i) {
+            for (int k = 0; k < 3; ++k) {
+                ASSERT_EQ(sa.position[i][k], sb.position[i][k]) << "particle " << i;
+                ASSERT_EQ(sa.velocity[i][k], sb.velocity[i][k]) << "particle " << i;
+            }
+        }
+        const ObservablesRow ra = whole->observe(), rb = restarted.observe();
+        EXPECT_EQ(ra.time, rb.time);
+        EXPECT_EQ(ra.kinetic, rb.kinetic);
+        EXPECT_EQ(ra.potential, rb.potential);
+        EXPECT_EQ(ra.dissipated, rb.dissipated);
+        EXPECT_EQ(ra.thermostat, rb.thermostat);
+        EXPECT_EQ(ra.collisionsPair, rb.collisionsPair);
+        EXPECT_EQ(ra.collisionsWall, rb.collisionsWall);
+        EXPECT_EQ(ra.pressureWall, rb.pressureWall);
+        EXPECT_EQ(ra.pressureVirial, rb.pressureVirial);
+        EXPECT_EQ(whole->parameterWork(), restarted.parameterWork());
+    }
+}
+
+TEST_P(Restart, TruncatedDamagedAndForeignFilesAreRefused) {
+    const Scene scene = restartScene(Method::Verlet, false);
+    Simulation sim(scene, makeTestBackend(backendName(), Precision::Fp64), makeInitialState(scene));
+    sim.step();
+    const std::string path = scratchPath(std::string(backendName()) + "_bad");
+    writeCheckpoint(path, sim.checkpoint());
+    const auto size = std::filesystem::file_size(path);
+    auto refusal = [&](const std::string& file) -> std::string {
+        try {
+            (void)readCheckpoint(file);
+        } catch (const InputError& e) {
+            return e.what();
+        }
+        return "";
+    };
+    EXPECT_EQ(refusal(path), "");
+    // Writing again keeps the previous checkpoint beside the new one.
+    writeCheckpoint(path, sim.checkpoint());
+    EXPECT_TRUE(std::filesystem::exists(path + ".prev"));
+    std::filesystem::resize_file(path, size - 100);
+    EXPECT_NE(refusal(path).find("truncated"), std::string::npos) << refusal(path);
+    std::filesystem::resize_file(path, 10);
+    EXPECT_NE(refusal(path).find("not a corebox checkpoint"), std::string::npos) << refusal(path);
+    {
+        std::fstream f(path + ".prev", std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(std::streamoff(size / 2));
+        f.put('\x55');
+    }
+    EXPECT_NE(refusal(path + ".prev").find("damaged"), std::string::npos) << refusal(path + ".prev");
+    {
+        std::ofstream f(path);
+        f << "[box]\nsize = [1, 1, 1]\n";
+    }
+    EXPECT_NE(refusal(path).find("not a corebox checkpoint"), std::string::npos) << refusal(path);
+    EXPECT_NE(refusal(path + ".missing").find("cannot read checkpoint"), std::string::npos);
+    std::filesystem::remove(path);
+    std::filesystem::remove(path + ".prev");
+}
