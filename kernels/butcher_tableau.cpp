@@ -91,9 +91,14 @@ ButcherTableau tableauFor(Method method) {
         case Method::Rk4: return rk4Tableau();
         case Method::Dp5: return dormandPrince5Tableau();
         case Method::Hairer10: return hairer10Tableau();
-        case Method::Verlet: break;
+        case Method::Verlet:
+        case Method::ForestRuth:
+        case Method::Pefrl:
+        case Method::BlanesMoan:
+        case Method::Yoshida6:
+        case Method::Yoshida8: break;
     }
-    throw std::invalid_argument("velocity Verlet is not a Runge-Kutta method and has no Butcher tableau");
+    throw std::invalid_argument("velocity Verlet and its compositions are not Runge-Kutta methods and have no Butcher tableau");
 }
 
 }  // namespace corebox

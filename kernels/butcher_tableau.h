@@ -13,7 +13,9 @@ namespace corebox {
 
 constexpr int kMaxStages = 17;
 
-enum class Method : int { Euler = 0, Rk2, Rk4, Dp5, Hairer10, Verlet };
+// The Runge-Kutta methods (a Butcher tableau each), velocity Verlet and its symplectic compositions
+// (symplectic_composition.h).
+enum class Method : int { Euler = 0, Rk2, Rk4, Dp5, Hairer10, Verlet, ForestRuth, Pefrl, BlanesMoan, Yoshida6, Yoshida8 };
 
 struct ButcherTableau {
     int stages = 0;
@@ -35,7 +37,7 @@ ButcherTableau dormandPrince5Tableau();
 // Hairer (1978), 17 stages, order 10; generated at build time from kernels/hairer10_tableau.tsv.
 ButcherTableau hairer10Tableau();
 
-// The tableau of an explicit RK method; Verlet has none (it is not a Runge-Kutta method).
+// The tableau of an explicit RK method; Verlet and its compositions have none (not Runge-Kutta methods).
 ButcherTableau tableauFor(Method method);
 
 }  // namespace corebox

@@ -1,8 +1,10 @@
 #include "live_run.h"
 
+
 #include "interruption.h"
 #include "observables.h"
 #include "speed_distributions.h"
+#include "symplectic_composition.h"
 
 namespace corebox {
 
@@ -88,7 +90,7 @@ void LiveRun::recordFrame(double msInterop, double msRender) {
     p.framesPerSecond = double(m_rateFrames) / elapsed;
     const double n = double(simulation().particleCount());
     const Method m = simulation().scene().integrator.method;
-    const double passes = m == Method::Verlet ? 1.0 : double(tableauFor(m).solutionStages);
+    const double passes = isComposition(m) ? double(forcePassesPerStep(compositionFor(m))) : double(tableauFor(m).solutionStages);
     p.pairForces = false;
     for (const SpeciesDef& s : simulation().scene().species) p.pairForces = p.pairForces || s.epsilon > 0;
     p.pairInteractionsPerSecond = p.pairForces ? p.stepsPerSecond * passes * n * (n - 1) : 0.0;

@@ -11,7 +11,9 @@ void IntegrationDriver::configure(Backend& backend, const IntegratorDef& integra
     if (!m_configured || integrator.dt != m_integrator.dt || m_dtNext <= 0) m_dtNext = integrator.dt;
     m_integrator = integrator;
     m_configured = true;
-    if (integrator.method != Method::Verlet) {
+    if (isComposition(integrator.method)) {
+        m_composition = compositionFor(integrator.method);
+    } else {
         m_tableau = tableauFor(integrator.method);
         backend.setTableau(m_tableau);
     }
@@ -19,9 +21,9 @@ void IntegrationDriver::configure(Backend& backend, const IntegratorDef& integra
 }
 
 void IntegrationDriver::integrate(Backend& backend, StepReport& report) {
-    if (m_integrator.method == Method::Verlet) {
+    if (isComposition(m_integrator.method)) {
         report.dt = m_integrator.dt;
-        verletStep(backend, m_integrator.dt);
+        compositionStep(backend, m_integrator.dt);
     } else if (!m_integrator.adaptive || m_tableau.embeddedOrder == 0) {
         report.dt = m_integrator.dt;
         rkStep(backend, m_integrator.dt, m_tableau.solutionStages);
@@ -31,15 +33,21 @@ void IntegrationDriver::integrate(Backend& backend, StepReport& report) {
     }
 }
 
-// Kick-drift-kick. The accelerations of the step's end are those of the next step's start, so one
-// force pass per step unless something moved the particles in between.
-void IntegrationDriver::verletStep(Backend& backend, double dt) {
-    if (!m_accelerationsValid) backend.computeAccelerations();
-    backend.kick(0.5 * dt);
-    backend.drift(dt);
-    backend.computeAccelerations();
-    backend.kick(0.5 * dt);
-    m_accelerationsValid = true;
+// Drifts and kicks in the composition's order. A kick needs a(x) at the current positions: a force
+// pass when a drift (or anything outside the driver) moved them since the last one. Verlet's kick at
+// the end of a step is the next step's first: one force pass per step unless something moved the
+// particles in between.
+void IntegrationDriver::compositionStep(Backend& backend, double dt) {
+    for (const CompositionOp& op : m_composition.ops) {
+        if (op.kind == CompositionOp::Drift) {
+            backend.drift(op.weight * dt);
+            m_accelerationsValid = false;
+            continue;
+        }
+        if (!m_accelerationsValid) backend.computeAccelerations();
+        m_accelerationsValid = true;
+        backend.kick(op.weight * dt);
+    }
 }
 
 void IntegrationDriver::rkStep(Backend& backend, double dt, int stages) {

@@ -1,12 +1,14 @@
-// The integration part of a step, written once for every backend: velocity Verlet with its cached
-// accelerations, a fixed-step explicit Runge-Kutta method, or Dormand-Prince with its step-size
-// controller (reject and retry until the embedded error estimate is within tolerance). The driver
+// The integration part of a step, written once for every backend: velocity Verlet and its symplectic
+// compositions (symplectic_composition.h) with their cached accelerations, a fixed-step explicit
+// Runge-Kutta method, or Dormand-Prince with its step-size controller (reject and retry until the
+// embedded error estimate is within tolerance). The driver
 // owns what outlives a step: the Butcher table (sent to the backend when the method changes), the
 // next adaptive step size and whether the backend's cached accelerations still match its positions.
 #pragma once
 
 #include "backend.h"
 #include "butcher_tableau.h"
+#include "symplectic_composition.h"
 #include "scene.h"
 #include "step_report.h"
 
@@ -32,12 +34,13 @@ public:
     }
 
 private:
-    void verletStep(Backend& backend, double dt);
+    void compositionStep(Backend& backend, double dt);
     void rkStep(Backend& backend, double dt, int stages);
     void adaptiveStep(Backend& backend, StepReport& report);
 
     IntegratorDef m_integrator;
     ButcherTableau m_tableau{};
+    SymplecticComposition m_composition;  // verlet and its compositions
     bool m_configured = false;
     double m_dtNext = 0;
     bool m_accelerationsValid = false;

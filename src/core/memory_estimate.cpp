@@ -1,5 +1,6 @@
 #include "memory_estimate.h"
 
+
 #include <unistd.h>
 
 #include <cmath>
@@ -7,6 +8,7 @@
 #include <string>
 
 #include "errors.h"
+#include "symplectic_composition.h"
 
 namespace corebox {
 double latticeSiteCount(const Scene& scene) {
@@ -22,7 +24,7 @@ double latticeSiteCount(const Scene& scene) {
 double estimatedHostBytes(const Scene& scene) {
     const double n = double(scene.particleCount());
     const double real = scene.integrator.precision == Precision::Fp32 ? 4 : 8;
-    const double stages = scene.integrator.method == Method::Verlet ? 1 : double(tableauFor(scene.integrator.method).stages);
+    const double stages = isComposition(scene.integrator.method) ? 1 : double(tableauFor(scene.integrator.method).stages);
     // State as double (x, v: 48 bytes, species 4) three times (initial, current, last good); the
     // backend's x, v, acceleration, stage x and v (5 x 3 reals), k_x and k_v per stage, contact
     // acceleration; events, flags, losses and the cell list (about 64 bytes).

@@ -224,6 +224,14 @@ std::string Simulation::likelyCause() const {
         case Method::Rk2: out << "; euler and rk2 gain energy on every oscillation at any dt: prefer verlet or rk4"; break;
         case Method::Rk4: out << "; rk4 is stable up to omega*dt ~ 2.83 for the fastest oscillation"; break;
         case Method::Verlet: out << "; verlet is stable up to omega*dt = 2 for the fastest oscillation"; break;
+        case Method::ForestRuth:
+        case Method::Pefrl:
+        case Method::BlanesMoan:
+        case Method::Yoshida6:
+        case Method::Yoshida8:
+            out << "; " << methodName(m) << " is stable up to omega*dt ~ " << compositionStabilityLimit(m)
+                << " for the fastest oscillation (linear theory)";
+            break;
         case Method::Dp5: out << "; dp5 is stable up to omega*dt ~ 1.0 (or use adaptive = true)"; break;
         case Method::Hairer10: out << "; hairer10 is stable up to omega*dt ~ 1.16"; break;
     }

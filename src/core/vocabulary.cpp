@@ -11,6 +11,11 @@ constexpr Term<Method> kMethods[] = {
     {Method::Dp5, "dp5", "order 5"},
     {Method::Hairer10, "hairer10", "order 10"},
     {Method::Verlet, "verlet", "order 2, symplectic"},
+    {Method::ForestRuth, "forest_ruth", "order 4, symplectic"},
+    {Method::Pefrl, "pefrl", "order 4, symplectic"},
+    {Method::BlanesMoan, "blanes_moan", "order 4, symplectic"},
+    {Method::Yoshida6, "yoshida6", "order 6, symplectic"},
+    {Method::Yoshida8, "yoshida8", "order 8, symplectic"},
 };
 constexpr Term<Precision> kPrecisions[] = {{Precision::Fp32, "fp32", ""}, {Precision::Fp64, "fp64", ""}};
 constexpr Term<BackendKind> kBackends[] = {

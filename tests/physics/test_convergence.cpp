@@ -83,6 +83,13 @@ TEST_P(Convergence, Hairer10IsAtLeastNinthOrder) {
     EXPECT_GE(order(Method::Hairer10, {6e-2, 4.8e-2, 4e-2, 3e-2}), 9.0);
 }
 
+// The symplectic compositions of Verlet (symplectic_composition.h): orders 4, 4, 4, 6, 8.
+TEST_P(Convergence, ForestRuthIsFourthOrder) { EXPECT_NEAR(order(Method::ForestRuth, {1.2e-2, 6e-3, 3e-3}), 4.0, 0.3); }
+TEST_P(Convergence, PefrlIsFourthOrder) { EXPECT_NEAR(order(Method::Pefrl, {2.4e-2, 1.2e-2, 6e-3}), 4.0, 0.3); }
+TEST_P(Convergence, BlanesMoanIsFourthOrder) { EXPECT_NEAR(order(Method::BlanesMoan, {2.4e-2, 1.2e-2, 6e-3}), 4.0, 0.3); }
+TEST_P(Convergence, Yoshida6IsSixthOrder) { EXPECT_NEAR(order(Method::Yoshida6, {2.4e-2, 1.6e-2, 1.2e-2}), 6.0, 0.3); }
+TEST_P(Convergence, Yoshida8IsEighthOrder) { EXPECT_NEAR(order(Method::Yoshida8, {6e-2, 4e-2, 3e-2}), 8.0, 0.3); }
+
 TEST_P(AdaptiveDp5, ErrorFollowsTheTolerance) {
     // The controller keeps the local error near the tolerance: tightening it by 1e3 shrinks the
     // global error by orders of magnitude and costs about 1e3^(1/5) = 4x the steps.
