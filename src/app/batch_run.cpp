@@ -27,6 +27,7 @@ int runBatch(const RunOptions& options, const Scene& scene) {
         SimulationLimits limits;
         limits.maxEnergyDrift = options.maxEnergyDrift;
         sim = std::make_unique<Simulation>(scene, std::move(backend), initial, limits);
+        if (!options.quiet) std::fprintf(stderr, "[corebox] forces: %s\n", sim->forceChoice().summary().c_str());
         observables = std::make_unique<ObservablesOutput>(options.observablesPath);
 
         observables->header(sim->scene());
@@ -62,6 +63,11 @@ int runBatch(const RunOptions& options, const Scene& scene) {
             return;
         }
         progress.finish(options.steps, sim->time(), 2.0 * sim->lastKineticEnergy() / dof);
+        if (!options.quiet) {
+            const ForceCounters c = sim->backend().forceCounters();
+            std::fprintf(stderr, "[corebox] forces: %s; %lld force passes, %lld refreshes after collisions, %lld neighbour-list builds\n",
+                         forceModelName(sim->forceChoice().model), (long long)c.fullPasses, (long long)c.refreshes, (long long)c.listBuilds);
+        }
         observables->commit();
         if (!options.stateOutPath.empty()) writeStateCsv(options.stateOutPath, sim->state());
     };

@@ -56,6 +56,7 @@ public:
 
 private:
     void observe(int64_t stepsSinceLast);
+    void noteForceModel();
 
     LiveRunOptions m_options;
     Session m_session;

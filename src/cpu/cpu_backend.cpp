@@ -215,7 +215,22 @@ public:
         const int64_t n = size();
         m_grid.build(m_x, m_boxLength, 2.0 * m_model.maxRadius());
         if (scope == EventScope::All) std::fill(m_active.begin(), m_active.end(), 1);
-        parallelForDynamic(m_threads, n, [&](int64_t i) { m_events[size_t(i)] = earliestEvent(i); });
+        // After the first round few particles are active. An inactive particle had no event in the
+        // previous round and has not changed since, so it can only have one with an active particle in
+        // its 27 cells: only the active particles and their grid neighbours look (the same events as
+        // every particle looking, without walking the whole fluid again).
+        const int64_t active = int64_t(std::count(m_active.begin(), m_active.end(), char(1)));
+        if (4 * active >= n) {
+            parallelForDynamic(m_threads, n, [&](int64_t i) { m_events[size_t(i)] = earliestEvent(i); });
+        } else {
+            m_lookers.assign(size_t(n), 0);
+            for (int64_t i = 0; i < n; ++i) {
+                if (!m_active[size_t(i)]) continue;
+                m_lookers[size_t(i)] = 1;
+                m_grid.forNeighbours(m_x[size_t(i)], [&](int64_t j) { m_lookers[size_t(j)] = 1; });
+            }
+            parallelForDynamic(m_threads, n, [&](int64_t i) { m_events[size_t(i)] = m_lookers[size_t(i)] ? earliestEvent(i) : noEvent(); });
+        }
         return int64_t(std::count_if(m_events.begin(), m_events.end(), [](const CollisionEvent& e) { return isValid(e); }));
     }
 
@@ -275,6 +290,7 @@ public:
         });
         for (int64_t i = 0; i < n; ++i) m_contactStart[size_t(i) + 1] += m_contactStart[size_t(i)];
         m_contacts.resize(size_t(m_contactStart[size_t(n)]));
+        if (m_contacts.empty()) return 0;  // nothing to fill, sort or relax (a fluid's usual step)
         parallelFor(m_threads, n, [&](int64_t i) {
             int64_t slot = m_contactStart[size_t(i)];
             const double height = dot(up, vec3Cast<double>(m_x[size_t(i)]));
@@ -538,8 +554,22 @@ private:
         const int64_t n = int64_t(x.size());
         m_pairForce.resize(size_t(m_list.pairCount()));
         if (pairEnergy) m_pairEnergy.resize(size_t(m_list.pairCount()));
+        const size_t speciesCount = m_mass.size();
         parallelFor(m_threads, n, [&](int64_t i) {
-            for (int64_t k = m_list.rowBegin(i); k < m_list.rowEnd(i); ++k) evaluateSlot(x, i, k, pairEnergy != nullptr);
+            const Vec3<Real> xi = x[size_t(i)];
+            const PairCoefficients<Real>* row = &m_pairs[size_t(m_species[size_t(i)]) * speciesCount];
+            const int64_t end = m_list.rowEnd(i);
+            for (int64_t k = m_list.rowBegin(i); k < end; ++k) {
+                const int32_t j = m_list.partner(k);
+                const Real r2 = norm2(xi - x[size_t(j)]);
+                if (pairEnergy) {
+                    Real u = 0;
+                    m_pairForce[size_t(k)] = pairForceOverR(row[m_species[size_t(j)]], r2, &u);
+                    m_pairEnergy[size_t(k)] = double(u);
+                } else {
+                    m_pairForce[size_t(k)] = pairForceOverR(row[m_species[size_t(j)]], r2, static_cast<Real*>(nullptr));
+                }
+            }
         });
         parallelFor(m_threads, n, [&](int64_t i) { out[size_t(i)] = gatherSlots(x, i, pairEnergy ? &pairEnergy[i] : nullptr); });
         m_pairsMatchX = &x == &m_x;
@@ -710,6 +740,7 @@ private:
 
     std::vector<CollisionEvent> m_events;
     std::vector<char> m_active;
+    std::vector<char> m_lookers;  // findEvents: the particles that may have an event this round
     std::vector<Vec3<Real>> m_contactAcceleration;
     std::vector<char> m_hasContactAcceleration;
     std::vector<int64_t> m_needAcceleration;

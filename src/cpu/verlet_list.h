@@ -2,14 +2,16 @@
 //
 // Design note.
 // - Built on the one grid (src/core/host_cell_list.h) with cells at least r_c + skin wide, so every
-//   pair within reach lies in adjacent cells; each particle's 27-cell walk keeps the partners j > i
-//   closer than r_c + skin: a half list, every pair once (Newton's third law).
+//   pair within reach lies in adjacent cells. Particle i lists the later particles of its own cell and
+//   those of the 13 cells of the half-shell stencil closer than r_c + skin: a half list, every pair
+//   once (Newton's third law), found by one walk over half the neighbourhood.
 // - Rebuilt when some particle has moved more than skin / 2 since the last build (then no pair can
 //   have come from beyond r_c + skin to within r_c), never on a schedule; also when the reach, the
 //   particle count or the box changed.
-// - Layout: compressed rows. Row i holds its partners in the walk's order (ascending cell key, then
-//   ascending index), slots rowStart[i] .. rowStart[i + 1]. The transposed index lists, for every j,
-//   the slots of the pairs whose partner it is, by ascending owner: the force pass evaluates each
+// - Layout: compressed rows. Row i holds its partners in the walk's order (its own cell, then the
+//   half-shell cells in stencil order; ascending index inside a cell), slots rowStart[i] ..
+//   rowStart[i + 1]. The transposed index lists, for every j,
+//   the slots of the pairs whose partner it is, by ascending owner index: the force pass evaluates each
 //   pair once into its slot and then every particle gathers its own slots and its incoming ones in
 //   this fixed order, so the sums do not depend on the thread count and no two threads write one
 //   particle.
@@ -66,31 +68,61 @@ private:
         return worst;
     }
 
+    // fn(j) for the partners of i: later particles of i's own cell, then every particle of the 13
+    // cells after it in the half-shell stencil (each pair of adjacent cells once), within reach.
     template <class Fn>
     void forPartners(const std::vector<Vec3<Real>>& x, int64_t i, Real reach2, Fn&& fn) const {
+        const CellListView grid = m_grid.view();
         const Vec3<Real> xi = x[size_t(i)];
-        m_grid.forNeighbours(xi, [&](int64_t j) {
-            if (j > i && norm2(xi - x[size_t(j)]) < reach2) fn(j);
-        });
+        const CellCoords c = cellCoords(grid.geometry, xi);
+        auto visit = [&](int key, bool ownCell) {
+            for (int32_t k = grid.cellStart[key]; k < grid.cellStart[key + 1]; ++k) {
+                const int64_t j = grid.sorted[k];
+                if (ownCell && j <= i) continue;
+                if (norm2(xi - x[size_t(j)]) < reach2) fn(j);
+            }
+        };
+        visit(cellKey(grid.geometry, c), true);
+        for (const CellCoords& d : kHalfShell) {
+            const CellCoords n{c.x + d.x, c.y + d.y, c.z + d.z};
+            if (n.x < 0 || n.y < 0 || n.z < 0 || n.x >= grid.geometry.dims[0] || n.y >= grid.geometry.dims[1] || n.z >= grid.geometry.dims[2])
+                continue;
+            visit(cellKey(grid.geometry, n), false);
+        }
     }
 
+    // The 13 neighbour offsets after (0, 0, 0) in (z, y, x) order: with their mirror images, all 26.
+    static constexpr CellCoords kHalfShell[13] = {{1, 0, 0},   {-1, 1, 0}, {0, 1, 0},  {1, 1, 0},  {-1, -1, 1}, {0, -1, 1}, {1, -1, 1},
+                                                  {-1, 0, 1},  {0, 0, 1},  {1, 0, 1},  {-1, 1, 1}, {0, 1, 1},   {1, 1, 1}};
+
+    // One walk: each fixed chunk of particles (its size independent of the thread count) collects its
+    // rows, then the chunks are copied into place after the prefix sum.
     void build(const std::vector<Vec3<Real>>& x, const Vec3<Real>& box, double cutoff, double skin, int threads) {
         const int64_t n = int64_t(x.size());
         const double reach = cutoff + skin;
         const Real reach2 = Real(reach * reach);
         m_grid.build(x, box, reach);
         m_rowStart.assign(size_t(n) + 1, 0);
-        parallelForDynamic(threads, n, [&](int64_t i) {
-            int64_t count = 0;
-            forPartners(x, i, reach2, [&](int64_t) { ++count; });
-            m_rowStart[size_t(i) + 1] = count;
-        });
+        const int64_t chunks = (n + kReductionChunk - 1) / kReductionChunk;
+        m_chunkPartners.resize(size_t(chunks));
+#pragma omp parallel for schedule(dynamic) num_threads(threads) if (chunks > 1)
+        for (int64_t chunk = 0; chunk < chunks; ++chunk) {
+            std::vector<int32_t>& partners = m_chunkPartners[size_t(chunk)];
+            partners.clear();
+            const int64_t end = std::min(n, (chunk + 1) * kReductionChunk);
+            for (int64_t i = chunk * kReductionChunk; i < end; ++i) {
+                const size_t before = partners.size();
+                forPartners(x, i, reach2, [&](int64_t j) { partners.push_back(int32_t(j)); });
+                m_rowStart[size_t(i) + 1] = int64_t(partners.size() - before);
+            }
+        }
         for (int64_t i = 0; i < n; ++i) m_rowStart[size_t(i) + 1] += m_rowStart[size_t(i)];
         m_partner.resize(size_t(m_rowStart[size_t(n)]));
-        parallelForDynamic(threads, n, [&](int64_t i) {
-            int64_t slot = m_rowStart[size_t(i)];
-            forPartners(x, i, reach2, [&](int64_t j) { m_partner[size_t(slot++)] = int32_t(j); });
-        });
+#pragma omp parallel for schedule(static) num_threads(threads) if (chunks > 1)
+        for (int64_t chunk = 0; chunk < chunks; ++chunk) {
+            const std::vector<int32_t>& partners = m_chunkPartners[size_t(chunk)];
+            std::copy(partners.begin(), partners.end(), m_partner.begin() + m_rowStart[size_t(chunk * kReductionChunk)]);
+        }
         // Transpose by a counting sort over the slots in ascending order: ascending owner per partner.
         m_inStart.assign(size_t(n) + 1, 0);
         for (int32_t j : m_partner) ++m_inStart[size_t(j) + 1];
@@ -116,6 +148,7 @@ private:
     CellList m_grid;
     std::vector<int64_t> m_rowStart, m_inStart, m_inSlot, m_fill;
     std::vector<int32_t> m_partner, m_inOwner;
+    std::vector<std::vector<int32_t>> m_chunkPartners;  // build scratch, kept to reuse its memory
     std::vector<Vec3<Real>> m_xBuilt;
     Vec3<Real> m_box{0, 0, 0};
     double m_cutoff = 0, m_skin = 0;
