@@ -208,6 +208,7 @@ int main(int argc, char** argv) {
     addChoices(mdCmd, "--precision", precisionTable(), "Precisions", md.precisions);
     addChoices(mdCmd, "--forces", forceModelTable(), "Force models (all_pairs, neighbour_list)", md.forces);
     mdCmd->add_option("--min-seconds", md.minSeconds, "Time each configuration at least this long")->capture_default_str();
+    mdCmd->add_option("--cpu-max-n", md.cpuMaxN, "Largest N the CPU backend runs (larger: GPU only)")->capture_default_str();
     mdCmd->add_option("--max-seconds", md.maxSeconds, "Skip a configuration predicted to need longer than this")->capture_default_str();
     mdCmd->add_option("--lammps", md.lammps, "LAMMPS binary, auto (lmp on PATH, CPU backend only) or off")->capture_default_str();
     mdCmd->add_option("--lammps-ranks", md.lammpsRanks, "MPI ranks for LAMMPS")->capture_default_str();

@@ -82,6 +82,11 @@ void runMdBenchmark(const MdBenchmarkOptions& o) {
     std::string lammpsVersion;
     std::map<std::pair<std::string, std::string>, std::pair<int64_t, double>> lastTime;  // (precision, forces) -> (n, s/step)
     for (int64_t n : o.sizes) {
+        if (o.backend == "cpu" && n > o.cpuMaxN) {
+            std::fprintf(stderr, "[corebox] md cpu N = %lld: skipped, GPU only (above --cpu-max-n %lld: minutes per configuration on a few cores)\n",
+                         (long long)n, (long long)o.cpuMaxN);
+            continue;
+        }
         Scene base = mdScene(n, Precision::Fp64, ForceModel::AllPairs);
         const ParticleState initial = makeInitialState(base);
         for (Precision p : o.precisions) {

@@ -24,6 +24,7 @@ struct MdBenchmarkOptions {
     std::vector<Precision> precisions{Precision::Fp32, Precision::Fp64};
     std::vector<ForceModel> forces{ForceModel::NeighbourList, ForceModel::AllPairs};
     double minSeconds = 2.0;
+    int64_t cpuMaxN = 200000;  // larger sizes run on the GPU only
     double maxSeconds = 60.0;  // skip a configuration predicted to need longer than this for 3 steps
     std::string lammps = "auto";  // "auto": run `lmp` when found (CPU backend); "off"; or the lmp binary
     int lammpsRanks = 2;

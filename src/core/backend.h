@@ -139,6 +139,9 @@ public:
     // collision stage (or the backend cannot do it): then the caller recomputes A.
     virtual bool refreshAccelerations() { return false; }
     virtual ForceCounters forceCounters() const { return ForceCounters{}; }
+    // Whether the backend sums forces from neighbour lists when the model asks for them
+    // (DeviceModel::forces); one that does not runs all pairs, and the force choice says so.
+    virtual bool supportsNeighbourLists() const { return false; }
 
     // ---- a posteriori collision stage, 1: impact rounds (DESIGN.md sec. 2) ----
     // Every particle active; counts and losses zeroed. The window says which overlaps are impacts of

@@ -22,12 +22,12 @@ std::string formatted(double v) {
 
 std::string ForceChoice::summary() const { return std::string(forceModelName(model)) + " (" + reason + ")"; }
 
-// Measured on the machine named in docs/results/md_benchmark_cpu.json (2 cores, fp64, Verlet, LJ
-// fluid at rho = 0.8, r_c = 2.5): lists are faster from a few hundred particles on. The CUDA figure
-// is the all-pairs tile kernel's break-even estimate until the GPU bench measures it.
+// CPU: measured with `corebox bench md --sizes 32,64,125,250,500 --precision fp64` on 2 cores
+// (docs/results/md_cpu_crossover.json): all pairs is faster at N = 32, the half lists from N = 64 on.
+// CUDA: not measured yet (the GPU has no lists so far; supportsNeighbourLists says so).
 int64_t neighbourListCrossover(const std::string& backendName) {
     if (backendName == "cuda") return 16384;
-    return 500;
+    return 64;
 }
 
 double listReachFraction(const std::array<double, 3>& box, double reach) {
@@ -36,13 +36,14 @@ double listReachFraction(const std::array<double, 3>& box, double reach) {
     return fraction;
 }
 
-ForceChoice chooseForceModel(const StepParameters& parameters, int64_t particleCount, const std::string& backendName) {
+ForceChoice chooseForceModel(const StepParameters& parameters, int64_t particleCount, const std::string& backendName, bool backendHasLists) {
     const InteractionDef& in = parameters.interaction;
     const bool anyEpsilon = std::any_of(parameters.species.begin(), parameters.species.end(), [](const SpeciesDef& s) { return s.epsilon != 0.0; });
     if (!anyEpsilon) return {ForceModel::None, "every epsilon is 0: no pair force, hard cores only"};
     const double reach = in.cutoff + in.skin;
     const double minEdge = std::min({parameters.box.size[0], parameters.box.size[1], parameters.box.size[2]});
     if (in.forces == ForceModel::AllPairs) return {ForceModel::AllPairs, "asked for by the scene"};
+    if (!backendHasLists && in.cutoff > 0) return {ForceModel::AllPairs, "the " + backendName + " backend has no neighbour lists yet"};
     if (in.forces == ForceModel::NeighbourList) {
         if (in.cutoff <= 0) return {ForceModel::AllPairs, "neighbour lists asked for, but there is no cutoff: every pair interacts"};
         if (in.cutoff > 0.5 * minEdge) {

@@ -36,7 +36,9 @@ struct ForceChoice {
 // `corebox bench md --sizes ...` (docs/md_benchmark.md).
 int64_t neighbourListCrossover(const std::string& backendName);
 
-ForceChoice chooseForceModel(const StepParameters& parameters, int64_t particleCount, const std::string& backendName);
+// backendHasLists: Backend::supportsNeighbourLists(); without them every model is all pairs.
+ForceChoice chooseForceModel(const StepParameters& parameters, int64_t particleCount, const std::string& backendName,
+                             bool backendHasLists = true);
 
 // Fraction of the box within reach of one particle's neighbour list: prod_a min(2 (r_c + skin), L_a) / L_a.
 double listReachFraction(const std::array<double, 3>& box, double reach);

@@ -30,7 +30,7 @@ Simulation::Simulation(Scene scene, std::unique_ptr<Backend> backend, const Part
 
 void Simulation::applyParameters() {
     const StepParameters parameters = stepParametersOf(m_scene);
-    m_forceChoice = chooseForceModel(parameters, m_particleCount, m_backend->name());
+    m_forceChoice = chooseForceModel(parameters, m_particleCount, m_backend->name(), m_backend->supportsNeighbourLists());
     DeviceModel model = deviceModelOf(parameters);
     model.forces = m_forceChoice.model;
     m_backend->setModel(model);

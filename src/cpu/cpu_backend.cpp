@@ -188,6 +188,8 @@ public:
         return true;
     }
 
+    bool supportsNeighbourLists() const override { return true; }
+
     ForceCounters forceCounters() const override {
         ForceCounters c = m_counters;
         c.listBuilds = m_list.builds();

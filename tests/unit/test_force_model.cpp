@@ -121,3 +121,9 @@ TEST(ForceModelSettings, ZeroSkinAndListsWithoutCutoffAreRefused) {
     scene.interaction.forces = ForceModel::NeighbourList;
     EXPECT_NE(problemOf(scene).find("needs a cutoff"), std::string::npos) << problemOf(scene);
 }
+
+TEST(ForceModelChoice, ABackendWithoutListsRunsAllPairsAndSaysSo) {
+    const ForceChoice c = chooseForceModel(fluid(100000, 2.5), 100000, "cuda", false);
+    EXPECT_EQ(c.model, ForceModel::AllPairs);
+    EXPECT_TRUE(mentions(c, "no neighbour lists")) << c.reason;
+}
