@@ -7,6 +7,7 @@
 
 #include "errors.h"
 #include "force_model.h"
+#include "scene_io.h"
 #include "scene_validation.h"
 
 using namespace corebox;
@@ -126,4 +127,18 @@ TEST(ForceModelChoice, ABackendWithoutListsRunsAllPairsAndSaysSo) {
     const ForceChoice c = chooseForceModel(fluid(100000, 2.5), 100000, "cuda", false);
     EXPECT_EQ(c.model, ForceModel::AllPairs);
     EXPECT_TRUE(mentions(c, "no neighbour lists")) << c.reason;
+}
+
+// The presets made for cut-off forces load, validate and run on lists wherever lists exist.
+TEST(ForceModelPresets, CoexistenceAndDemixingRunOnNeighbourLists) {
+    for (const char* name : {"lj_coexistence", "binary_demixing"}) {
+        SCOPED_TRACE(name);
+        const Scene scene = loadScene(std::string(COREBOX_SOURCE_DIR) + "/assets/" + name + ".toml");
+        EXPECT_EQ(problemOf(scene), "");
+        EXPECT_GT(scene.interaction.cutoff, 0);
+        for (const std::string backend : {"cpu", "cuda"}) {
+            const ForceChoice c = chooseForceModel(stepParametersOf(scene), scene.particleCount(), backend);
+            EXPECT_EQ(c.model, ForceModel::NeighbourList) << backend << ": " << c.reason;
+        }
+    }
 }
