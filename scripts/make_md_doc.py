@@ -49,6 +49,10 @@ def table(data):
     out = [f"## {data['backend']} on {data['device'] or data['host'].get('cpu', '?')}", "",
            f"Command: `{data['command']}`  ", f"Run at {data['timestamp']}; host CPU {data['host'].get('cpu', '?')}, "
            f"{data['host'].get('hardware_threads', '?')} hardware threads", ""]
+    if data.get("load_average_before"):
+        out += [f"Host load average (1, 5, 15 min) before the run {data['load_average_before']}, after "
+                f"{data.get('load_average_after', '?')} (other work on the same cores slows both codes, MPI most); "
+                f"OMP_WAIT_POLICY={data.get('omp_wait_policy') or 'unset'}", ""]
     if data.get("lammps"):
         out += [f"LAMMPS: {data['lammps']}", ""]
     out += ["| code | precision | forces | N | ms/step | steps/s | particle-steps/s | list builds/step | forces ms | collisions ms | / LAMMPS |",

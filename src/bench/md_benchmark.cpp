@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -24,6 +26,14 @@ using Clock = std::chrono::steady_clock;
 double seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
 
 constexpr int kWarmupSteps = 3;
+
+// The host's load averages (/proc/loadavg): on a shared machine the other work is part of the record.
+std::string loadAverage() {
+    std::ifstream in("/proc/loadavg");
+    std::string one, five, fifteen;
+    if (!(in >> one >> five >> fifteen)) return "";
+    return one + " " + five + " " + fifteen;
+}
 
 struct Record {
     std::string code;  // corebox | lammps
@@ -76,6 +86,7 @@ int64_t lammpsSteps(int64_t n) { return std::max<int64_t>(50, std::min<int64_t>(
 void runMdBenchmark(const MdBenchmarkOptions& o) {
     std::vector<Record> records;
     std::string device;
+    const std::string loadBefore = loadAverage();
     const std::string lmp = o.backend == "cpu" ? findLammps(o.lammps) : "";
     if (o.backend == "cpu" && o.lammps != "off" && lmp.empty())
         std::fprintf(stderr, "[corebox] LAMMPS not found (lmp on PATH): the peer column stays empty; see docs/md_benchmark.md\n");
@@ -142,6 +153,10 @@ void runMdBenchmark(const MdBenchmarkOptions& o) {
     json["backend"] = o.backend;
     json["device"] = device;
     json["host"] = hostJson(host);
+    json["load_average_before"] = loadBefore;  // 1, 5 and 15 minutes
+    json["load_average_after"] = loadAverage();
+    const char* wait = std::getenv("OMP_WAIT_POLICY");
+    json["omp_wait_policy"] = wait ? wait : "";
     json["lammps"] = lmp.empty() ? "" : lammpsVersion + " (" + lmp + ", " + std::to_string(o.lammpsRanks) + " MPI ranks)";
     char model[512];
     std::snprintf(model, sizeof model,
@@ -165,7 +180,8 @@ void runMdBenchmark(const MdBenchmarkOptions& o) {
     }
     std::cout << csv;
     if (o.outputPrefix.empty()) return;
-    writeResultFiles(o.outputPrefix, "# " + o.commandLine + "\n" + csv, json);
+    writeResultFiles(o.outputPrefix,
+                     "# " + o.commandLine + "\n# load average before " + loadBefore + ", after " + loadAverage() + "\n" + csv, json);
 }
 
 }  // namespace corebox
