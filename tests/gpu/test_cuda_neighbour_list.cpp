@@ -52,17 +52,17 @@ std::unique_ptr<Backend> backendFor(const std::string& name, Precision p) {
     return makeCudaBackend(options);
 }
 
-struct Run {
+struct SimRun {
     ParticleState state;
     ObservablesRow row;
     ForceChoice choice;
     ForceCounters counters;
 };
 
-Run simulate(const Scene& scene, const std::string& backend, int steps) {
+SimRun simulate(const Scene& scene, const std::string& backend, int steps) {
     Simulation sim(scene, backendFor(backend, scene.integrator.precision), makeInitialState(scene));
     for (int s = 0; s < steps; ++s) sim.step();
-    return Run{sim.state(), sim.observe(), sim.forceChoice(), sim.backend().forceCounters()};
+    return SimRun{sim.state(), sim.observe(), sim.forceChoice(), sim.backend().forceCounters()};
 }
 
 double maxRelativeDifference(const ParticleState& a, const ParticleState& b, double scale) {
@@ -71,7 +71,7 @@ double maxRelativeDifference(const ParticleState& a, const ParticleState& b, dou
     return worst;
 }
 
-void expectSameRun(const Run& a, const Run& b, double boxScale) {
+void expectSameRun(const SimRun& a, const SimRun& b, double boxScale) {
     EXPECT_LT(maxRelativeDifference(a.state, b.state, boxScale), 1e-9);
     EXPECT_NEAR(a.row.kinetic, b.row.kinetic, 1e-9 * std::fabs(a.row.kinetic));
     EXPECT_NEAR(a.row.potential, b.row.potential, 1e-9 * std::fabs(a.row.potential));
@@ -83,12 +83,12 @@ TEST(CudaNeighbourList, ListsMatchTheCpuAndAllPairsOverTwentySteps) {
     COREBOX_REQUIRE_GPU();
     const Scene lists = liquid(ForceModel::NeighbourList, Precision::Fp64);
     const double scale = lists.box.size[0];
-    const Run gpu = simulate(lists, "cuda", 20);
+    const SimRun gpu = simulate(lists, "cuda", 20);
     ASSERT_EQ(gpu.choice.model, ForceModel::NeighbourList) << gpu.choice.reason;
     EXPECT_GE(gpu.counters.listBuilds, 1);
-    const Run cpu = simulate(lists, "cpu", 20);
+    const SimRun cpu = simulate(lists, "cpu", 20);
     expectSameRun(cpu, gpu, scale);
-    const Run gpuAllPairs = simulate(liquid(ForceModel::AllPairs, Precision::Fp64), "cuda", 20);
+    const SimRun gpuAllPairs = simulate(liquid(ForceModel::AllPairs, Precision::Fp64), "cuda", 20);
     EXPECT_EQ(gpuAllPairs.counters.listBuilds, 0);
     expectSameRun(gpuAllPairs, gpu, scale);
 }
@@ -97,8 +97,8 @@ TEST(CudaNeighbourList, RebuildsKeepTheCpuResult) {
     COREBOX_REQUIRE_GPU();
     Scene scene = liquid(ForceModel::NeighbourList, Precision::Fp64);
     scene.interaction.skin = 0.05;  // rebuilt every few steps
-    const Run gpu = simulate(scene, "cuda", 20);
-    const Run cpu = simulate(scene, "cpu", 20);
+    const SimRun gpu = simulate(scene, "cuda", 20);
+    const SimRun cpu = simulate(scene, "cpu", 20);
     EXPECT_GT(gpu.counters.listBuilds, 2);
     EXPECT_GT(cpu.counters.listBuilds, 2);
     expectSameRun(cpu, gpu, scene.box.size[0]);
@@ -117,8 +117,8 @@ TEST(CudaNeighbourList, Fp32ListsStayCloseToTheFp64Oracle) {
     const Scene scene = liquid(ForceModel::NeighbourList, Precision::Fp32);
     Scene oracle = scene;
     oracle.integrator.precision = Precision::Fp64;
-    const Run gpu = simulate(scene, "cuda", 20);
-    const Run cpu = simulate(oracle, "cpu", 20);
+    const SimRun gpu = simulate(scene, "cuda", 20);
+    const SimRun cpu = simulate(oracle, "cpu", 20);
     EXPECT_LT(maxRelativeDifference(cpu.state, gpu.state, scene.box.size[0]), 1e-5);
     EXPECT_NEAR(gpu.row.potential, cpu.row.potential, 1e-4 * std::fabs(cpu.row.potential));
 }
