@@ -84,7 +84,7 @@ void LiveRun::noteForceModel() {
     const std::string forces = simulation().forceChoice().summary();
     if (forces == m_performance.forces) return;
     m_performance.forces = forces;
-    std::fprintf(stderr, "[corebox] forces: %s\n", forces.c_str());
+    if (!m_options.quiet) std::fprintf(stderr, "[corebox] forces: %s\n", forces.c_str());
 }
 
 void LiveRun::recordFrame(double msInterop, double msRender) {

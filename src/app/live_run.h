@@ -22,6 +22,7 @@ struct LiveRunOptions {
     int64_t observeEvery = 10;     // observables row (and plot point) every K steps
     std::string observablesPath;   // "" : none
     std::optional<Script> script;
+    bool quiet = false;            // no log lines (the force model chosen at start and on live edits)
 };
 
 class LiveRun {
