@@ -195,6 +195,9 @@ size_t partialForceBytes(int64_t chunks, int64_t rows) {
 }  // namespace
 
 template <class Real>
+void launchListForces(const ForceArgs<Real>& a, cudaStream_t stream);  // neighbour_list_kernels.cu
+
+template <class Real>
 size_t forceScratchBytes(int64_t rows, int64_t n) {
     const ChunkPlan plan = planChunks(rows, n);
     if (plan.chunks <= 1) return 0;
@@ -208,6 +211,10 @@ void launchForces(const ForceArgs<Real>& a, cudaStream_t stream) {
     if (!a.anyPairForce) {
         gravityOnlyKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(a);
         checkLaunch("gravity kernel");
+        return;
+    }
+    if (a.neighbours && !a.rowIndex && a.peers.count == 0) {
+        launchListForces(a, stream);
         return;
     }
     const bool single = a.table.count == 1;

@@ -66,9 +66,36 @@ struct ForceArgs {
     // When set, rows are listed particles: row r (begin <= r < end) is particle rowIndex[r], and its
     // acceleration goes to acceleration[rowIndex[r]] (the collision stage's end-of-step accelerations).
     const int32_t* rowIndex;
+    // When set (and rowIndex and peers are not), forces come from neighbour lists over rows [begin, end)
+    // (neighbour_list_kernels.cu) instead of all pairs.
+    const int32_t* neighbours;      // partner c of row r at neighbours[c * (end - begin) + r]
+    const int32_t* neighbourCount;  // per row
 };
 template <class Real>
 void launchForces(const ForceArgs<Real>& args, cudaStream_t stream);
+
+// ---- neighbour lists (neighbour_list_kernels.cu) ----
+// Full Verlet lists (both directions, each row sums its own pairs: no atomics, a fixed order) of rows
+// [begin, end) over all n positions, from the cell list of cells >= r_c + skin: partners in the
+// 27-cell walk's order (cell_list.h), so the sums are the same on every run.
+template <class Real>
+struct NeighbourListArgs {
+    const Vec3<Real>* x;  // all n positions
+    int64_t n, begin, end;
+    CellListView cells;   // over x, cells at least reach wide
+    Real reach2;          // (r_c + skin)^2
+    int32_t maxNeighbours;
+    int32_t* neighbours;       // out: maxNeighbours x rows, partner c of row r at [c * rows + r]
+    int32_t* neighbourCount;   // out: per row (may exceed maxNeighbours: then the list must grow)
+    unsigned int* mostNeighbours;  // out: the largest count (atomicMax; reset by the launch)
+};
+template <class Real>
+void launchBuildNeighbourList(const NeighbourListArgs<Real>& args, cudaStream_t stream);
+// *moved = 1 when some row of x[begin, end) is farther than halfSkin from xBuilt (row-indexed) or not
+// finite; reset to 0 by the launch.
+template <class Real>
+void launchListMoved(const Vec3<Real>* x, const Vec3<Real>* xBuilt, int64_t begin, int64_t end, Real halfSkin2, unsigned int* moved,
+                     cudaStream_t stream);
 // Scratch the force pass needs for rows [begin, end) of n particles (0 when it does not split j).
 template <class Real>
 size_t forceScratchBytes(int64_t rows, int64_t n);

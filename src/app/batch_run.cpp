@@ -41,6 +41,7 @@ int runBatch(const RunOptions& options, const Scene& scene) {
                          backend.deviceName().c_str(), (long long)options.steps,
                          first > 0 ? (", going on from step " + std::to_string(first)).c_str() : "");
         }
+        if (!options.quiet) std::fprintf(stderr, "[corebox] forces: %s\n", sim->forceChoice().summary().c_str());
         observables = std::make_unique<ObservablesOutput>(options.observablesPath);
         auto writeCheckpointNow = [&] {
             if (options.checkpointPath.empty()) return;
@@ -94,6 +95,11 @@ int runBatch(const RunOptions& options, const Scene& scene) {
         }
         progress.finish(options.steps, sim->time(), 2.0 * sim->lastKineticEnergy() / dof);
         if (first == options.steps) writeCheckpointNow();  // nothing left to run: the checkpoint as read
+        if (!options.quiet) {
+            const ForceCounters c = sim->backend().forceCounters();
+            std::fprintf(stderr, "[corebox] forces: %s; %lld force passes, %lld refreshes after collisions, %lld neighbour-list builds\n",
+                         forceModelName(sim->forceChoice().model), (long long)c.fullPasses, (long long)c.refreshes, (long long)c.listBuilds);
+        }
         observables->commit();
         if (!options.stateOutPath.empty()) writeStateCsv(options.stateOutPath, sim->state());
     };

@@ -1,5 +1,6 @@
 #include "live_run.h"
 
+#include <cstdio>
 
 #include "interruption.h"
 #include "observables.h"
@@ -18,6 +19,7 @@ LiveRun::LiveRun(const Scene& scene, const BackendChoice& backend, LiveRunOption
     }
     m_performance.backend = simulation().backend().name();
     m_performance.device = simulation().backend().deviceName();
+    noteForceModel();
     observe(0);
     m_conserved0 = m_lastRow.conserved();
     refreshSpeedDistributions();
@@ -78,7 +80,16 @@ std::string LiveRun::reset() {
 
 void LiveRun::refreshSpeedDistributions() { measureSpeedDistributions(simulation(), m_lastRow, m_speeds); }
 
+// Said at the start and again whenever a live edit (a cutoff in the panel) changes the choice.
+void LiveRun::noteForceModel() {
+    const std::string forces = simulation().forceChoice().summary();
+    if (forces == m_performance.forces) return;
+    m_performance.forces = forces;
+    if (!m_options.quiet) std::fprintf(stderr, "[corebox] forces: %s\n", forces.c_str());
+}
+
 void LiveRun::recordFrame(double msInterop, double msRender) {
+    noteForceModel();
     ++m_rateFrames;
     const double elapsed = std::chrono::duration<double>(Clock::now() - m_rateStart).count();
     m_performance.msInterop = msInterop;

@@ -23,7 +23,7 @@ struct LiveRunOptions {
     std::string observablesPath;   // "" : none
     std::optional<Script> script;
     SetupProgress setupProgress;   // long set-ups and restarts report here (progress.h); null: silent
-    bool quiet = false;            // script lines only when refused (--quiet)
+    bool quiet = false;            // script lines only when refused, no force-model lines (--quiet)
 };
 
 class LiveRun {
@@ -58,6 +58,7 @@ public:
 
 private:
     void observe(int64_t stepsSinceLast);
+    void noteForceModel();
 
     LiveRunOptions m_options;
     Session m_session;

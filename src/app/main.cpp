@@ -1,4 +1,4 @@
-// corebox command line (DESIGN.md sec. 3): `run`, `bench forces|throughput|pile|hardspheres|p2p|table1`, and no subcommand for
+// corebox command line (DESIGN.md sec. 3): `run`, `bench forces|throughput|md|pile|hardspheres|p2p|table1`, and no subcommand for
 // the default scene in a window. Named choices (method, precision, backend, colour mode, frame size)
 // are read, checked and listed in --help from their vocabulary tables; every error, the parser's
 // own included, leaves through reportError (error_report.h).
@@ -21,6 +21,7 @@
 #include "run_command.h"
 #include "table1_benchmark.h"
 #include "throughput_benchmark.h"
+#include "md_benchmark.h"
 
 namespace corebox {
 namespace {
@@ -140,6 +141,10 @@ int main(int argc, char** argv) {
                         "CUDA with several GPUs: how they share positions before each force pass: dts (synchronous peer copies), "
                         "dta (asynchronous peer copies), da (kernels read peer memory), nccl (all-gather); auto: the fastest measured",
                         [&](Exchange e) { run.exchange = e; });
+    addChoice<ForceModel>(runCmd, "--forces", forceModelTable(),
+                          "Override the scene's [interaction] forces: auto (the cheapest model that serves the scene), all_pairs, "
+                          "neighbour_list (needs a cutoff)",
+                          [&](ForceModel f) { run.forces = f; });
     addChoice<Precision>(runCmd, "--precision", precisionTable(), "Override the scene's precision",
                          [&](Precision p) { run.precision = p; });
     addChoice<Method>(runCmd, "--method", methodTable(), "Override the integrator", [&](Method m) { run.method = m; });
@@ -200,6 +205,22 @@ int main(int argc, char** argv) {
     addFrameSize(throughputCmd, frameSize);
     throughputCmd->add_option("--min-seconds", throughput.minSeconds, "Repeat each measurement at least this long")->capture_default_str();
     throughputCmd->add_option("--out", throughput.outputPrefix, "Write OUT.csv and OUT.json");
+
+    MdBenchmarkOptions md;
+    CLI::App* mdCmd = benchCmd->add_subcommand(
+        "md", "Cut-off LJ fluid (rho 0.8, T 1.5, r_c 2.5, Verlet, walls): steps/s over N, neighbour lists beside all pairs, and "
+              "LAMMPS on the same starting state when lmp is installed");
+    mdCmd->add_option("--backend", md.backend, "Backend: one of " + backendTable().list())->check(oneOf(backendTable()))->capture_default_str();
+    mdCmd->add_option("--threads", md.threads, "CPU threads (0: all cores)")->capture_default_str();
+    mdCmd->add_option("--sizes", md.sizes, "Particle counts")->delimiter(',')->capture_default_str();
+    addChoices(mdCmd, "--precision", precisionTable(), "Precisions", md.precisions);
+    addChoices(mdCmd, "--forces", forceModelTable(), "Force models (all_pairs, neighbour_list)", md.forces);
+    mdCmd->add_option("--min-seconds", md.minSeconds, "Time each configuration at least this long")->capture_default_str();
+    mdCmd->add_option("--cpu-max-n", md.cpuMaxN, "Largest N the CPU backend runs (larger: GPU only)")->capture_default_str();
+    mdCmd->add_option("--max-seconds", md.maxSeconds, "Skip a configuration predicted to need longer than this")->capture_default_str();
+    mdCmd->add_option("--lammps", md.lammps, "LAMMPS binary, auto (lmp on PATH, CPU backend only) or off")->capture_default_str();
+    mdCmd->add_option("--lammps-ranks", md.lammpsRanks, "MPI ranks for LAMMPS")->capture_default_str();
+    mdCmd->add_option("--out", md.outputPrefix, "Write OUT.csv and OUT.json");
 
     PileBenchmarkOptions pile;
     CLI::App* pileCmd = benchCmd->add_subcommand(
@@ -349,6 +370,10 @@ int main(int argc, char** argv) {
         throughput.frameHeight = frameSize.height;
         throughput.commandLine = commandLine(argc, argv);
         return runReportingErrors([&] { runThroughputBenchmark(throughput); });
+    }
+    if (*mdCmd) {
+        md.commandLine = commandLine(argc, argv);
+        return runReportingErrors([&] { runMdBenchmark(md); });
     }
     if (*spheresCmd) {
         spheres.commandLine = commandLine(argc, argv);

@@ -21,6 +21,7 @@ LiveRunOptions liveRunOptions(const RunOptions& options, int64_t observeEvery) {
     LiveRunOptions live;
     live.observeEvery = std::max<int64_t>(1, observeEvery);
     live.observablesPath = options.observablesPath;
+    live.quiet = options.quiet;
     if (!options.scriptPath.empty()) live.script = Script::load(options.scriptPath);
     live.setupProgress = setupProgressLines(!options.quiet);
     live.quiet = options.quiet;

@@ -33,6 +33,7 @@ void applyOverrides(const RunOptions& options, Scene& scene) {
     }
     if (options.gpus) scene.devices.gpus = *options.gpus;
     if (options.exchange) scene.devices.exchange = *options.exchange;
+    if (options.forces) scene.interaction.forces = *options.forces;
     if (options.seed) {
         if (*options.seed < 0) throw InputError("--seed: must be >= 0");
         scene.init.seed = uint64_t(*options.seed);

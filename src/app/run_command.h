@@ -42,6 +42,7 @@ struct RunOptions {
     std::optional<int64_t> seed;           // overrides [init] seed
     std::optional<int> gpus;               // overrides [devices] gpus (0: auto)
     std::optional<Exchange> exchange;      // overrides [devices] exchange
+    std::optional<ForceModel> forces;      // overrides [interaction] forces
     double maxEnergyDrift = 0.5;
     bool quiet = false;                    // no progress lines
     bool stepsGiven = false;               // --steps was on the command line (headless runs warn: frames decide)

@@ -32,6 +32,44 @@ inline Scene throughputScene(int64_t n, double density, Precision precision, Met
     return scene;
 }
 
+// ---- the LJ fluid of `corebox bench md` ---------------------------------------------------------------
+//
+// The standard cut-off LJ benchmark (LAMMPS' bench/in.lj, HOOMD-blue's LJ benchmark) in a walled
+// box: number density 0.8, T = 1.5 from a lattice, r_c = 2.5 with no shift (LAMMPS' lj/cut),
+// velocity Verlet with dt = 0.002, elastic walls, no thermostat. The hard cores (radius 0.3, contact
+// at 0.6 sigma) are never reached at this temperature: the steps time the force field and the walls.
+struct MdParameters {
+    double density = 0.8;
+    double temperature = 1.5;
+    double cutoff = 2.5;
+    double dt = 0.002;
+    double radius = 0.3;
+    uint64_t seed = 12345;
+};
+
+inline constexpr MdParameters kMd{};
+
+inline Scene mdScene(int64_t n, Precision precision, ForceModel forces) {
+    Scene scene;
+    SpeciesDef s;
+    s.name = "LJ";
+    s.count = n;
+    s.radius = kMd.radius;
+    scene.species = {s};
+    const double box = std::cbrt(double(n) / kMd.density);
+    scene.box.size = {box, box, box};
+    scene.interaction.cutoff = kMd.cutoff;
+    scene.interaction.shift = CutoffShift::None;
+    scene.interaction.forces = forces;
+    scene.integrator.method = Method::Verlet;
+    scene.integrator.dt = kMd.dt;
+    scene.integrator.precision = precision;
+    scene.thermostat.kind = ThermostatKind::None;
+    scene.init.temperature = kMd.temperature;
+    scene.init.seed = kMd.seed;
+    return scene;
+}
+
 // ---- the ball pile (the game programmer's scene) ---------------------------------------------------
 //
 // Balls dropped into a box under gravity: radius 0.5, mass 1, restitution 0.5 with each other and the

@@ -53,6 +53,16 @@ struct HealthReport {
 };
 
 // What the impact rounds of one step did, summed over particles.
+// Force work done since the backend was made, for tests and benchmarks: full passes (every
+// particle's acceleration, or an RK stage's), partial refreshes after collisions, neighbour-list
+// builds.
+struct ForceCounters {
+    int64_t fullPasses = 0;
+    int64_t refreshes = 0;
+    int64_t refreshedParticles = 0;  // accelerations recomputed by the refreshes
+    int64_t listBuilds = 0;
+};
+
 struct CollisionTally {
     int64_t pairCollisions = 0;   // particle-particle impulses applied
     int64_t wallCollisions = 0;   // wall reflections applied
@@ -123,6 +133,15 @@ public:
     // rkSolution (rk_stage.h: scaledErrorSquared); <= 1 means within tolerance.
     virtual double rkErrorNorm(double dt, double tolerance) = 0;
     virtual void acceptStage() = 0;  // (X, V) = (Xs, Vs)
+    // After the collision stage moved some particles: brings A = a(X) up to date for those particles
+    // and every particle they interact with, at a cost of the moved particles times their partners
+    // rather than a full pass. Returns false when A was not valid for the positions before the
+    // collision stage (or the backend cannot do it): then the caller recomputes A.
+    virtual bool refreshAccelerations() { return false; }
+    virtual ForceCounters forceCounters() const { return ForceCounters{}; }
+    // Whether the backend sums forces from neighbour lists when the model asks for them
+    // (DeviceModel::forces); one that does not runs all pairs, and the force choice says so.
+    virtual bool supportsNeighbourLists() const { return false; }
 
     // ---- a posteriori collision stage, 1: impact rounds (DESIGN.md sec. 2) ----
     // Every particle active; counts and losses zeroed. The window says which overlaps are impacts of

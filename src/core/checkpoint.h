@@ -6,7 +6,8 @@
 // energy bookkeeping (dissipated, thermostat, parameter work, the conserved sum's base and scale),
 // the counters and pressure window since the last observables row, and the adaptive controller's next
 // dt. The backends hold nothing else that a step reads: Verlet's cached accelerations are a(X) and
-// are recomputed from the restored X bit for bit (the force pass has a fixed summation order), the
+// are recomputed from the restored X bit for bit (the force pass has a fixed summation order, and
+// neighbour lists, rebuilt at restore, sum each particle's partners by ascending index), the
 // thermostat's and placement's random numbers are counter-based on (seed, step, particle), and an
 // fp32 backend's state survives the round trip through double exactly.
 //

@@ -21,6 +21,8 @@ DeviceModel deviceModelOf(const StepParameters& parameters) {
         model.gravity[a] = parameters.interaction.gravity[size_t(a)];
     }
     model.hasCutoff = parameters.interaction.cutoff > 0;
+    model.cutoff = parameters.interaction.cutoff;
+    model.skin = parameters.interaction.skin;
     model.restitution = parameters.interaction.restitution;
     model.wallRestitution = parameters.box.wallRestitution;
     model.elasticBelowSpeed = parameters.interaction.elasticBelowSpeed;

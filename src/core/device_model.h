@@ -23,6 +23,11 @@ struct DeviceModel {
     double elasticBelowSpeed = 1e-3;              // contacts slower than this are elastic [sigma / tau]
     bool anyPairForce = true;                     // false: pure hard spheres, no force pass needed
     bool hasCutoff = false;                       // pairs beyond r_c contribute nothing
+    double cutoff = 0;                            // r_c [sigma], one for every pair; 0: none
+    // How the pair forces are summed (force_model.h); deviceModelOf leaves all pairs, the simulation
+    // sets the resolved choice. Neighbour lists reach cutoff + skin.
+    ForceModel forces = ForceModel::AllPairs;
+    double skin = 0.3;                            // [sigma]
 
     int speciesCount() const { return int(mass.size()); }
     double maxRadius() const;

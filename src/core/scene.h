@@ -41,6 +41,8 @@ struct InteractionDef {
     std::array<double, 3> gravity{0, 0, 0};  // uniform acceleration [sigma / tau^2]
     double elasticBelowSpeed = 1e-3;         // contacts slower than this are elastic [sigma / tau]
     int maxCollisionRounds = 64;             // cap on parallel resolution rounds per step
+    ForceModel forces = ForceModel::Auto;    // how pair forces are summed (force_model.h)
+    double skin = 0.3;                       // neighbour lists: cells and lists of r_c + skin [sigma]
 };
 
 struct IntegratorDef {

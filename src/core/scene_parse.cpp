@@ -29,7 +29,7 @@ const char* const kRootKeys[] = {"box", "species", "interaction", "integrator", 
 const char* const kBoxKeys[] = {"size", "wall_restitution"};
 const char* const kSpeciesKeys[] = {"name", "count", "mass", "radius", "sigma", "epsilon", "color"};
 const char* const kInteractionKeys[] = {"mixing",      "cutoff",  "shift", "restitution", "gravity", "elastic_below_speed",
-                                        "max_collision_rounds"};
+                                        "max_collision_rounds", "forces", "skin"};
 const char* const kIntegratorKeys[] = {"method", "dt", "precision", "adaptive", "tolerance"};
 const char* const kThermostatKeys[] = {"kind", "temperature", "tau"};
 const char* const kInitKeys[] = {"temperature", "seed", "placement", "particles"};
@@ -237,6 +237,8 @@ private:
         readNumber(field(t, "interaction", "restitution"), &in->restitution);
         readVec3(field(t, "interaction", "gravity"), &in->gravity);
         readNumber(field(t, "interaction", "elastic_below_speed"), &in->elasticBelowSpeed);
+        readChoice(field(t, "interaction", "forces"), forceModelTable(), &in->forces);
+        readNumber(field(t, "interaction", "skin"), &in->skin);
 
         Field rounds = field(t, "interaction", "max_collision_rounds");
         int64_t roundCount = in->maxCollisionRounds;

@@ -103,7 +103,9 @@ std::string sceneToToml(const Scene& scene) {
         << "restitution = " << number(in.restitution) << "\n"
         << "gravity = " << numberList(in.gravity) << "\n"
         << "elastic_below_speed = " << number(in.elasticBelowSpeed) << "\n"
-        << "max_collision_rounds = " << in.maxCollisionRounds << "\n";
+        << "max_collision_rounds = " << in.maxCollisionRounds << "\n"
+        << "forces = " << quoted(forceModelName(in.forces)) << "\n"
+        << "skin = " << number(in.skin) << "\n";
 
     const IntegratorDef& integrator = scene.integrator;
     out << "\n[integrator]\n"

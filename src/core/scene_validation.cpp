@@ -100,6 +100,12 @@ private:
         checkUnitInterval("interaction.restitution", in.restitution);
         checkNonNegative("interaction.elastic_below_speed", in.elasticBelowSpeed);
         check("interaction.max_collision_rounds", in.maxCollisionRounds >= 1, "must be >= 1");
+        // A zero skin would rebuild the lists whenever anything moves, i.e. every step.
+        check("interaction.skin", finite(in.skin) && in.skin > 0,
+              "must be a finite number > 0 (neighbour lists reach r_c + skin and are rebuilt when a particle has moved skin / 2; 0.3 is typical)");
+        check("interaction.forces", in.forces != ForceModel::None, "must be auto, all_pairs or neighbour_list");
+        check("interaction.forces", in.forces != ForceModel::NeighbourList || in.cutoff > 0,
+              "neighbour_list needs a cutoff > 0 (without one every pair interacts: use all_pairs or auto)");
     }
 
     void checkIntegrator(const IntegratorDef& integrator) const {

@@ -81,7 +81,11 @@ SimulationCheckpoint Simulation::checkpoint() const {
 }
 
 void Simulation::applyParameters() {
-    m_backend->setModel(deviceModelOf(stepParametersOf(m_scene)));
+    const StepParameters parameters = stepParametersOf(m_scene);
+    m_forceChoice = chooseForceModel(parameters, m_particleCount, m_backend->name(), m_backend->supportsNeighbourLists());
+    DeviceModel model = deviceModelOf(parameters);
+    model.forces = m_forceChoice.model;
+    m_backend->setModel(model);
     m_driver.configure(*m_backend, m_scene.integrator);
 }
 
@@ -94,8 +98,13 @@ StepReport Simulation::step() {
     backend.markPhase(StepPhase::Collide);
     resolveCollisions(backend, collisionSettingsFor(m_scene.interaction, report.dt), report);
     backend.markPhase(StepPhase::Done);
-    // Collisions moved particles and changed velocities: Verlet's cached accelerations are stale.
-    if (report.pairCollisions + report.wallCollisions + report.contacts > 0) m_driver.invalidateAccelerations();
+    // Collisions moved some particles: Verlet's cached accelerations are stale for them and their
+    // neighbours. A backend that can bring them up to date for just those keeps the cache; otherwise
+    // the next step pays a full force pass.
+    if (report.pairCollisions + report.wallCollisions + report.contacts > 0) {
+        const bool cacheUsed = m_scene.integrator.method == Method::Verlet;
+        if (!cacheUsed || !backend.refreshAccelerations()) m_driver.invalidateAccelerations();
+    }
 
     ++m_step;
     m_time += report.dt;

@@ -20,6 +20,7 @@
 
 #include "backend.h"
 #include "checkpoint.h"
+#include "force_model.h"
 #include "integration_driver.h"
 #include "observables.h"
 #include "particle_state.h"
@@ -76,6 +77,8 @@ public:
     double parameterWork() const { return m_parameterWork; }
     double lastKineticEnergy() const { return m_lastKinetic; }
     ParticleState state() const { return m_backend->state(); }
+    // The pair-force model in use and why (force_model.h); re-chosen at every parameter edit.
+    const ForceChoice& forceChoice() const { return m_forceChoice; }
     ParticleState lastGoodState() const { return m_backend->snapshot(); }
     // The speed distribution of the current state (downloads the state).
     SpeedStatistics speedStatistics(const SpeedRequest& request) const;
@@ -104,6 +107,7 @@ private:
     double m_parameterWork = 0;
     double m_lastKinetic = 0;
     std::vector<int64_t> m_countPerSpecies;
+    ForceChoice m_forceChoice;
 };
 
 }  // namespace corebox

@@ -30,6 +30,9 @@ constexpr Term<Exchange> kExchanges[] = {{Exchange::Auto, "auto", "the fastest m
                                          {Exchange::Dta, "dta", "asynchronous peer copies"},
                                          {Exchange::Da, "da", "direct access to peer memory"},
                                          {Exchange::Nccl, "nccl", "NCCL all-gather"}};
+constexpr Term<ForceModel> kForceModels[] = {{ForceModel::Auto, "auto", "the cheapest that serves the scene"},
+                                             {ForceModel::AllPairs, "all_pairs", "every pair, the report's model"},
+                                             {ForceModel::NeighbourList, "neighbour_list", "Verlet lists within the cutoff"}};
 
 constexpr Vocabulary<Method> kMethodTable("method", kMethods);
 constexpr Vocabulary<Precision> kPrecisionTable("precision", kPrecisions);
@@ -38,6 +41,7 @@ constexpr Vocabulary<ThermostatKind> kThermostatTable("thermostat kind", kThermo
 constexpr Vocabulary<CutoffShift> kShiftTable("shift", kShifts);
 constexpr Vocabulary<Placement> kPlacementTable("placement", kPlacements);
 constexpr Vocabulary<Exchange> kExchangeTable("exchange", kExchanges);
+constexpr Vocabulary<ForceModel> kForceModelTable("forces", kForceModels);
 
 }  // namespace
 
@@ -48,6 +52,7 @@ const Vocabulary<ThermostatKind>& thermostatTable() { return kThermostatTable; }
 const Vocabulary<CutoffShift>& shiftTable() { return kShiftTable; }
 const Vocabulary<Placement>& placementTable() { return kPlacementTable; }
 const Vocabulary<Exchange>& exchangeTable() { return kExchangeTable; }
+const Vocabulary<ForceModel>& forceModelTable() { return kForceModelTable; }
 
 const char* methodName(Method method) { return methodTable().name(method); }
 bool parseMethod(const std::string& text, Method* method) { return methodTable().parse(text, method); }
@@ -55,5 +60,7 @@ const char* precisionName(Precision precision) { return precisionTable().name(pr
 const char* thermostatName(ThermostatKind kind) { return thermostatTable().name(kind); }
 const char* shiftName(CutoffShift shift) { return shiftTable().name(shift); }
 const char* exchangeName(Exchange exchange) { return exchangeTable().name(exchange); }
+
+const char* forceModelName(ForceModel model) { return model == ForceModel::None ? "none" : kForceModelTable.name(model); }
 
 }  // namespace corebox

@@ -28,6 +28,10 @@ enum class BackendKind { Cpu, Cuda, Auto };
 // synchronous peer copies (DT-S), asynchronous peer copies (DT-A), direct access (DA), or an NCCL
 // all-gather; Auto: the fastest measured for the device count (cuda_backend.h: fastestExchange).
 enum class Exchange { Auto, Dts, Dta, Da, Nccl };
+// How pair forces are summed (DESIGN.md sec. 2): a scene asks for auto, all_pairs or
+// neighbour_list; the resolved model (force_model.h) is AllPairs, NeighbourList or None (no pair
+// force at all: every epsilon is 0).
+enum class ForceModel { Auto, AllPairs, NeighbourList, None };
 
 template <class Enum>
 struct Term {
@@ -97,6 +101,7 @@ const Vocabulary<ThermostatKind>& thermostatTable();
 const Vocabulary<CutoffShift>& shiftTable();
 const Vocabulary<Placement>& placementTable();
 const Vocabulary<Exchange>& exchangeTable();
+const Vocabulary<ForceModel>& forceModelTable();  // the scene's choices; forceModelName also names None
 
 // Shorthands for the tables above, kept for their many callers.
 const char* methodName(Method method);
@@ -105,5 +110,6 @@ const char* precisionName(Precision precision);
 const char* thermostatName(ThermostatKind kind);
 const char* shiftName(CutoffShift shift);
 const char* exchangeName(Exchange exchange);
+const char* forceModelName(ForceModel model);
 
 }  // namespace corebox

@@ -14,6 +14,7 @@
 #include "host_info.h"
 #include "pair_table.h"
 #include "rk_stage.h"
+#include "verlet_list.h"
 
 namespace corebox {
 namespace {
@@ -47,6 +48,8 @@ public:
         }
         m_gravity = vec3Cast<Real>(model.gravity);
         m_boxLength = vec3Cast<Real>(model.box);
+        m_useList = model.anyPairForce && model.forces == ForceModel::NeighbourList && model.cutoff > 0;
+        forgetForces();
     }
 
     void setTableau(const ButcherTableau& tableau) override { m_tableau = tableau; }
@@ -61,6 +64,7 @@ public:
             m_v[i] = vec3Cast<Real>(state.velocity[i]);
         }
         m_acceleration.assign(n, Vec3<Real>{0, 0, 0});
+        forgetForces();
     }
 
     ParticleState state() const override { return toHost(m_x, m_v); }
@@ -73,7 +77,11 @@ public:
     ParticleState snapshot() const override { return toHost(m_snapshotX, m_snapshotV); }
 
     // ---- integration ----
-    void computeAccelerations() override { accelerations(m_x, m_acceleration.data(), nullptr); }
+    void computeAccelerations() override {
+        accelerations(m_x, m_acceleration.data(), nullptr);
+        ++m_counters.fullPasses;
+        m_accelerationMatchesX = true;
+    }
 
     void kick(double h) override {
         const Real half = Real(h);
@@ -83,6 +91,7 @@ public:
     void drift(double dtStep) override {
         const Real dt = Real(dtStep);
         parallelFor(m_threads, size(), [&](int64_t i) { verletDrift(m_x[size_t(i)], m_v[size_t(i)], dt); });
+        forgetForces();
     }
 
     void rkStage(int stage, double dtStep) override {
@@ -99,7 +108,11 @@ public:
         });
     }
 
-    void stageForces(int stage) override { accelerations(m_xStage, m_kv.data() + size_t(stage) * m_x.size(), nullptr); }
+    void stageForces(int stage) override {
+        m_pairsMatchX = false;
+        accelerations(m_xStage, m_kv.data() + size_t(stage) * m_x.size(), nullptr);
+        ++m_counters.fullPasses;
+    }
 
     void rkSolution(int stages, double dtStep) override {
         const Real dt = Real(dtStep);
@@ -128,6 +141,59 @@ public:
     void acceptStage() override {
         std::swap(m_x, m_xStage);
         std::swap(m_v, m_vStage);
+        forgetForces();
+    }
+
+    // The collision stage changed the positions of a few particles (every change is against the copy
+    // taken at beginCollisions). Lists: the pairs of the moved particles are evaluated again and every
+    // particle they touch gathers its sum again, in the full pass's order, so A is bit for bit what a
+    // full pass would give. All pairs: each moved particle sums again over everyone, and everyone else
+    // exchanges the old pair force of each moved partner for the new one (O(N M)).
+    bool refreshAccelerations() override {
+        if (!m_refreshable || m_xBeforeCollisions.size() != m_x.size()) return false;
+        const int64_t n = size();
+        m_moved.clear();
+        for (int64_t i = 0; i < n; ++i) {
+            const Vec3<Real>& a = m_x[size_t(i)];
+            const Vec3<Real>& b = m_xBeforeCollisions[size_t(i)];
+            if (a.x != b.x || a.y != b.y || a.z != b.z) m_moved.push_back(i);
+        }
+        ++m_counters.refreshes;
+        m_accelerationMatchesX = true;
+        if (m_moved.empty() || !m_model.anyPairForce) return true;  // gravity alone does not depend on x
+        if (m_useList) return refreshFromList();
+        if (4 * int64_t(m_moved.size()) > n) {
+            computeAccelerations();
+            return true;
+        }
+        m_isMoved.assign(size_t(n), 0);
+        for (int64_t i : m_moved) m_isMoved[size_t(i)] = 1;
+        parallelFor(m_threads, n, [&](int64_t i) {
+            if (m_isMoved[size_t(i)]) {
+                m_acceleration[size_t(i)] = accelerationOf(i, m_x, nullptr);
+                return;
+            }
+            const Vec3<Real> xi = m_x[size_t(i)];
+            const PairCoefficients<Real>* row = &m_pairs[size_t(m_species[size_t(i)]) * m_mass.size()];
+            Vec3<Real> change{0, 0, 0};
+            for (int64_t j : m_moved) {
+                const PairCoefficients<Real>& p = row[m_species[size_t(j)]];
+                const Vec3<Real> now = xi - m_x[size_t(j)], was = xi - m_xBeforeCollisions[size_t(j)];
+                change += pairForceOverR(p, norm2(now), static_cast<Real*>(nullptr)) * now;
+                change -= pairForceOverR(p, norm2(was), static_cast<Real*>(nullptr)) * was;
+            }
+            m_acceleration[size_t(i)] += m_invMass[size_t(m_species[size_t(i)])] * change;
+        });
+        m_counters.refreshedParticles += n;
+        return true;
+    }
+
+    bool supportsNeighbourLists() const override { return true; }
+
+    ForceCounters forceCounters() const override {
+        ForceCounters c = m_counters;
+        c.listBuilds = m_list.builds();
+        return c;
     }
 
     // ---- collision stage, 1: impact rounds ----
@@ -142,13 +208,31 @@ public:
         m_hasContactAcceleration.assign(n, 0);
         m_kind.resize(n);
         m_tally = CollisionTally{};
+        m_refreshable = m_accelerationMatchesX && (!m_useList || m_pairsMatchX);
+        if (m_refreshable) m_xBeforeCollisions = m_x;
+        m_accelerationMatchesX = false;  // until refreshAccelerations or a full pass
     }
 
     int64_t findEvents(EventScope scope) override {
         const int64_t n = size();
         m_grid.build(m_x, m_boxLength, 2.0 * m_model.maxRadius());
         if (scope == EventScope::All) std::fill(m_active.begin(), m_active.end(), 1);
-        parallelForDynamic(m_threads, n, [&](int64_t i) { m_events[size_t(i)] = earliestEvent(i); });
+        // After the first round few particles are active. An inactive particle had no event in the
+        // previous round and has not changed since, so it can only have one with an active particle in
+        // its 27 cells: only the active particles and their grid neighbours look (the same events as
+        // every particle looking, without walking the whole fluid again).
+        const int64_t active = int64_t(std::count(m_active.begin(), m_active.end(), char(1)));
+        if (4 * active >= n) {
+            parallelForDynamic(m_threads, n, [&](int64_t i) { m_events[size_t(i)] = earliestEvent(i); });
+        } else {
+            m_lookers.assign(size_t(n), 0);
+            for (int64_t i = 0; i < n; ++i) {
+                if (!m_active[size_t(i)]) continue;
+                m_lookers[size_t(i)] = 1;
+                m_grid.forNeighbours(m_x[size_t(i)], [&](int64_t j) { m_lookers[size_t(j)] = 1; });
+            }
+            parallelForDynamic(m_threads, n, [&](int64_t i) { m_events[size_t(i)] = m_lookers[size_t(i)] ? earliestEvent(i) : noEvent(); });
+        }
         return int64_t(std::count_if(m_events.begin(), m_events.end(), [](const CollisionEvent& e) { return isValid(e); }));
     }
 
@@ -160,11 +244,16 @@ public:
         for (int64_t i = 0; i < n; ++i) {
             if (isValid(m_events[size_t(i)]) && !m_hasContactAcceleration[size_t(i)]) m_needAcceleration.push_back(i);
         }
+        if (m_useList && !m_needAcceleration.empty()) {
+            updateList(m_x);
+            m_listMatchesX = true;  // within the skin of m_x until the end of this call
+        }
         parallelFor(m_threads, int64_t(m_needAcceleration.size()), [&](int64_t k) {
             const int64_t i = m_needAcceleration[size_t(k)];
             m_contactAcceleration[size_t(i)] = accelerationOf(i, m_x, nullptr);
             m_hasContactAcceleration[size_t(i)] = 1;
         });
+        m_listMatchesX = false;
         std::fill(m_kind.begin(), m_kind.end(), kNoCollision);
         parallelFor(m_threads, n, [&](int64_t i) { m_kind[size_t(i)] = resolveEventOf(i); });
         for (int64_t i = 0; i < n; ++i) {
@@ -203,6 +292,7 @@ public:
         });
         for (int64_t i = 0; i < n; ++i) m_contactStart[size_t(i) + 1] += m_contactStart[size_t(i)];
         m_contacts.resize(size_t(m_contactStart[size_t(n)]));
+        if (m_contacts.empty()) return 0;  // nothing to fill, sort or relax (a fluid's usual step)
         parallelFor(m_threads, n, [&](int64_t i) {
             int64_t slot = m_contactStart[size_t(i)];
             const double height = dot(up, vec3Cast<double>(m_x[size_t(i)]));
@@ -294,6 +384,19 @@ public:
     double pairVirial() override {
         if (!m_model.anyPairForce) return 0;
         const int64_t n = size();
+        if (m_useList) {  // every pair from both sides in ascending order, as the force gather
+            updateList(m_x);
+            return 0.5 * deterministicSum<double>(m_threads, n, [&](int64_t i) {
+                const Vec3<Real> xi = m_x[size_t(i)];
+                const PairCoefficients<Real>* row = &m_pairs[size_t(m_species[size_t(i)]) * m_mass.size()];
+                double w = 0;
+                m_list.forEachPartner(i, [&](int64_t j, int64_t) {
+                    const Real r2 = norm2(xi - m_x[size_t(j)]);
+                    w += double(pairForceOverR(row[m_species[size_t(j)]], r2, static_cast<Real*>(nullptr))) * double(r2);
+                });
+                return w;
+            });
+        }
         // Every pair from both sides, as the force pass: half of sum_i sum_j r_ij . F_ij.
         return 0.5 * deterministicSum<double>(m_threads, n, [&](int64_t i) {
             const Vec3<Real> xi = m_x[size_t(i)];
@@ -413,6 +516,7 @@ private:
             if (pairEnergy) *pairEnergy = 0;
             return m_gravity;
         }
+        if (m_useList && &x == &m_x && m_listMatchesX) return listAccelerationOf(i, x);
         const int64_t n = int64_t(x.size());
         const Vec3<Real> xi = x[size_t(i)];
         const PairCoefficients<Real>* row = &m_pairs[size_t(m_species[size_t(i)]) * m_mass.size()];
@@ -434,10 +538,122 @@ private:
 
     void accelerations(const std::vector<Vec3<Real>>& x, Vec3<Real>* out, double* pairEnergy) {
         const Clock::time_point start = Clock::now();
-        parallelFor(m_threads, int64_t(x.size()), [&](int64_t i) {
-            out[size_t(i)] = accelerationOf(i, x, pairEnergy ? &pairEnergy[i] : nullptr);
-        });
+        if (m_useList) {
+            listAccelerations(x, out, pairEnergy);
+        } else {
+            parallelFor(m_threads, int64_t(x.size()), [&](int64_t i) {
+                out[size_t(i)] = accelerationOf(i, x, pairEnergy ? &pairEnergy[i] : nullptr);
+            });
+        }
         m_forceSeconds += secondsBetween(start, Clock::now());
+    }
+
+    // Neighbour-list pass: every listed pair evaluated once into its slot, then each particle gathers
+    // its own slots and then its incoming ones (verlet_list.h), in a fixed order.
+    void listAccelerations(const std::vector<Vec3<Real>>& x, Vec3<Real>* out, double* pairEnergy) {
+        updateList(x);
+        const int64_t n = int64_t(x.size());
+        m_pairForce.resize(size_t(m_list.pairCount()));
+        if (pairEnergy) m_pairEnergy.resize(size_t(m_list.pairCount()));
+        const size_t speciesCount = m_mass.size();
+        parallelFor(m_threads, n, [&](int64_t i) {
+            const Vec3<Real> xi = x[size_t(i)];
+            const PairCoefficients<Real>* row = &m_pairs[size_t(m_species[size_t(i)]) * speciesCount];
+            const int64_t end = m_list.rowEnd(i);
+            for (int64_t k = m_list.rowBegin(i); k < end; ++k) {
+                const int32_t j = m_list.partner(k);
+                const Real r2 = norm2(xi - x[size_t(j)]);
+                if (pairEnergy) {
+                    Real u = 0;
+                    m_pairForce[size_t(k)] = pairForceOverR(row[m_species[size_t(j)]], r2, &u);
+                    m_pairEnergy[size_t(k)] = double(u);
+                } else {
+                    m_pairForce[size_t(k)] = pairForceOverR(row[m_species[size_t(j)]], r2, static_cast<Real*>(nullptr));
+                }
+            }
+        });
+        parallelFor(m_threads, n, [&](int64_t i) { out[size_t(i)] = gatherSlots(x, i, pairEnergy ? &pairEnergy[i] : nullptr); });
+        m_pairsMatchX = &x == &m_x;
+    }
+
+    void evaluateSlot(const std::vector<Vec3<Real>>& x, int64_t i, int64_t k, bool withEnergy) {
+        const int32_t j = m_list.partner(k);
+        const PairCoefficients<Real>& p = m_pairs[size_t(m_species[size_t(i)]) * m_mass.size() + size_t(m_species[size_t(j)])];
+        Real u = 0;
+        m_pairForce[size_t(k)] = pairForceOverR(p, norm2(x[size_t(i)] - x[size_t(j)]), withEnergy ? &u : nullptr);
+        if (withEnergy) m_pairEnergy[size_t(k)] = double(u);
+    }
+
+    Vec3<Real> gatherSlots(const std::vector<Vec3<Real>>& x, int64_t i, double* pairEnergy) const {
+        const Vec3<Real> xi = x[size_t(i)];
+        Vec3<Real> force{0, 0, 0};
+        double energy = 0;
+        m_list.forEachPartner(i, [&](int64_t j, int64_t k) {
+            force += m_pairForce[size_t(k)] * (xi - x[size_t(j)]);
+            if (pairEnergy) energy += m_pairEnergy[size_t(k)];
+        });
+        if (pairEnergy) *pairEnergy = energy;
+        return m_invMass[size_t(m_species[size_t(i)])] * force + m_gravity;
+    }
+
+    // a_i from the list's pairs of i, evaluated afresh (one particle, no slot written): the collision
+    // stage's accelerations of the particles it resolves.
+    Vec3<Real> listAccelerationOf(int64_t i, const std::vector<Vec3<Real>>& x) const {
+        const Vec3<Real> xi = x[size_t(i)];
+        const PairCoefficients<Real>* row = &m_pairs[size_t(m_species[size_t(i)]) * m_mass.size()];
+        Vec3<Real> force{0, 0, 0};
+        auto add = [&](int64_t j) {
+            const Vec3<Real> r = xi - x[size_t(j)];
+            force += pairForceOverR(row[m_species[size_t(j)]], norm2(r), static_cast<Real*>(nullptr)) * r;
+        };
+        m_list.forEachPartner(i, [&](int64_t j, int64_t) { add(j); });
+        return m_invMass[size_t(m_species[size_t(i)])] * force + m_gravity;
+    }
+
+    // Lists: the slots of the moved particles' pairs again, then the gathers of every particle they
+    // touch. A rebuild (the collision moves pushed someone past half the skin) means new slots: a full pass.
+    bool refreshFromList() {
+        if (updateList(m_x)) {
+            computeAccelerations();
+            return true;
+        }
+        m_isMoved.assign(m_x.size(), 0);
+        m_touched.clear();
+        auto touch = [&](int64_t i) {
+            if (!m_isMoved[size_t(i)]) m_touched.push_back(i);
+            m_isMoved[size_t(i)] = 1;
+        };
+        for (int64_t i : m_moved) {
+            touch(i);
+            for (int64_t k = m_list.rowBegin(i); k < m_list.rowEnd(i); ++k) {
+                evaluateSlot(m_x, i, k, false);
+                touch(m_list.partner(k));
+            }
+            for (int64_t q = m_list.inBegin(i); q < m_list.inEnd(i); ++q) {
+                evaluateSlot(m_x, m_list.inOwner(q), m_list.inSlot(q), false);
+                touch(m_list.inOwner(q));
+            }
+        }
+        parallelFor(m_threads, int64_t(m_touched.size()), [&](int64_t t) {
+            const int64_t i = m_touched[size_t(t)];
+            m_acceleration[size_t(i)] = gatherSlots(m_x, i, nullptr);
+        });
+        m_counters.refreshedParticles += int64_t(m_touched.size());
+        m_pairsMatchX = true;
+        return true;
+    }
+
+    // A rebuild renumbers the slots: the pair values held no longer belong to them.
+    bool updateList(const std::vector<Vec3<Real>>& x) {
+        if (!m_list.update(x, m_boxLength, m_model.cutoff, m_model.skin, m_threads)) return false;
+        m_pairsMatchX = false;
+        return true;
+    }
+
+    // The positions changed outside a force pass: cached accelerations and pair slots no longer match them.
+    void forgetForces() {
+        m_accelerationMatchesX = false;
+        m_pairsMatchX = false;
     }
 
     // Earliest event of particle i against its grid neighbours: an active particle looks at every
@@ -519,6 +735,7 @@ private:
 
     std::vector<CollisionEvent> m_events;
     std::vector<char> m_active;
+    std::vector<char> m_lookers;  // findEvents: the particles that may have an event this round
     std::vector<Vec3<Real>> m_contactAcceleration;
     std::vector<char> m_hasContactAcceleration;
     std::vector<int64_t> m_needAcceleration;
@@ -528,6 +745,20 @@ private:
     CollisionTally m_tally;
     ImpactWindow<Real> m_window{0, 0};
     CellList m_grid;
+
+    // Forces: the neighbour list and its per-slot pair values, what still matches m_x, the counters.
+    bool m_useList = false;
+    VerletList<Real> m_list;
+    std::vector<Real> m_pairForce;     // per list slot: F / R of the pair
+    std::vector<double> m_pairEnergy;  // per list slot: U of the pair (energies() only)
+    bool m_accelerationMatchesX = false;  // m_acceleration = a(m_x)
+    bool m_pairsMatchX = false;           // m_pairForce holds the pairs of m_x (lists)
+    bool m_listMatchesX = false;          // the list is within the skin of m_x (inside applyEvents)
+    bool m_refreshable = false;           // both held at beginCollisions: refreshAccelerations may update
+    std::vector<Vec3<Real>> m_xBeforeCollisions;
+    std::vector<int64_t> m_moved, m_touched;
+    std::vector<char> m_isMoved;
+    ForceCounters m_counters;
 
     std::vector<int64_t> m_contactStart;  // per particle: its first contact in m_contacts before sorting
     std::vector<Contact> m_contacts;      // bottom-up

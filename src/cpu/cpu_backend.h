@@ -3,8 +3,11 @@
 // run over partners in index order, and every reduction over particles is made in fixed-size
 // chunks added in chunk order.
 //
-// Forces are all pairs, each pair evaluated from both sides (no Newton-3 halving): the same
-// arithmetic as the GPU tiles, so CPU and GPU differ only by rounding order, never by formula.
+// Forces follow the model's choice (force_model.h). All pairs: each pair evaluated from both sides,
+// the same arithmetic as the GPU tiles, so CPU and GPU differ only by rounding order, never by
+// formula. Neighbour lists (verlet_list.h): half lists, each pair evaluated once (Newton's third law)
+// and gathered by both particles in a fixed order. After a collision stage the cached accelerations
+// are refreshed for the moved particles and their partners only (refreshAccelerations).
 #pragma once
 
 #include <memory>

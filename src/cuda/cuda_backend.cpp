@@ -221,6 +221,10 @@ EnergySums CudaDevice<Real>::energies() {
     m_scratch.resize(size_t(m_n));
     gpu::ForceArgs<Real> f = homeForceArgs(home().x.data(), m_scratch.data());
     f.pairEnergy = m_pairEnergy.data();
+    if (useLists() && gpuCount() == 1) {  // one GPU: its lists cover every row
+        home().list.update(home().x.data(), m_n, 0, m_n, m_box, m_model.cutoff, m_model.skin, stream());
+        home().list.fill(f);
+    }
     gpu::launchForces(f, stream());
     const int s = m_speciesCount;
     m_rows.resize(size_t(s + 4) * size_t(m_n));

@@ -22,6 +22,7 @@
 
 #include "backend.h"
 #include "cuda_backend.h"
+#include "device_neighbour_list.h"
 #include "cuda_check.h"
 #include "device_buffer.h"
 #include "device_cell_list.h"
@@ -45,6 +46,7 @@ struct Replica {
     DeviceBuffer<Vec3<Real>> acceleration, kx, kv;  // slice (kx, kv: stage-major, stages x slice rows)
     DeviceBuffer<unsigned char> forceScratch;
     DeviceBuffer<double> errorRows, errorPartials;  // slice
+    DeviceNeighbourList<Real> list;                 // the slice's rows over all positions (cut-off forces)
     PinnedBuffer<double> hostErrorPartials;
 };
 
@@ -70,6 +72,8 @@ public:
 
     // ---- integration (cuda_integration.cpp) ----
     void computeAccelerations() override;
+    bool supportsNeighbourLists() const override { return true; }
+    ForceCounters forceCounters() const override;
     void kick(double h) override;
     void drift(double dt) override;
     void rkStage(int stage, double dt) override;
@@ -137,6 +141,9 @@ private:
     // One force pass on every GPU: positions shared by the exchange, then each GPU's rows. `stage`:
     // -1 for A = a(X), else Kv_stage = a(Xs).
     void forcePass(int stage);
+    // Forces from neighbour lists: the model asks for them and every GPU holds every position when it
+    // computes (with direct access, DA, the peers' positions stay remote: all pairs then).
+    bool useLists() const;
     // Force launches on the home GPU bracketed by timing events, read once the step has finished.
     void launchTimedForces(const gpu::ForceArgs<Real>& args);
     ParticleState download(const DeviceBuffer<Vec3<Real>>& x, const DeviceBuffer<Vec3<Real>>& v) const;
@@ -178,6 +185,7 @@ private:
     cudaEvent_t m_phase[3] = {};  // Integrate, Collide, Done marks
     std::vector<cudaEvent_t> m_timingEvents;
     size_t m_forceEvents = 0;
+    int64_t m_fullPasses = 0;
     bool m_timingForces = false;  // between the Integrate and Collide marks
 
     DeviceBuffer<Vec3<Real>> m_scratch, m_contactAcceleration;

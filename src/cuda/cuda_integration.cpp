@@ -12,7 +12,8 @@ gpu::ForceArgs<Real> CudaDevice<Real>::forceArgs(int k, const Vec3<Real>* x, Vec
     Replica<Real>& r = *m_replicas[size_t(k)];
     const DeviceSlice& s = slice(k);
     gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     s.begin, s.end, tableOf(r), m_gravity, m_model.anyPairForce, m_model.hasCutoff,
-                           out, nullptr,          r.forceScratch.data(), r.forceScratch.size(), {},                    nullptr};
+                           out, nullptr,          r.forceScratch.data(), r.forceScratch.size(), {},                    nullptr,
+                           nullptr, nullptr};
     f.peers.count = 0;
     return f;
 }
@@ -21,7 +22,8 @@ template <class Real>
 gpu::ForceArgs<Real> CudaDevice<Real>::homeForceArgs(const Vec3<Real>* x, Vec3<Real>* out) {
     Replica<Real>& r = home();
     gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     0, m_n, table(), m_gravity, m_model.anyPairForce, m_model.hasCutoff,
-                           out, nullptr,          m_homeForceScratch.data(), m_homeForceScratch.size(), {}, nullptr};
+                           out, nullptr,          m_homeForceScratch.data(), m_homeForceScratch.size(), {}, nullptr,
+                           nullptr, nullptr};
     f.peers.count = 0;
     return f;
 }
@@ -55,6 +57,10 @@ void CudaDevice<Real>::forcePass(int stage) {
     onEachGpu([&](int k, Replica<Real>& r) {
         Vec3<Real>* out = stage < 0 ? r.acceleration.data() : r.kv.data() + size_t(stage) * size_t(slice(k).size());
         gpu::ForceArgs<Real> f = forceArgs(k, positions(r), out);
+        if (useLists()) {
+            r.list.update(positions(r), m_n, slice(k).begin, slice(k).end, m_box, m_model.cutoff, m_model.skin, slice(k).stream);
+            r.list.fill(f);
+        }
         if (m_exchange->method() == Exchange::Da && gpuCount() > 1) {
             f.peers.count = gpuCount();
             f.peers.chunk = m_partition.chunk();
@@ -65,6 +71,21 @@ void CudaDevice<Real>::forcePass(int stage) {
     });
     m_exchange->readsDone();
     m_homeCurrent = gpuCount() == 1;
+    ++m_fullPasses;
+}
+
+template <class Real>
+bool CudaDevice<Real>::useLists() const {
+    return m_model.forces == ForceModel::NeighbourList && m_model.anyPairForce && m_model.cutoff > 0 &&
+           (gpuCount() == 1 || m_exchange->method() != Exchange::Da);
+}
+
+template <class Real>
+ForceCounters CudaDevice<Real>::forceCounters() const {
+    ForceCounters c;
+    c.fullPasses = m_fullPasses;
+    for (const auto& r : m_replicas) c.listBuilds += r->list.builds();
+    return c;
 }
 
 template <class Real>

@@ -49,6 +49,7 @@ struct SpeedDistributionData {
 
 struct PerformanceData {
     std::string backend, device;
+    std::string forces;  // the pair-force model in use and why (force_model.h)
     double stepsPerSecond = 0, framesPerSecond = 0, pairInteractionsPerSecond = 0;
     bool pairForces = true;  // false for pure hard spheres: no force pass to rate
     double msStep = 0;  // simulation steps per frame (wall clock), split into:

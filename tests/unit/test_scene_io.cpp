@@ -51,6 +51,8 @@ void expectSameScene(const Scene& a, const Scene& b) {
     EXPECT_EQ(a.interaction.gravity, b.interaction.gravity);
     EXPECT_EQ(a.interaction.elasticBelowSpeed, b.interaction.elasticBelowSpeed);
     EXPECT_EQ(a.interaction.maxCollisionRounds, b.interaction.maxCollisionRounds);
+    EXPECT_EQ(a.interaction.forces, b.interaction.forces);
+    EXPECT_EQ(a.interaction.skin, b.interaction.skin);
     EXPECT_EQ(a.integrator.method, b.integrator.method);
     EXPECT_EQ(a.integrator.dt, b.integrator.dt);
     EXPECT_EQ(a.integrator.precision, b.integrator.precision);
@@ -215,6 +217,8 @@ TEST(SceneIoRoundTrip, EveryNonDefaultFieldSurvives) {
     scene.interaction.gravity = {0.5, -1e-12, -9.81};
     scene.interaction.elasticBelowSpeed = 0;
     scene.interaction.maxCollisionRounds = 1;
+    scene.interaction.forces = ForceModel::NeighbourList;
+    scene.interaction.skin = 0.45;
     scene.integrator.method = Method::Dp5;
     scene.integrator.dt = 1e-7;
     scene.integrator.precision = Precision::Fp32;
@@ -270,6 +274,25 @@ TEST(SceneIoParse, DevicesTakeACountOrAuto) {
     EXPECT_EQ(parseScene(kOneSpecies + "[devices]\ngpus = 2\nexchange = \"da\"\n", "d.toml").devices.exchange, Exchange::Da);
     EXPECT_EQ(parseScene(kOneSpecies + "[devices]\ngpus = \"auto\"\n", "d.toml").devices.gpus, 0);
     EXPECT_EQ(parseScene(kOneSpecies, "d.toml").devices.exchange, Exchange::Auto);
+}
+
+TEST(SceneIoParse, ForcesAndSkin) {
+    EXPECT_EQ(parseScene(kOneSpecies, "f.toml").interaction.forces, ForceModel::Auto);
+    EXPECT_EQ(parseScene(kOneSpecies, "f.toml").interaction.skin, 0.3);
+    for (ForceModel m : {ForceModel::Auto, ForceModel::AllPairs}) {
+        const std::string text = kOneSpecies + "[interaction]\nforces = \"" + forceModelName(m) + "\"\n";
+        EXPECT_EQ(parseScene(text, "f.toml").interaction.forces, m);
+    }
+    const Scene lists = parseScene(kOneSpecies + "[interaction]\ncutoff = 2.5\nforces = \"neighbour_list\"\nskin = 0.5\n", "f.toml");
+    EXPECT_EQ(lists.interaction.forces, ForceModel::NeighbourList);
+    EXPECT_EQ(lists.interaction.skin, 0.5);
+    expectSameScene(parseScene(sceneToToml(lists), "round_trip.toml"), lists);
+    try {
+        parseScene(kOneSpecies + "[interaction]\nforces = \"none\"\n", "f.toml");
+        FAIL() << "'none' is not a choice of forces";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("all_pairs"), std::string::npos) << e.what();
+    }
 }
 
 TEST(SceneIoParse, IntegersAreAcceptedForFloats) {

@@ -1,0 +1,154 @@
+// Neighbour lists on the GPU (gpu_launch.h: NeighbourListArgs) and the forces summed over them.
+//
+// Design note. A GPU thread per row walks the 27 cells around its particle (cell_list.h, the one grid,
+// cells of at least r_c + skin) and keeps every partner closer than r_c + skin: full lists, so each
+// row sums its own pairs with no atomics on forces and the same result on every run (Newton's third
+// law would need scattered writes). The walk collects a row in shared memory and sorts it by partner
+// index before writing it out: a row's sum then does not depend on when the list was built (a listed
+// pair beyond the cutoff adds an exact zero), so a run restarted from a checkpoint, whose lists are
+// built afresh, goes on bit for bit, as on the CPU (src/cpu/verlet_list.h). The lists are column-major (partner c of row
+// r at c * rows + r), so a warp's loads of one column are contiguous. They are rebuilt when some row
+// has moved more than skin / 2 since the build (launchListMoved; src/cuda/device_neighbour_list.h
+// reads the flag), and grow when a row has more partners than the columns allow.
+#include <cuda_runtime.h>
+
+#include "gpu_common.cuh"
+#include "gpu_launch.h"
+
+namespace corebox::gpu {
+namespace {
+
+// Rows are collected in shared memory, column-major per block (partner c of the block's thread t at
+// c * blockDim + t: no bank conflicts), sorted there by insertion (rows are short: ~75 in an LJ
+// liquid), then written column-major to the list.
+template <class Real>
+__global__ void buildListKernel(NeighbourListArgs<Real> a) {
+    extern __shared__ int32_t rowScratch[];
+    const int64_t row = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    const int64_t rows = a.end - a.begin;
+    if (row >= rows) return;
+    int32_t* mine = rowScratch + threadIdx.x;
+    const int stride = int(blockDim.x);
+    const int64_t i = a.begin + row;
+    const Vec3<Real> xi = a.x[i];
+    int32_t count = 0;
+    forEachNeighbour(a.cells, xi, [&](int64_t j) {
+        if (j == i) return;
+        const Vec3<Real> d = xi - a.x[j];
+        if (!(norm2(d) < a.reach2)) return;
+        if (count < a.maxNeighbours) mine[count * stride] = int32_t(j);
+        ++count;
+    });
+    a.neighbourCount[row] = count;
+    atomicMax(a.mostNeighbours, unsigned(count));
+    if (count > a.maxNeighbours) return;  // the list grows and is built again
+    for (int32_t c = 1; c < count; ++c) {
+        const int32_t key = mine[c * stride];
+        int32_t k = c - 1;
+        while (k >= 0 && mine[k * stride] > key) {
+            mine[(k + 1) * stride] = mine[k * stride];
+            --k;
+        }
+        mine[(k + 1) * stride] = key;
+    }
+    for (int32_t c = 0; c < count; ++c) a.neighbours[int64_t(c) * rows + row] = mine[c * stride];
+}
+
+// Threads per block of the list build: as many as 64 whose rows fit the shared memory a block may have.
+inline int buildBlockFor(int32_t maxNeighbours) {
+    int device = 0, optIn = 0;
+    cudaGetDevice(&device);
+    cudaDeviceGetAttribute(&optIn, cudaDevAttrMaxSharedMemoryPerBlockOptin, device);
+    const int64_t perThread = int64_t(maxNeighbours) * int64_t(sizeof(int32_t));
+    const int64_t fit = perThread > 0 ? int64_t(optIn) / perThread : 64;
+    if (fit < 1)
+        throw DeviceError("neighbour list: a row of " + std::to_string(maxNeighbours) +
+                          " partners does not fit a block's shared memory; the cutoff plus skin spans too many particles for lists "
+                          "(use forces = \"all_pairs\")");
+    return int(fit >= 64 ? 64 : fit >= 32 ? 32 : fit);
+}
+
+template <class Real>
+__global__ void listMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBuilt, int64_t begin, int64_t end, Real halfSkin2,
+                                unsigned int* moved) {
+    const int64_t row = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (row >= end - begin) return;
+    const Real d2 = norm2(x[begin + row] - xBuilt[row]);
+    if (!(d2 <= halfSkin2)) *moved = 1u;  // NaN included
+}
+
+// One thread per row: the sum over its list, in list order.
+template <class Real, bool kEnergy, bool kSingleSpecies>
+__global__ void listForceKernel(ForceArgs<Real> a) {
+    const int64_t row = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    const int64_t rows = a.end - a.begin;
+    if (row >= rows) return;
+    const int64_t i = a.begin + row;
+    const Vec3<Real> xi = a.x[i];
+    const int si = a.species[i];
+    const int s = a.table.count;
+    const PairCoefficients<Real> single = a.table.pairs[0];
+    const int32_t count = a.neighbourCount[row];
+    Vec3<Real> force{0, 0, 0};
+    double energy = 0;
+    for (int32_t c = 0; c < count; ++c) {
+        const int32_t j = a.neighbours[int64_t(c) * rows + row];
+        const Vec3<Real> d = xi - a.x[j];
+        const PairCoefficients<Real>& p = kSingleSpecies ? single : a.table.pairs[si * s + a.species[j]];
+        Real u = 0;
+        const Real f = pairForceOverR(p, norm2(d), kEnergy ? &u : nullptr);
+        force += f * d;
+        if (kEnergy) energy += double(u);
+    }
+    a.acceleration[row] = a.table.invMass[si] * force + a.gravity;
+    if (kEnergy) a.pairEnergy[row] = energy;
+}
+
+}  // namespace
+
+template <class Real>
+void launchBuildNeighbourList(const NeighbourListArgs<Real>& a, cudaStream_t stream) {
+    const int64_t rows = a.end - a.begin;
+    cudaMemsetAsync(a.mostNeighbours, 0, sizeof(unsigned int), stream);
+    if (rows <= 0) return;
+    const int block = buildBlockFor(a.maxNeighbours);
+    const size_t shared = size_t(block) * size_t(a.maxNeighbours) * sizeof(int32_t);
+    cudaFuncSetAttribute(buildListKernel<Real>, cudaFuncAttributeMaxDynamicSharedMemorySize, int(shared));
+    buildListKernel<Real><<<blocksFor(rows, block), unsigned(block), shared, stream>>>(a);
+    checkLaunch("neighbour list kernel");
+}
+
+template <class Real>
+void launchListMoved(const Vec3<Real>* x, const Vec3<Real>* xBuilt, int64_t begin, int64_t end, Real halfSkin2, unsigned int* moved,
+                     cudaStream_t stream) {
+    cudaMemsetAsync(moved, 0, sizeof(unsigned int), stream);
+    if (end <= begin) return;
+    listMovedKernel<Real><<<blocksFor(end - begin), kBlock, 0, stream>>>(x, xBuilt, begin, end, halfSkin2, moved);
+    checkLaunch("list displacement kernel");
+}
+
+// Called by launchForces (force_kernels.cu) when the args carry a list.
+template <class Real>
+void launchListForces(const ForceArgs<Real>& a, cudaStream_t stream) {
+    const int64_t rows = a.end - a.begin;
+    if (rows <= 0) return;
+    const bool single = a.table.count == 1;
+    const unsigned blocks = blocksFor(rows);
+    if (a.pairEnergy) {
+        if (single) listForceKernel<Real, true, true><<<blocks, kBlock, 0, stream>>>(a);
+        else listForceKernel<Real, true, false><<<blocks, kBlock, 0, stream>>>(a);
+    } else {
+        if (single) listForceKernel<Real, false, true><<<blocks, kBlock, 0, stream>>>(a);
+        else listForceKernel<Real, false, false><<<blocks, kBlock, 0, stream>>>(a);
+    }
+    checkLaunch("neighbour list force kernel");
+}
+
+template void launchBuildNeighbourList<float>(const NeighbourListArgs<float>&, cudaStream_t);
+template void launchBuildNeighbourList<double>(const NeighbourListArgs<double>&, cudaStream_t);
+template void launchListMoved<float>(const Vec3<float>*, const Vec3<float>*, int64_t, int64_t, float, unsigned int*, cudaStream_t);
+template void launchListMoved<double>(const Vec3<double>*, const Vec3<double>*, int64_t, int64_t, double, unsigned int*, cudaStream_t);
+template void launchListForces<float>(const ForceArgs<float>&, cudaStream_t);
+template void launchListForces<double>(const ForceArgs<double>&, cudaStream_t);
+
+}  // namespace corebox::gpu

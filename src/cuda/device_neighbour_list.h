@@ -1,0 +1,95 @@
+// One GPU's neighbour lists (kernels/neighbour_list_kernels.cu): for its rows [begin, end) over all n
+// positions, so that with several GPUs each builds the lists of its own slice from the gathered
+// positions. Rebuilt when some row has moved more than skin / 2 since the build (a flag read back
+// once per force pass), when the reach, the rows or the box changed, and again with more columns
+// when a row had more partners than the lists held.
+#pragma once
+
+#include <cuda_runtime_api.h>
+
+#include <algorithm>
+
+#include "cuda_check.h"
+#include "device_buffer.h"
+#include "device_cell_list.h"
+#include "gpu_launch.h"
+#include "pinned_buffer.h"
+
+namespace corebox {
+
+template <class Real>
+class DeviceNeighbourList {
+public:
+    // Makes the lists valid for x (all n positions, device memory of the current GPU) on `stream`;
+    // waits for the stream once (the displacement flag). Returns true when it rebuilt them.
+    bool update(const Vec3<Real>* x, int64_t n, int64_t begin, int64_t end, const Vec3<Real>& box, double cutoff, double skin,
+                cudaStream_t stream) {
+        const bool same = m_valid && n == m_n && begin == m_begin && end == m_end && cutoff == m_cutoff && skin == m_skin &&
+                          box.x == m_box.x && box.y == m_box.y && box.z == m_box.z;
+        if (same) {
+            gpu::launchListMoved(x, m_xBuilt.data(), begin, end, Real(0.25 * skin * skin), m_flag.data(), stream);
+            if (readFlag(stream) == 0) return false;
+        }
+        m_n = n;
+        m_begin = begin;
+        m_end = end;
+        m_cutoff = cutoff;
+        m_skin = skin;
+        m_box = box;
+        build(x, stream);
+        m_valid = true;
+        ++m_builds;
+        return true;
+    }
+    void invalidate() { m_valid = false; }
+    int64_t builds() const { return m_builds; }
+
+    // The list fields of a force pass over the same rows.
+    void fill(gpu::ForceArgs<Real>& f) const {
+        f.neighbours = m_neighbours.data();
+        f.neighbourCount = m_count.data();
+    }
+
+private:
+    unsigned int readFlag(cudaStream_t stream) {
+        unsigned int* host = m_hostFlag.resize(1);
+        cudaCheck(cudaMemcpyAsync(host, m_flag.data(), sizeof(unsigned int), cudaMemcpyDeviceToHost, stream), "list flag read-back");
+        cudaCheck(cudaStreamSynchronize(stream), "list flag read-back");
+        return *host;
+    }
+
+    void build(const Vec3<Real>* x, cudaStream_t stream) {
+        const int64_t rows = m_end - m_begin;
+        const double reach = m_cutoff + m_skin;
+        const CellListView cells = m_cells.build(x, m_n, cellGeometry(vec3Cast<double>(m_box), m_n, reach), stream);
+        m_count.resize(size_t(std::max<int64_t>(rows, 1)));
+        m_flag.resize(1);
+        for (;;) {
+            m_neighbours.resize(size_t(std::max<int64_t>(rows, 1)) * size_t(m_columns));
+            gpu::NeighbourListArgs<Real> a{x, m_n, m_begin, m_end, cells, Real(reach * reach), m_columns, m_neighbours.data(),
+                                           m_count.data(), m_flag.data()};
+            gpu::launchBuildNeighbourList(a, stream);
+            const unsigned int most = readFlag(stream);
+            if (most <= unsigned(m_columns)) break;
+            m_columns = int32_t(most + most / 4 + 8);  // room for the density to fluctuate before the next growth
+        }
+        m_xBuilt.resize(size_t(std::max<int64_t>(rows, 1)));
+        if (rows > 0)
+            cudaCheck(cudaMemcpyAsync(m_xBuilt.data(), x + m_begin, size_t(rows) * sizeof(Vec3<Real>), cudaMemcpyDeviceToDevice, stream),
+                      "list positions copy");
+    }
+
+    DeviceCellList<Real> m_cells;
+    DeviceBuffer<int32_t> m_neighbours, m_count;
+    DeviceBuffer<Vec3<Real>> m_xBuilt;
+    DeviceBuffer<unsigned int> m_flag;  // the displacement flag, then the build's largest count
+    PinnedBuffer<unsigned int> m_hostFlag;
+    int32_t m_columns = 96;  // LJ liquid at r_c + skin = 2.8 has ~75 partners
+    int64_t m_n = 0, m_begin = 0, m_end = 0;
+    double m_cutoff = 0, m_skin = 0;
+    Vec3<Real> m_box{0, 0, 0};
+    bool m_valid = false;
+    int64_t m_builds = 0;
+};
+
+}  // namespace corebox
