@@ -132,9 +132,11 @@ void FrameDumper::writeFrame(int64_t index, const RenderStyle& style, const std:
     m_target->readPixels(m_image.rgba);
     m_timings.readback += since(t);
     if (m_timings.frames == 0) m_firstFrame = Clock::now();
+    if (!m_options.writePng) ++m_timings.frames;
     if (m_video && std::fwrite(m_image.rgba.data(), 1, m_image.rgba.size(), m_video) != m_image.rgba.size()) {
         throw InputError("--video: ffmpeg stopped accepting frames for " + m_options.videoPath);
     }
+    if (!m_options.writePng) return;
     // Encode and write in the background; wait only when every encoder is busy.
     t = Clock::now();
     while (m_encoding.size() >= size_t(m_timings.encoders)) {

@@ -32,6 +32,7 @@ struct FrameDumpOptions {
     int width = 1280, height = 720;
     std::string videoPath;  // "" : no video
     int videoFps = 30;
+    bool writePng = true;  // false: frames are rendered and read back (video, screenshots) but not encoded
     HeadlessContextOptions context;
 };
 

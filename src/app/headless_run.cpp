@@ -26,16 +26,20 @@ void reportFrames(const RunOptions& options, FrameDumper& frames) {
     const bool videoOk = frames.finish();
     const FrameTimings& t = frames.timings();
     const double n = double(std::max<int64_t>(t.frames, 1));
-    if (!options.quiet)
+    const double fps = t.wall > 0 ? double(t.frames - 1) / t.wall : 0.0;  // intervals between the first and the last frame
+    if (!options.quiet && !options.headless.writePng)
+        std::fprintf(stderr, "[corebox] %lld frames rendered, no PNG written: %.1f frames/s including simulation; per frame %.2f ms render, %.2f ms read-back\n",
+                     (long long)t.frames, fps, 1e3 * t.render / n, 1e3 * t.readback / n);
+    else if (!options.quiet)
         std::fprintf(stderr,
                  "[corebox] %lld frames in %s/ (frame_000000.png ...): %.1f frames/s including simulation and output; per frame "
                  "%.1f ms render, %.1f ms read-back, %.1f ms waiting for PNG encoding (%d encoder threads)\n",
-                 (long long)t.frames, options.headless.outDir.c_str(), t.wall > 0 ? double(t.frames) / t.wall : 0.0, 1e3 * t.render / n,
+                 (long long)t.frames, options.headless.outDir.c_str(), fps, 1e3 * t.render / n,
                  1e3 * t.readback / n, 1e3 * t.encodeWait / n, t.encoders);
     if (!options.headless.videoPath.empty()) {
         if (videoOk) std::fprintf(stderr, "[corebox] video written to %s\n", options.headless.videoPath.c_str());
         else throw InputError("--video: ffmpeg failed to write " + options.headless.videoPath);
-    } else if (!options.quiet) {
+    } else if (!options.quiet && options.headless.writePng) {
         std::fprintf(stderr, "[corebox] make a video with: ffmpeg -framerate 30 -i %s/frame_%%06d.png -pix_fmt yuv420p %s/movie.mp4\n",
                      options.headless.outDir.c_str(), options.headless.outDir.c_str());
     }
@@ -69,6 +73,7 @@ int runHeadlessFrames(const RunOptions& options, const Scene& scene) {
         dump.width = h.size.width;
         dump.height = h.size.height;
         dump.videoPath = h.videoPath;
+        dump.writePng = h.writePng;
         dump.context.softwareOnly = h.softwareOnly;
         dump.context.cudaDevice = h.softwareOnly ? -1 : live.simulation().backend().interopDevice();
         const std::array<float, 3> box{float(scene.box.size[0]), float(scene.box.size[1]), float(scene.box.size[2])};

@@ -27,6 +27,7 @@ struct HeadlessOptions {
     double speedMax = 0;          // colour bar top; 0: from the temperature
     bool softwareOnly = false;    // render on Mesa's software device even when a GPU is there
     bool hud = false;             // draw the histogram and plots into the frames
+    bool writePng = true;         // --no-png: render and read back every frame, write no PNG (frame-rate runs)
 };
 
 struct RunOptions {

@@ -138,6 +138,10 @@ public:
     // rather than a full pass. Returns false when A was not valid for the positions before the
     // collision stage (or the backend cannot do it): then the caller recomputes A.
     virtual bool refreshAccelerations() { return false; }
+    // The cached A (checkpoints) when it may differ from a force pass at X in the last bits (an
+    // incremental refresh); empty when a force pass reproduces it. restoreAccelerations sets it.
+    virtual std::vector<Vec3<double>> cachedAccelerations() const { return {}; }
+    virtual void restoreAccelerations(const std::vector<Vec3<double>>& /*a*/) {}
     virtual ForceCounters forceCounters() const { return ForceCounters{}; }
     // Whether the backend sums forces from neighbour lists when the model asks for them
     // (DeviceModel::forces); one that does not runs all pairs, and the force choice says so.

@@ -16,7 +16,7 @@ namespace corebox {
 namespace {
 
 constexpr char kMagic[] = "corebox checkpoint\n";
-constexpr uint32_t kVersion = 1;
+constexpr uint32_t kVersion = 2;  // 2: the cached accelerations after the particles (1: none, still read)
 constexpr uint32_t kByteOrderProbe = 0x01020304;
 static_assert(sizeof(Vec3<double>) == 3 * sizeof(double), "positions and velocities are written as raw doubles");
 
@@ -107,6 +107,8 @@ void writeCheckpoint(const std::string& path, const SimulationCheckpoint& c) {
     w.putArray(c.state.position);
     w.putArray(c.state.velocity);
     w.putArray(c.state.species);
+    w.put(uint64_t(c.accelerations.size()));
+    w.putArray(c.accelerations);
     w.put(fnv1a(w.bytes()));
     std::error_code ec;
     if (std::filesystem::is_regular_file(path, ec)) {
@@ -128,7 +130,7 @@ SimulationCheckpoint readCheckpoint(const std::string& path) {
     const size_t end = bytes.size() - sizeof(uint64_t);
     Reader r(bytes, magic, end, path);
     const uint32_t version = r.get<uint32_t>("the version");
-    if (version != kVersion)
+    if (version != kVersion && version != 1)
         r.fail("format version " + std::to_string(version) + "; this corebox reads version " + std::to_string(kVersion));
     if (r.get<uint32_t>("the byte-order probe") != kByteOrderProbe || r.get<uint32_t>("the size probe") != sizeof(double))
         r.fail("written on a machine with another byte order or number format");
@@ -146,12 +148,19 @@ SimulationCheckpoint readCheckpoint(const std::string& path) {
     c.pressureImpulses = r.get<ImpulseSums>("the pressure window");
     const uint64_t n = r.get<uint64_t>("the particle count");
     const size_t perParticle = 2 * sizeof(Vec3<double>) + sizeof(int32_t);
-    if (n != r.remaining() / perParticle || r.remaining() % perParticle != 0)
+    if (n > r.remaining() / perParticle || (version == 1 && r.remaining() != n * perParticle))
         r.fail("holds " + std::to_string(r.remaining()) + " bytes of particles, not the " + std::to_string(n) + " it announces");
     c.state.resize(size_t(n));
     r.getArray(c.state.position, "the positions");
     r.getArray(c.state.velocity, "the velocities");
     r.getArray(c.state.species, "the species");
+    if (version >= 2) {
+        const uint64_t cached = r.get<uint64_t>("the accelerations' count");
+        if ((cached != 0 && cached != n) || r.remaining() != cached * sizeof(Vec3<double>))
+            r.fail("holds " + std::to_string(r.remaining()) + " bytes of accelerations, not the " + std::to_string(cached) + " it announces");
+        c.accelerations.resize(size_t(cached));
+        r.getArray(c.accelerations, "the accelerations");
+    }
     return c;
 }
 

@@ -5,15 +5,18 @@
 // (positions, velocities, species), the running scene with its live edits, the step and time, the
 // energy bookkeeping (dissipated, thermostat, parameter work, the conserved sum's base and scale),
 // the counters and pressure window since the last observables row, and the adaptive controller's next
-// dt. The backends hold nothing else that a step reads: Verlet's cached accelerations are a(X) and
-// are recomputed from the restored X bit for bit (the force pass has a fixed summation order, and
+// dt. The backends hold nothing else that a step reads but Verlet's cached accelerations. Those are
+// carried when they are not what a force pass at X gives bit for bit (the CPU's all-pairs update
+// after collisions exchanges the old pair forces of the moved particles for new ones:
+// Backend::cachedAccelerations); otherwise they are recomputed from the restored X bit for bit (the force pass has a fixed summation order, and
 // neighbour lists, rebuilt at restore, sum each particle's partners by ascending index), the
 // thermostat's and placement's random numbers are counter-based on (seed, step, particle), and an
 // fp32 backend's state survives the round trip through double exactly.
 //
 // File format (binary, little-endian, doubles as IEEE 754 bits): the magic "corebox checkpoint\n",
 // a format version, a byte-order and size probe, the payload (length-prefixed scene TOML, scalars,
-// then N and the arrays), and an FNV-1a 64 hash of everything before it. A file that is truncated,
+// then N and the arrays, then the count of cached accelerations, 0 or N, and those; version 1 files,
+// without them, are read too), and an FNV-1a 64 hash of everything before it. A file that is truncated,
 // foreign, from another version or damaged is refused with a message naming the file.
 #pragma once
 
@@ -42,6 +45,9 @@ struct SimulationCheckpoint {
     double dtNext = 0;  // the adaptive controller's next step (0: not adaptive yet)
     double pressureTime = 0, pressureKineticTime = 0;  // the pressure window since the last row
     ImpulseSums pressureImpulses;
+    // Verlet's cached accelerations when a force pass would not reproduce them bit for bit; empty:
+    // recomputed at restore.
+    std::vector<Vec3<double>> accelerations;
 };
 
 // Writes atomically (temp file and rename); an existing checkpoint at `path` is kept as path.prev

@@ -22,6 +22,9 @@ public:
     // The backend's state changed behind the driver's back (new state, collisions, a new model):
     // Verlet's cached accelerations must be recomputed before they are used again.
     void invalidateAccelerations() { m_accelerationsValid = false; }
+    // Whether the backend's A holds a(X) for the next kick (checkpoints), and its restoration.
+    bool accelerationsValid() const { return m_accelerationsValid; }
+    void restoreAccelerationsValid() { m_accelerationsValid = true; }
 
     // Advances the backend's state by one step; fills report.dt and report.rejectedSteps. Throws
     // InstabilityError when the adaptive controller cannot meet its tolerance.

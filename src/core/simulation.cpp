@@ -43,6 +43,13 @@ Simulation::Simulation(Scene scene, std::unique_ptr<Backend> backend, const Simu
     applyParameters();
     m_driver.restoreNextDt(c.dtNext);
     m_backend->keepSnapshot();
+    if (!c.accelerations.empty()) {
+        if (c.accelerations.size() != c.state.size())
+            throw InputError("checkpoint: " + std::to_string(c.accelerations.size()) + " cached accelerations for " +
+                             std::to_string(c.state.size()) + " particles");
+        m_backend->restoreAccelerations(c.accelerations);
+        m_driver.restoreAccelerationsValid();
+    }
     m_step = c.step;
     m_time = c.time;
     m_dissipated = c.dissipated;
@@ -74,6 +81,7 @@ SimulationCheckpoint Simulation::checkpoint() const {
     c.wallCollisions = m_wallCollisions;
     c.roundCapHits = m_roundCapHits;
     c.dtNext = m_driver.nextDt();
+    if (m_driver.accelerationsValid()) c.accelerations = m_backend->cachedAccelerations();
     c.pressureTime = m_pressureWindow.time();
     c.pressureKineticTime = m_pressureWindow.kineticTime();
     c.pressureImpulses = m_pressureWindow.impulses();

@@ -81,6 +81,22 @@ public:
         accelerations(m_x, m_acceleration.data(), nullptr);
         ++m_counters.fullPasses;
         m_accelerationMatchesX = true;
+        m_accelerationIncremental = false;
+    }
+
+    std::vector<Vec3<double>> cachedAccelerations() const override {
+        if (!m_accelerationIncremental) return {};
+        std::vector<Vec3<double>> a(m_acceleration.size());
+        for (size_t i = 0; i < a.size(); ++i) a[i] = vec3Cast<double>(m_acceleration[i]);
+        return a;
+    }
+
+    // The values were this precision's before the round trip through double: restored exactly.
+    void restoreAccelerations(const std::vector<Vec3<double>>& a) override {
+        m_acceleration.resize(a.size());
+        for (size_t i = 0; i < a.size(); ++i) m_acceleration[i] = vec3Cast<Real>(a[i]);
+        m_accelerationMatchesX = true;
+        m_accelerationIncremental = true;
     }
 
     void kick(double h) override {
@@ -184,6 +200,7 @@ public:
             }
             m_acceleration[size_t(i)] += m_invMass[size_t(m_species[size_t(i)])] * change;
         });
+        m_accelerationIncremental = true;
         m_counters.refreshedParticles += n;
         return true;
     }
@@ -754,6 +771,7 @@ private:
     bool m_accelerationMatchesX = false;  // m_acceleration = a(m_x)
     bool m_pairsMatchX = false;           // m_pairForce holds the pairs of m_x (lists)
     bool m_listMatchesX = false;          // the list is within the skin of m_x (inside applyEvents)
+    bool m_accelerationIncremental = false;  // A holds an all-pairs update, not a force pass's bits (checkpoints carry it)
     bool m_refreshable = false;           // both held at beginCollisions: refreshAccelerations may update
     std::vector<Vec3<Real>> m_xBeforeCollisions;
     std::vector<int64_t> m_moved, m_touched;

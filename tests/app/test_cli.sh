@@ -168,6 +168,13 @@ expect "unwritable screenshot" 2 "cannot write '$work/missing_dir/shot.png'" -- 
     run "$SRC/assets/hard_spheres.toml" --headless --software-gl --frames 3 --steps-per-frame 2 --size 64x64 \
     --out "$work/out/shots" --script "$work/shot.script"
 
+# A frame-rate run: every frame rendered, no PNG written, the rate reported; --screenshot still works.
+expect "headless without PNG" 0 "4 frames rendered, no PNG written: [0-9.]+ frames/s" -- \
+    run "$SRC/assets/hard_spheres.toml" --headless --software-gl --frames 4 --steps-per-frame 2 --size 64x64 \
+    --out "$work/out/nopng" --no-png --screenshot "$work/out/nopng_last.png"
+if ls "$work/out/nopng"/frame_*.png >/dev/null 2>&1; then fail "--no-png wrote frames"; else pass; fi
+[ -s "$work/out/nopng_last.png" ] && pass || fail "--no-png lost the screenshot"
+
 # Issue 11, never a crash: values that pass "> 0" but overflow (inf, products beyond the precision)
 # and scenes too large for the machine are input errors naming the key and the size, exit 2.
 rm -rf "$work/out" && mkdir -p "$work/out"
