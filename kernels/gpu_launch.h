@@ -70,6 +70,9 @@ struct ForceArgs {
     // (neighbour_list_kernels.cu) instead of all pairs.
     const int32_t* neighbours;      // partner c of row r at neighbours[c * (end - begin) + r]
     const int32_t* neighbourCount;  // per row
+    // Lists only, when set: rows whose mask is 0 are skipped, their acceleration kept (the refresh of
+    // the rows a collision stage touched; neighbour_list_kernels.cu).
+    const unsigned char* rowMask;
 };
 template <class Real>
 void launchForces(const ForceArgs<Real>& args, cudaStream_t stream);
@@ -91,6 +94,15 @@ struct NeighbourListArgs {
 };
 template <class Real>
 void launchBuildNeighbourList(const NeighbourListArgs<Real>& args, cudaStream_t stream);
+// row[r] = half the sum over row r's listed partners of r_ij . F_ij (the pair virial, each pair seen from
+// both sides), partners in list order; the lists' rows must be every particle (one GPU).
+template <class Real>
+void launchListVirialRows(const ForceArgs<Real>& lists, double* row, cudaStream_t stream);
+// touched[i] = 1 for every particle i of rows [0, rows) whose position differs from xBefore, and for
+// each listed partner of such a particle (full lists: exactly the rows whose sums read it); 0 elsewhere.
+template <class Real>
+void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* neighbours, const int32_t* neighbourCount,
+                      unsigned char* touched, cudaStream_t stream);
 // *moved = 1 when some row of x[begin, end) is farther than halfSkin from xBuilt (row-indexed) or not
 // finite; reset to 0 by the launch.
 template <class Real>

@@ -83,6 +83,7 @@ __global__ void listForceKernel(ForceArgs<Real> a) {
     const int64_t row = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     const int64_t rows = a.end - a.begin;
     if (row >= rows) return;
+    if (a.rowMask && !a.rowMask[row]) return;
     const int64_t i = a.begin + row;
     const Vec3<Real> xi = a.x[i];
     const int si = a.species[i];
@@ -104,7 +105,54 @@ __global__ void listForceKernel(ForceArgs<Real> a) {
     if (kEnergy) a.pairEnergy[row] = energy;
 }
 
+template <class Real>
+__global__ void listVirialKernel(ForceArgs<Real> a, double* out) {
+    const int64_t row = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    const int64_t rows = a.end - a.begin;
+    if (row >= rows) return;
+    const int64_t i = a.begin + row;
+    const Vec3<Real> xi = a.x[i];
+    const PairCoefficients<Real>* pairs = a.table.pairs + a.species[i] * a.table.count;
+    const int32_t count = a.neighbourCount[row];
+    double w = 0;
+    for (int32_t c = 0; c < count; ++c) {
+        const int32_t j = a.neighbours[int64_t(c) * rows + row];
+        const Real r2 = norm2(xi - a.x[j]);
+        w += double(pairForceOverR(pairs[a.species[j]], r2, static_cast<Real*>(nullptr))) * double(r2);
+    }
+    out[row] = 0.5 * w;
+}
+
+template <class Real>
+__global__ void touchMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* neighbours,
+                                 const int32_t* neighbourCount, unsigned char* touched) {
+    const int64_t row = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (row >= rows) return;
+    const Vec3<Real> a = x[row], b = xBefore[row];
+    if (a.x == b.x && a.y == b.y && a.z == b.z) return;
+    touched[row] = 1;
+    const int32_t count = neighbourCount[row];
+    for (int32_t c = 0; c < count; ++c) touched[neighbours[int64_t(c) * rows + row]] = 1;  // every writer writes 1
+}
+
 }  // namespace
+
+template <class Real>
+void launchListVirialRows(const ForceArgs<Real>& a, double* row, cudaStream_t stream) {
+    const int64_t rows = a.end - a.begin;
+    if (rows <= 0) return;
+    listVirialKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(a, row);
+    checkLaunch("list virial kernel");
+}
+
+template <class Real>
+void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* neighbours, const int32_t* neighbourCount,
+                      unsigned char* touched, cudaStream_t stream) {
+    if (rows <= 0) return;
+    cudaMemsetAsync(touched, 0, size_t(rows), stream);
+    touchMovedKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(x, xBefore, rows, neighbours, neighbourCount, touched);
+    checkLaunch("touched rows kernel");
+}
 
 template <class Real>
 void launchBuildNeighbourList(const NeighbourListArgs<Real>& a, cudaStream_t stream) {
@@ -146,6 +194,12 @@ void launchListForces(const ForceArgs<Real>& a, cudaStream_t stream) {
 
 template void launchBuildNeighbourList<float>(const NeighbourListArgs<float>&, cudaStream_t);
 template void launchBuildNeighbourList<double>(const NeighbourListArgs<double>&, cudaStream_t);
+template void launchListVirialRows<float>(const ForceArgs<float>&, double*, cudaStream_t);
+template void launchListVirialRows<double>(const ForceArgs<double>&, double*, cudaStream_t);
+template void launchTouchMoved<float>(const Vec3<float>*, const Vec3<float>*, int64_t, const int32_t*, const int32_t*, unsigned char*,
+                                      cudaStream_t);
+template void launchTouchMoved<double>(const Vec3<double>*, const Vec3<double>*, int64_t, const int32_t*, const int32_t*, unsigned char*,
+                                       cudaStream_t);
 template void launchListMoved<float>(const Vec3<float>*, const Vec3<float>*, int64_t, int64_t, float, unsigned int*, cudaStream_t);
 template void launchListMoved<double>(const Vec3<double>*, const Vec3<double>*, int64_t, int64_t, double, unsigned int*, cudaStream_t);
 template void launchListForces<float>(const ForceArgs<float>&, cudaStream_t);

@@ -165,7 +165,7 @@ int main(int argc, char** argv) {
     runCmd->add_option("--video", h.videoPath, "Also encode the frames into this video file (needs ffmpeg)");
     runCmd->add_option("--speed-max", h.speedMax, "Top of the speed colour bar (default: from the temperature)");
     runCmd->add_flag("--software-gl", h.softwareOnly, "Render on Mesa's software device even when a GPU is present");
-    runCmd->add_flag("--no-png{false}", h.writePng, "Headless: render every frame but write no PNG (a frame-rate run; --video and --screenshot still work)");
+    runCmd->add_flag_callback("--no-png", [&h] { h.writePng = false; }, "Headless: render every frame but write no PNG (a frame-rate run; --video and --screenshot still work)");
     runCmd->add_flag("--hud", h.hud, "Headless: draw the speed histogram, time plots and performance into the frames");
     runCmd->add_option("--script", run.scriptPath, "Timed commands (set, pause, resume, reset, screenshot, quit), window or headless");
     runCmd->add_option("--screenshot", run.screenshotPath, "Save the last frame (window or headless) as PNG");

@@ -120,6 +120,7 @@ void CudaDevice<Real>::setTableau(const ButcherTableau& tableau) {
 template <class Real>
 void CudaDevice<Real>::setState(const ParticleState& state) {
     sync();
+    m_accelerationMatchesX = false;
     m_n = int64_t(state.size());
     m_partition.resize(m_n);
     // Full-length arrays are padded to P equal chunks (NCCL); padding rows are never read as particles.

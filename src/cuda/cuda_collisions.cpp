@@ -58,6 +58,13 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     m_impactRows.resize(size_t(kImpulseRows + 1) * n);
     m_eventsApplied = false;
     cudaStream_t s = stream();
+    m_refreshable = m_accelerationMatchesX && gpuCount() == 1 && useLists();
+    m_accelerationMatchesX = false;  // until refreshAccelerations or a full pass
+    if (m_refreshable) {
+        m_xBeforeCollisions.resize(n);
+        cudaCheck(cudaMemcpyAsync(m_xBeforeCollisions.data(), home().x.data(), n * sizeof(Vec3<Real>), cudaMemcpyDeviceToDevice, s),
+                  "positions before collisions");
+    }
     cudaCheck(cudaMemsetAsync(m_active.data(), 1, n, s), "memset");
     cudaCheck(cudaMemsetAsync(m_hasContactAcceleration.data(), 0, n, s), "memset");
     cudaCheck(cudaMemsetAsync(m_impactRows.data(), 0, size_t(kImpulseRows + 1) * n * sizeof(double), s), "memset");

@@ -73,6 +73,7 @@ public:
     // ---- integration (cuda_integration.cpp) ----
     void computeAccelerations() override;
     bool supportsNeighbourLists() const override { return true; }
+    bool refreshAccelerations() override;
     ForceCounters forceCounters() const override;
     void kick(double h) override;
     void drift(double dt) override;
@@ -186,6 +187,12 @@ private:
     std::vector<cudaEvent_t> m_timingEvents;
     size_t m_forceEvents = 0;
     int64_t m_fullPasses = 0;
+    int64_t m_refreshes = 0;
+    // Verlet's refresh after collisions (one GPU, lists): A matched X at the last full pass and X has
+    // not changed since, X as the collision stage found it, and whether both held then.
+    bool m_accelerationMatchesX = false;
+    bool m_refreshable = false;
+    DeviceBuffer<Vec3<Real>> m_xBeforeCollisions;
     bool m_timingForces = false;  // between the Integrate and Collide marks
 
     DeviceBuffer<Vec3<Real>> m_scratch, m_contactAcceleration;

@@ -13,7 +13,7 @@ gpu::ForceArgs<Real> CudaDevice<Real>::forceArgs(int k, const Vec3<Real>* x, Vec
     const DeviceSlice& s = slice(k);
     gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     s.begin, s.end, tableOf(r), m_gravity, m_model.anyPairForce, m_model.hasCutoff,
                            out, nullptr,          r.forceScratch.data(), r.forceScratch.size(), {},                    nullptr,
-                           nullptr, nullptr};
+                           nullptr, nullptr, nullptr};
     f.peers.count = 0;
     return f;
 }
@@ -23,7 +23,7 @@ gpu::ForceArgs<Real> CudaDevice<Real>::homeForceArgs(const Vec3<Real>* x, Vec3<R
     Replica<Real>& r = home();
     gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     0, m_n, table(), m_gravity, m_model.anyPairForce, m_model.hasCutoff,
                            out, nullptr,          m_homeForceScratch.data(), m_homeForceScratch.size(), {}, nullptr,
-                           nullptr, nullptr};
+                           nullptr, nullptr, nullptr};
     f.peers.count = 0;
     return f;
 }
@@ -72,6 +72,33 @@ void CudaDevice<Real>::forcePass(int stage) {
     m_exchange->readsDone();
     m_homeCurrent = gpuCount() == 1;
     ++m_fullPasses;
+    m_accelerationMatchesX = stage < 0;
+}
+
+// The collision stage moved a few particles (against the copy taken at beginCollisions): with lists on
+// one GPU, only the rows whose sums read a moved particle are summed again, by the same kernel in the
+// same order, so A is bit for bit what a full pass gives. Otherwise (all pairs, several GPUs, or the
+// moves pushed someone past half the skin) a full pass now.
+template <class Real>
+bool CudaDevice<Real>::refreshAccelerations() {
+    if (!m_refreshable) return false;
+    m_refreshable = false;
+    ++m_refreshes;
+    if (!m_model.anyPairForce) {
+        m_accelerationMatchesX = true;  // gravity alone does not depend on X
+        return true;
+    }
+    Replica<Real>& r = home();
+    if (r.list.update(r.x.data(), m_n, 0, m_n, m_box, m_model.cutoff, m_model.skin, stream())) {
+        forcePass(-1);
+        return true;
+    }
+    gpu::ForceArgs<Real> f = forceArgs(0, r.x.data(), r.acceleration.data());
+    r.list.fill(f);
+    f.rowMask = r.list.touchMoved(r.x.data(), m_xBeforeCollisions.data(), stream());
+    gpu::launchForces(f, stream());
+    m_accelerationMatchesX = true;
+    return true;
 }
 
 template <class Real>
@@ -84,6 +111,7 @@ template <class Real>
 ForceCounters CudaDevice<Real>::forceCounters() const {
     ForceCounters c;
     c.fullPasses = m_fullPasses;
+    c.refreshes = m_refreshes;
     for (const auto& r : m_replicas) c.listBuilds += r->list.builds();
     return c;
 }
@@ -110,6 +138,7 @@ void CudaDevice<Real>::drift(double dt) {
         const DeviceSlice& s = slice(k);
         gpu::launchVerletDrift(r.x.data() + s.begin, r.v.data() + s.begin, s.size(), Real(dt), s.stream);
     });
+    m_accelerationMatchesX = false;
     m_homeCurrent = gpuCount() == 1;
 }
 
@@ -174,6 +203,7 @@ void CudaDevice<Real>::acceptStage() {
         std::swap(r->x, r->xStage);
         std::swap(r->v, r->vStage);
     }
+    m_accelerationMatchesX = false;
     m_homeCurrent = gpuCount() == 1;
 }
 

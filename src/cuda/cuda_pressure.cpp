@@ -28,7 +28,14 @@ double CudaDevice<Real>::pairVirial() {
     if (!m_model.anyPairForce || m_n == 0) return 0;
     gatherToHome();
     m_rows.resize(size_t(m_n));
-    gpu::launchPairVirialRow(arrays(), table(), m_rows.data(), stream());
+    if (useLists() && gpuCount() == 1) {  // one GPU: its lists cover every row
+        gpu::ForceArgs<Real> f = homeForceArgs(home().x.data(), m_scratch.data());
+        home().list.update(home().x.data(), m_n, 0, m_n, m_box, m_model.cutoff, m_model.skin, stream());
+        home().list.fill(f);
+        gpu::launchListVirialRows(f, m_rows.data(), stream());
+    } else {
+        gpu::launchPairVirialRow(arrays(), table(), m_rows.data(), stream());
+    }
     return sumRows(1)[0];
 }
 

@@ -49,6 +49,13 @@ public:
         f.neighbours = m_neighbours.data();
         f.neighbourCount = m_count.data();
     }
+    // Marks the rows whose sums read a particle that moved since xBefore (the lists' own rows, which
+    // must be every particle: one GPU), for a force pass over those rows only (ForceArgs::rowMask).
+    const unsigned char* touchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, cudaStream_t stream) {
+        m_touched.resize(size_t(std::max<int64_t>(m_end - m_begin, 1)));
+        gpu::launchTouchMoved(x + m_begin, xBefore + m_begin, m_end - m_begin, m_neighbours.data(), m_count.data(), m_touched.data(), stream);
+        return m_touched.data();
+    }
 
 private:
     unsigned int readFlag(cudaStream_t stream) {
@@ -83,6 +90,7 @@ private:
     DeviceBuffer<int32_t> m_neighbours, m_count;
     DeviceBuffer<Vec3<Real>> m_xBuilt;
     DeviceBuffer<unsigned int> m_flag;  // the displacement flag, then the build's largest count
+    DeviceBuffer<unsigned char> m_touched;  // touchMoved's row mask
     PinnedBuffer<unsigned int> m_hostFlag;
     int32_t m_columns = 96;  // LJ liquid at r_c + skin = 2.8 has ~75 partners
     int64_t m_n = 0, m_begin = 0, m_end = 0;

@@ -75,6 +75,7 @@ void expectSameRun(const SimRun& a, const SimRun& b, double boxScale) {
     EXPECT_LT(maxRelativeDifference(a.state, b.state, boxScale), 1e-9);
     EXPECT_NEAR(a.row.kinetic, b.row.kinetic, 1e-9 * std::fabs(a.row.kinetic));
     EXPECT_NEAR(a.row.potential, b.row.potential, 1e-9 * std::fabs(a.row.potential));
+    EXPECT_NEAR(a.row.pressureVirial, b.row.pressureVirial, 1e-9 * std::fabs(a.row.pressureVirial));
 }
 
 }  // namespace
@@ -86,6 +87,9 @@ TEST(CudaNeighbourList, ListsMatchTheCpuAndAllPairsOverTwentySteps) {
     const SimRun gpu = simulate(lists, "cuda", 20);
     ASSERT_EQ(gpu.choice.model, ForceModel::NeighbourList) << gpu.choice.reason;
     EXPECT_GE(gpu.counters.listBuilds, 1);
+    // Walls are hit on most steps: the touched rows are summed again, never a second full pass.
+    EXPECT_GT(gpu.counters.refreshes, 5);
+    EXPECT_LE(gpu.counters.fullPasses, 20 + 1 + gpu.counters.listBuilds);
     const SimRun cpu = simulate(lists, "cpu", 20);
     expectSameRun(cpu, gpu, scale);
     const SimRun gpuAllPairs = simulate(liquid(ForceModel::AllPairs, Precision::Fp64), "cuda", 20);
