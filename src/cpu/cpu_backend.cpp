@@ -225,6 +225,9 @@ public:
         m_hasContactAcceleration.assign(n, 0);
         m_kind.resize(n);
         m_tally = CollisionTally{};
+        m_near.assign(n, 1);
+        m_nearValid = false;
+        m_nearGap = Real(window.restingSpeed * window.maxRewind);  // >= the resting gap listContacts uses (maxRewind > dt)
         m_refreshable = m_accelerationMatchesX && (!m_useList || m_pairsMatchX);
         if (m_refreshable) m_xBeforeCollisions = m_x;
         m_accelerationMatchesX = false;  // until refreshAccelerations or a full pass
@@ -232,7 +235,8 @@ public:
 
     int64_t findEvents(EventScope scope) override {
         const int64_t n = size();
-        m_grid.build(m_x, m_boxLength, 2.0 * m_model.maxRadius());
+        // Cells also wide enough for the pairs within the resting gap bound (earliestEvent's `near`).
+        m_grid.build(m_x, m_boxLength, 2.0 * m_model.maxRadius() + double(m_nearGap));
         if (scope == EventScope::All) std::fill(m_active.begin(), m_active.end(), 1);
         // After the first round few particles are active. An inactive particle had no event in the
         // previous round and has not changed since, so it can only have one with an active particle in
@@ -240,7 +244,7 @@ public:
         // every particle looking, without walking the whole fluid again).
         const int64_t active = int64_t(std::count(m_active.begin(), m_active.end(), char(1)));
         if (4 * active >= n) {
-            parallelForDynamic(m_threads, n, [&](int64_t i) { m_events[size_t(i)] = earliestEvent(i); });
+            parallelForDynamic(m_threads, n, [&](int64_t i) { m_events[size_t(i)] = earliestEvent(i, m_near[size_t(i)]); });
         } else {
             m_lookers.assign(size_t(n), 0);
             for (int64_t i = 0; i < n; ++i) {
@@ -248,8 +252,11 @@ public:
                 m_lookers[size_t(i)] = 1;
                 m_grid.forNeighbours(m_x[size_t(i)], [&](int64_t j) { m_lookers[size_t(j)] = 1; });
             }
-            parallelForDynamic(m_threads, n, [&](int64_t i) { m_events[size_t(i)] = m_lookers[size_t(i)] ? earliestEvent(i) : noEvent(); });
+            parallelForDynamic(m_threads, n, [&](int64_t i) {
+                m_events[size_t(i)] = m_lookers[size_t(i)] ? earliestEvent(i, m_near[size_t(i)]) : noEvent();
+            });
         }
+        m_nearValid = true;
         return int64_t(std::count_if(m_events.begin(), m_events.end(), [](const CollisionEvent& e) { return isValid(e); }));
     }
 
@@ -294,6 +301,12 @@ public:
     // the top of a pile within a sweep.
     int64_t listContacts(const RestingContact<double>& resting) override {
         const int64_t n = size();
+        // The impact search just looked at every pair and wall this listing could take: none was
+        // within reach (a fluid's usual step), so there is nothing to list, and no grid to walk.
+        if (m_nearValid && Real(resting.gap) <= m_nearGap && std::none_of(m_near.begin(), m_near.end(), [](char c) { return c != 0; })) {
+            m_contacts.clear();
+            return 0;
+        }
         const RestingContact<Real> rest{Real(resting.speed), Real(resting.gap)};
         // Cells wide enough for resting pairs a resting gap apart: every listed pair in neighbouring cells.
         m_grid.build(m_x, m_boxLength, 2.0 * m_model.maxRadius() + resting.gap);
@@ -329,6 +342,7 @@ public:
     }
 
     ContactResidual<double> relaxContacts(int sweeps) override {
+        m_nearValid = false;  // the sweeps move particles
         ContactResidual<Real> r{0, 0};
         const Vec3<Real> up = upOf(m_gravity);
         for (int sweep = 0; sweep < sweeps; ++sweep) {
@@ -579,17 +593,18 @@ private:
             const int64_t end = m_list.rowEnd(i);
             for (int64_t k = m_list.rowBegin(i); k < end; ++k) {
                 const int32_t j = m_list.partner(k);
-                const Real r2 = norm2(xi - x[size_t(j)]);
+                const Vec3<Real> d = xi - x[size_t(j)];
+                const Real r2 = norm2(d);
                 if (pairEnergy) {
                     Real u = 0;
-                    m_pairForce[size_t(k)] = pairForceOverR(row[m_species[size_t(j)]], r2, &u);
+                    m_pairForce[size_t(k)] = pairForceOverR(row[m_species[size_t(j)]], r2, &u) * d;
                     m_pairEnergy[size_t(k)] = double(u);
                 } else {
-                    m_pairForce[size_t(k)] = pairForceOverR(row[m_species[size_t(j)]], r2, static_cast<Real*>(nullptr));
+                    m_pairForce[size_t(k)] = pairForceOverR(row[m_species[size_t(j)]], r2, static_cast<Real*>(nullptr)) * d;
                 }
             }
         });
-        parallelFor(m_threads, n, [&](int64_t i) { out[size_t(i)] = gatherSlots(x, i, pairEnergy ? &pairEnergy[i] : nullptr); });
+        parallelFor(m_threads, n, [&](int64_t i) { out[size_t(i)] = gatherSlots(i, pairEnergy ? &pairEnergy[i] : nullptr); });
         m_pairsMatchX = &x == &m_x;
     }
 
@@ -597,18 +612,24 @@ private:
         const int32_t j = m_list.partner(k);
         const PairCoefficients<Real>& p = m_pairs[size_t(m_species[size_t(i)]) * m_mass.size() + size_t(m_species[size_t(j)])];
         Real u = 0;
-        m_pairForce[size_t(k)] = pairForceOverR(p, norm2(x[size_t(i)] - x[size_t(j)]), withEnergy ? &u : nullptr);
+        const Vec3<Real> d = x[size_t(i)] - x[size_t(j)];
+        m_pairForce[size_t(k)] = pairForceOverR(p, norm2(d), withEnergy ? &u : nullptr) * d;
         if (withEnergy) m_pairEnergy[size_t(k)] = double(u);
     }
 
-    Vec3<Real> gatherSlots(const std::vector<Vec3<Real>>& x, int64_t i, double* pairEnergy) const {
-        const Vec3<Real> xi = x[size_t(i)];
+    Vec3<Real> gatherSlots(int64_t i, double* pairEnergy) const {
         Vec3<Real> force{0, 0, 0};
         double energy = 0;
-        m_list.forEachPartner(i, [&](int64_t j, int64_t k) {
-            force += m_pairForce[size_t(k)] * (xi - x[size_t(j)]);
-            if (pairEnergy) energy += m_pairEnergy[size_t(k)];
-        });
+        // Each pair's force on its owner is stored; its partner takes it negated (exactly: the pair's
+        // value from the partner's side is f (xj - xi) = -(f (xi - xj))), so no position is read here.
+        const int64_t end = m_list.gatherEnd(i);
+        for (int64_t e = m_list.gatherBegin(i); e < end; ++e) {
+            const int64_t entry = m_list.gatherEntry(e);
+            const size_t k = size_t(entry >> 1);
+            const Real sign = Real(1 - 2 * (entry & 1));
+            force += sign * m_pairForce[k];
+            if (pairEnergy) energy += m_pairEnergy[k];
+        }
         if (pairEnergy) *pairEnergy = energy;
         return m_invMass[size_t(m_species[size_t(i)])] * force + m_gravity;
     }
@@ -653,7 +674,7 @@ private:
         }
         parallelFor(m_threads, int64_t(m_touched.size()), [&](int64_t t) {
             const int64_t i = m_touched[size_t(t)];
-            m_acceleration[size_t(i)] = gatherSlots(m_x, i, nullptr);
+            m_acceleration[size_t(i)] = gatherSlots(i, nullptr);
         });
         m_counters.refreshedParticles += int64_t(m_touched.size());
         m_pairsMatchX = true;
@@ -675,17 +696,27 @@ private:
 
     // Earliest event of particle i against its grid neighbours: an active particle looks at every
     // neighbour, an inactive one only at active neighbours (two inactive particles cannot have
-    // started to overlap).
-    CollisionEvent earliestEvent(int64_t i) const {
+    // started to overlap). `near` says whether a partner or a wall is within the resting gap bound
+    // (listContacts skips its walk when no particle is): set afresh by an active particle; an
+    // inactive one only adds what its active neighbours bring (its other pairs have not moved).
+    CollisionEvent earliestEvent(int64_t i, char& near) const {
         CollisionEvent best = noEvent();
         const bool checkAll = m_active[size_t(i)] != 0;
         const Vec3<Real> xi = m_x[size_t(i)], vi = m_v[size_t(i)];
         const Real ai = m_radius[size_t(m_species[size_t(i)])];
+        bool close = !checkAll && near != 0;
         m_grid.forNeighbours(xi, [&](int64_t j) {
             if (j == i || !(checkAll || m_active[size_t(j)])) return;
-            considerPair(xi, vi, ai, m_x[size_t(j)], m_v[size_t(j)], m_radius[size_t(m_species[size_t(j)])], j, m_window, best);
+            const Vec3<Real> xj = m_x[size_t(j)];
+            const Real aj = m_radius[size_t(m_species[size_t(j)])];
+            const Real reach = ai + aj + m_nearGap;
+            close = close || norm2(xi - xj) < reach * reach;
+            considerPair(xi, vi, ai, xj, m_v[size_t(j)], aj, j, m_window, best);
         });
         considerWalls(xi, vi, ai, m_boxLength, m_window, best);
+        for (int axis = 0; axis < 3 && !close; ++axis)
+            close = wallClearance(xi[axis], ai, m_boxLength[axis], 0) < m_nearGap || wallClearance(xi[axis], ai, m_boxLength[axis], 1) < m_nearGap;
+        near = close ? 1 : 0;
         return best;
     }
 
@@ -753,6 +784,11 @@ private:
     std::vector<CollisionEvent> m_events;
     std::vector<char> m_active;
     std::vector<char> m_lookers;  // findEvents: the particles that may have an event this round
+    // Per particle: a partner or wall within m_nearGap at its last look (findEvents); valid until
+    // the contact sweeps move particles.
+    std::vector<char> m_near;
+    bool m_nearValid = false;
+    Real m_nearGap = 0;
     std::vector<Vec3<Real>> m_contactAcceleration;
     std::vector<char> m_hasContactAcceleration;
     std::vector<int64_t> m_needAcceleration;
@@ -766,7 +802,7 @@ private:
     // Forces: the neighbour list and its per-slot pair values, what still matches m_x, the counters.
     bool m_useList = false;
     VerletList<Real> m_list;
-    std::vector<Real> m_pairForce;     // per list slot: F / R of the pair
+    std::vector<Vec3<Real>> m_pairForce;  // per list slot: (F / R) (x_owner - x_partner), the force on the owner
     std::vector<double> m_pairEnergy;  // per list slot: U of the pair (energies() only)
     bool m_accelerationMatchesX = false;  // m_acceleration = a(m_x)
     bool m_pairsMatchX = false;           // m_pairForce holds the pairs of m_x (lists)

@@ -12,7 +12,8 @@
 //   rowStart[i + 1]. The transposed index lists, for every j, the slots of the pairs whose partner it
 //   is, by ascending owner index. The force pass evaluates each pair once into its slot; then every
 //   particle gathers its own and its incoming slots merged by ascending partner index
-//   (forEachPartner), so no two threads write one particle and a particle's sum depends neither on
+//   (forEachPartner; the merged order is kept per particle as a gather plan, built with the list), so
+//   no two threads write one particle and a particle's sum depends neither on
 //   the thread count nor on when the list was built: a pair's value is the same from either side,
 //   and a listed pair beyond the cutoff adds an exact zero. That is what lets a run restarted from a
 //   checkpoint, whose list is built afresh, go on bit for bit.
@@ -54,6 +55,12 @@ public:
     int64_t inEnd(int64_t j) const { return m_inStart[size_t(j) + 1]; }
     int64_t inSlot(int64_t k) const { return m_inSlot[size_t(k)]; }
     int32_t inOwner(int64_t k) const { return m_inOwner[size_t(k)]; }
+
+    // The gather plan of i: entries gatherBegin(i) .. gatherEnd(i) of gatherEntry, one per listed
+    // partner by ascending index: 2 * slot for an own pair, 2 * slot + 1 for an incoming one.
+    int64_t gatherBegin(int64_t i) const { return m_rowStart[size_t(i)] + m_inStart[size_t(i)]; }
+    int64_t gatherEnd(int64_t i) const { return m_rowStart[size_t(i) + 1] + m_inStart[size_t(i) + 1]; }
+    int64_t gatherEntry(int64_t e) const { return m_gather[size_t(e)]; }
 
     // fn(j, slot) for every listed partner j of i, own and incoming, by ascending j.
     template <class Fn>
@@ -155,6 +162,16 @@ private:
                 m_inOwner[size_t(q)] = int32_t(i);
             }
         }
+        m_gather.resize(2 * m_partner.size());
+#pragma omp parallel for schedule(static) num_threads(threads) if (chunks > 1)
+        for (int64_t i = 0; i < n; ++i) {
+            int64_t e = gatherBegin(i);
+            int64_t k = rowBegin(i), q = inBegin(i);
+            while (k < rowEnd(i) || q < inEnd(i)) {
+                if (q == inEnd(i) || (k < rowEnd(i) && m_partner[size_t(k)] < m_inOwner[size_t(q)])) m_gather[size_t(e++)] = 2 * k++;
+                else m_gather[size_t(e++)] = 2 * m_inSlot[size_t(q++)] + 1;
+            }
+        }
         m_xBuilt = x;
         m_box = box;
         m_cutoff = cutoff;
@@ -164,7 +181,7 @@ private:
     }
 
     CellList m_grid;
-    std::vector<int64_t> m_rowStart, m_inStart, m_inSlot, m_fill;
+    std::vector<int64_t> m_rowStart, m_inStart, m_inSlot, m_fill, m_gather;
     std::vector<int32_t> m_partner, m_inOwner;
     std::vector<std::vector<int32_t>> m_chunkPartners;  // build scratch, kept to reuse its memory
     std::vector<Vec3<Real>> m_xBuilt;
