@@ -213,7 +213,7 @@ void launchForces(const ForceArgs<Real>& a, cudaStream_t stream) {
         checkLaunch("gravity kernel");
         return;
     }
-    if (a.neighbours && !a.rowIndex && a.peers.count == 0) {
+    if (a.neighbours && a.peers.count == 0) {
         launchListForces(a, stream);
         return;
     }

@@ -64,12 +64,14 @@ struct ForceArgs {
     size_t scratchBytes;
     PeerSources<Real> peers;   // DA: where the positions are read (count 0: from x)
     // When set, rows are listed particles: row r (begin <= r < end) is particle rowIndex[r], and its
-    // acceleration goes to acceleration[rowIndex[r]] (the collision stage's end-of-step accelerations).
+    // acceleration goes to acceleration[rowIndex[r]] (the collision stage's end-of-step accelerations);
+    // from neighbour lists too when they are set and have a row per particle (one GPU).
     const int32_t* rowIndex;
-    // When set (and rowIndex and peers are not), forces come from neighbour lists over rows [begin, end)
+    // When set (and peers are not), forces come from neighbour lists over rows [begin, end)
     // (neighbour_list_kernels.cu) instead of all pairs.
     const int32_t* neighbours;      // partner c of row r at neighbours[c * (end - begin) + r]
     const int32_t* neighbourCount;  // per row
+    int64_t listRows;               // rows of the lists (their column stride): end - begin unless rowIndex is set
     // Lists only, when set: rows whose mask is 0 are skipped, their acceleration kept (the refresh of
     // the rows a collision stage touched; neighbour_list_kernels.cu).
     const unsigned char* rowMask;

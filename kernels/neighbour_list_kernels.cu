@@ -77,14 +77,17 @@ __global__ void listMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBuilt, i
     if (!(d2 <= halfSkin2)) *moved = 1u;  // NaN included
 }
 
-// One thread per row: the sum over its list, in list order.
+// One thread per row: the sum over its list, in list order. With rowIndex (one GPU, whose lists
+// have a row per particle) thread k sums the row of particle rowIndex[begin + k] and writes its
+// acceleration there: the collision stage's end-of-step accelerations of the particles it resolves.
 template <class Real, bool kEnergy, bool kSingleSpecies>
 __global__ void listForceKernel(ForceArgs<Real> a) {
-    const int64_t row = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    const int64_t rows = a.end - a.begin;
-    if (row >= rows) return;
+    const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (k >= a.end - a.begin) return;
+    const int64_t rows = a.listRows;
+    const int64_t row = a.rowIndex ? int64_t(a.rowIndex[a.begin + k]) : k;
     if (a.rowMask && !a.rowMask[row]) return;
-    const int64_t i = a.begin + row;
+    const int64_t i = a.rowIndex ? row : a.begin + row;
     const Vec3<Real> xi = a.x[i];
     const int si = a.species[i];
     const int s = a.table.count;
@@ -102,14 +105,14 @@ __global__ void listForceKernel(ForceArgs<Real> a) {
         if (kEnergy) energy += double(u);
     }
     a.acceleration[row] = a.table.invMass[si] * force + a.gravity;
-    if (kEnergy) a.pairEnergy[row] = energy;
+    if (kEnergy) a.pairEnergy[row] = energy;  // (rowIndex passes ask for no energy)
 }
 
 template <class Real>
 __global__ void listVirialKernel(ForceArgs<Real> a, double* out) {
     const int64_t row = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    const int64_t rows = a.end - a.begin;
-    if (row >= rows) return;
+    const int64_t rows = a.listRows;
+    if (row >= a.end - a.begin) return;
     const int64_t i = a.begin + row;
     const Vec3<Real> xi = a.x[i];
     const PairCoefficients<Real>* pairs = a.table.pairs + a.species[i] * a.table.count;

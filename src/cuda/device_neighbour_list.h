@@ -48,6 +48,7 @@ public:
     void fill(gpu::ForceArgs<Real>& f) const {
         f.neighbours = m_neighbours.data();
         f.neighbourCount = m_count.data();
+        f.listRows = m_end - m_begin;
     }
     // Marks the rows whose sums read a particle that moved since xBefore (the lists' own rows, which
     // must be every particle: one GPU), for a force pass over those rows only (ForceArgs::rowMask).
