@@ -72,7 +72,9 @@ struct ForceArgs {
     const int32_t* neighbours;      // partner c of row r at neighbours[c * (end - begin) + r]
     const int32_t* neighbourCount;  // per row
     int64_t listRows;               // rows of the lists (their column stride): end - begin unless rowIndex is set
-    // Lists only, when set: rows whose mask is 0 are skipped, their acceleration kept (the refresh of
+    const int32_t* rowParticle;     // the particle of list row r (rows run in cell order on one GPU)
+    const int32_t* rowOf;           // the list row of particle p (rowIndex passes)
+    // Lists only, when set (indexed by particle): particles whose mask is 0 are skipped, their acceleration kept (the refresh of
     // the rows a collision stage touched; neighbour_list_kernels.cu).
     const unsigned char* rowMask;
 };
@@ -87,6 +89,7 @@ template <class Real>
 struct NeighbourListArgs {
     const Vec3<Real>* x;  // all n positions
     int64_t n, begin, end;
+    const int32_t* rowParticle;  // the particle of each list row (launchListRowOrder)
     CellListView cells;   // over x, cells at least reach wide
     Real reach2;          // (r_c + skin)^2
     int32_t maxNeighbours;
@@ -96,15 +99,22 @@ struct NeighbourListArgs {
 };
 template <class Real>
 void launchBuildNeighbourList(const NeighbourListArgs<Real>& args, cudaStream_t stream);
+// The order of list rows: when the lists cover every particle, the cell list's order (neighbouring
+// threads then read the same partners: the locality of a particle sort, while particle arrays, ids
+// and every output keep their order); otherwise (one GPU's slice) the particles' own order.
+// rowParticle[r] = particle of row r, rowOf[p - begin] = row of particle p.
+void launchListRowOrder(const CellListView& cells, int64_t n, int64_t begin, int64_t end, int32_t* rowParticle, int32_t* rowOf,
+                        cudaStream_t stream);
 // row[r] = half the sum over row r's listed partners of r_ij . F_ij (the pair virial, each pair seen from
 // both sides), partners in list order; the lists' rows must be every particle (one GPU).
 template <class Real>
 void launchListVirialRows(const ForceArgs<Real>& lists, double* row, cudaStream_t stream);
-// touched[i] = 1 for every particle i of rows [0, rows) whose position differs from xBefore, and for
-// each listed partner of such a particle (full lists: exactly the rows whose sums read it); 0 elsewhere.
+// touched[p] = 1 for every particle p (lists of every particle: one GPU) whose position differs from
+// xBefore, and for each listed partner of such a particle (full lists: exactly the particles whose
+// sums read it); 0 elsewhere.
 template <class Real>
-void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* neighbours, const int32_t* neighbourCount,
-                      unsigned char* touched, cudaStream_t stream);
+void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* rowParticle, const int32_t* neighbours,
+                      const int32_t* neighbourCount, unsigned char* touched, cudaStream_t stream);
 // *moved = 1 when some row of x[begin, end) is farther than halfSkin from xBuilt (row-indexed) or not
 // finite; reset to 0 by the launch.
 template <class Real>

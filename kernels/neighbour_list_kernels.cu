@@ -29,7 +29,7 @@ __global__ void buildListKernel(NeighbourListArgs<Real> a) {
     if (row >= rows) return;
     int32_t* mine = rowScratch + threadIdx.x;
     const int stride = int(blockDim.x);
-    const int64_t i = a.begin + row;
+    const int64_t i = a.rowParticle[row];
     const Vec3<Real> xi = a.x[i];
     int32_t count = 0;
     forEachNeighbour(a.cells, xi, [&](int64_t j) {
@@ -85,9 +85,10 @@ __global__ void listForceKernel(ForceArgs<Real> a) {
     const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (k >= a.end - a.begin) return;
     const int64_t rows = a.listRows;
-    const int64_t row = a.rowIndex ? int64_t(a.rowIndex[a.begin + k]) : k;
-    if (a.rowMask && !a.rowMask[row]) return;
-    const int64_t i = a.rowIndex ? row : a.begin + row;
+    const int64_t i = a.rowIndex ? int64_t(a.rowIndex[a.begin + k]) : int64_t(a.rowParticle[k]);
+    const int64_t row = a.rowIndex ? int64_t(a.rowOf[i]) : k;
+    const int64_t out = a.rowIndex ? i : i - a.begin;
+    if (a.rowMask && !a.rowMask[out]) return;
     const Vec3<Real> xi = a.x[i];
     const int si = a.species[i];
     const int s = a.table.count;
@@ -104,8 +105,8 @@ __global__ void listForceKernel(ForceArgs<Real> a) {
         force += f * d;
         if (kEnergy) energy += double(u);
     }
-    a.acceleration[row] = a.table.invMass[si] * force + a.gravity;
-    if (kEnergy) a.pairEnergy[row] = energy;  // (rowIndex passes ask for no energy)
+    a.acceleration[out] = a.table.invMass[si] * force + a.gravity;
+    if (kEnergy) a.pairEnergy[out] = energy;
 }
 
 template <class Real>
@@ -113,7 +114,7 @@ __global__ void listVirialKernel(ForceArgs<Real> a, double* out) {
     const int64_t row = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     const int64_t rows = a.listRows;
     if (row >= a.end - a.begin) return;
-    const int64_t i = a.begin + row;
+    const int64_t i = a.rowParticle[row];
     const Vec3<Real> xi = a.x[i];
     const PairCoefficients<Real>* pairs = a.table.pairs + a.species[i] * a.table.count;
     const int32_t count = a.neighbourCount[row];
@@ -123,17 +124,26 @@ __global__ void listVirialKernel(ForceArgs<Real> a, double* out) {
         const Real r2 = norm2(xi - a.x[j]);
         w += double(pairForceOverR(pairs[a.species[j]], r2, static_cast<Real*>(nullptr))) * double(r2);
     }
-    out[row] = 0.5 * w;
+    out[i - a.begin] = 0.5 * w;  // by particle: summed in particle order, whatever the rows' order
+}
+
+__global__ void rowOrderKernel(const int32_t* sorted, int64_t n, int64_t begin, int64_t end, int32_t* rowParticle, int32_t* rowOf) {
+    const int64_t row = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (row >= end - begin) return;
+    const int32_t p = (begin == 0 && end == n) ? sorted[row] : int32_t(begin + row);
+    rowParticle[row] = p;
+    rowOf[p - begin] = int32_t(row);
 }
 
 template <class Real>
-__global__ void touchMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* neighbours,
-                                 const int32_t* neighbourCount, unsigned char* touched) {
+__global__ void touchMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* rowParticle,
+                                 const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched) {
     const int64_t row = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (row >= rows) return;
-    const Vec3<Real> a = x[row], b = xBefore[row];
+    const int32_t p = rowParticle[row];
+    const Vec3<Real> a = x[p], b = xBefore[p];
     if (a.x == b.x && a.y == b.y && a.z == b.z) return;
-    touched[row] = 1;
+    touched[p] = 1;
     const int32_t count = neighbourCount[row];
     for (int32_t c = 0; c < count; ++c) touched[neighbours[int64_t(c) * rows + row]] = 1;  // every writer writes 1
 }
@@ -148,12 +158,19 @@ void launchListVirialRows(const ForceArgs<Real>& a, double* row, cudaStream_t st
     checkLaunch("list virial kernel");
 }
 
+void launchListRowOrder(const CellListView& cells, int64_t n, int64_t begin, int64_t end, int32_t* rowParticle, int32_t* rowOf,
+                        cudaStream_t stream) {
+    if (end <= begin) return;
+    rowOrderKernel<<<blocksFor(end - begin), kBlock, 0, stream>>>(cells.sorted, n, begin, end, rowParticle, rowOf);
+    checkLaunch("list row order kernel");
+}
+
 template <class Real>
-void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* neighbours, const int32_t* neighbourCount,
-                      unsigned char* touched, cudaStream_t stream) {
+void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* rowParticle, const int32_t* neighbours,
+                      const int32_t* neighbourCount, unsigned char* touched, cudaStream_t stream) {
     if (rows <= 0) return;
     cudaMemsetAsync(touched, 0, size_t(rows), stream);
-    touchMovedKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(x, xBefore, rows, neighbours, neighbourCount, touched);
+    touchMovedKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(x, xBefore, rows, rowParticle, neighbours, neighbourCount, touched);
     checkLaunch("touched rows kernel");
 }
 
@@ -199,10 +216,10 @@ template void launchBuildNeighbourList<float>(const NeighbourListArgs<float>&, c
 template void launchBuildNeighbourList<double>(const NeighbourListArgs<double>&, cudaStream_t);
 template void launchListVirialRows<float>(const ForceArgs<float>&, double*, cudaStream_t);
 template void launchListVirialRows<double>(const ForceArgs<double>&, double*, cudaStream_t);
-template void launchTouchMoved<float>(const Vec3<float>*, const Vec3<float>*, int64_t, const int32_t*, const int32_t*, unsigned char*,
-                                      cudaStream_t);
-template void launchTouchMoved<double>(const Vec3<double>*, const Vec3<double>*, int64_t, const int32_t*, const int32_t*, unsigned char*,
-                                       cudaStream_t);
+template void launchTouchMoved<float>(const Vec3<float>*, const Vec3<float>*, int64_t, const int32_t*, const int32_t*, const int32_t*,
+                                      unsigned char*, cudaStream_t);
+template void launchTouchMoved<double>(const Vec3<double>*, const Vec3<double>*, int64_t, const int32_t*, const int32_t*, const int32_t*,
+                                       unsigned char*, cudaStream_t);
 template void launchListMoved<float>(const Vec3<float>*, const Vec3<float>*, int64_t, int64_t, float, unsigned int*, cudaStream_t);
 template void launchListMoved<double>(const Vec3<double>*, const Vec3<double>*, int64_t, int64_t, double, unsigned int*, cudaStream_t);
 template void launchListForces<float>(const ForceArgs<float>&, cudaStream_t);

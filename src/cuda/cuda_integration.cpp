@@ -13,7 +13,7 @@ gpu::ForceArgs<Real> CudaDevice<Real>::forceArgs(int k, const Vec3<Real>* x, Vec
     const DeviceSlice& s = slice(k);
     gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     s.begin, s.end, tableOf(r), m_gravity, m_model.anyPairForce, m_model.hasCutoff,
                            out, nullptr,          r.forceScratch.data(), r.forceScratch.size(), {},                    nullptr,
-                           nullptr, nullptr, 0, nullptr};
+                           nullptr, nullptr, 0, nullptr, nullptr, nullptr};
     f.peers.count = 0;
     return f;
 }
@@ -23,7 +23,7 @@ gpu::ForceArgs<Real> CudaDevice<Real>::homeForceArgs(const Vec3<Real>* x, Vec3<R
     Replica<Real>& r = home();
     gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     0, m_n, table(), m_gravity, m_model.anyPairForce, m_model.hasCutoff,
                            out, nullptr,          m_homeForceScratch.data(), m_homeForceScratch.size(), {}, nullptr,
-                           nullptr, nullptr, 0, nullptr};
+                           nullptr, nullptr, 0, nullptr, nullptr, nullptr};
     f.peers.count = 0;
     return f;
 }

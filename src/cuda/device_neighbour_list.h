@@ -1,6 +1,6 @@
 // One GPU's neighbour lists (kernels/neighbour_list_kernels.cu): for its rows [begin, end) over all n
 // positions, so that with several GPUs each builds the lists of its own slice from the gathered
-// positions. Rebuilt when some row has moved more than skin / 2 since the build (a flag read back
+// positions. Lists of every particle run their rows in the cell list's order (launchListRowOrder). Rebuilt when some row has moved more than skin / 2 since the build (a flag read back
 // once per force pass), when the reach, the rows or the box changed, and again with more columns
 // when a row had more partners than the lists held.
 #pragma once
@@ -49,12 +49,14 @@ public:
         f.neighbours = m_neighbours.data();
         f.neighbourCount = m_count.data();
         f.listRows = m_end - m_begin;
+        f.rowParticle = m_rowParticle.data();
+        f.rowOf = m_rowOf.data();
     }
     // Marks the rows whose sums read a particle that moved since xBefore (the lists' own rows, which
     // must be every particle: one GPU), for a force pass over those rows only (ForceArgs::rowMask).
     const unsigned char* touchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, cudaStream_t stream) {
         m_touched.resize(size_t(std::max<int64_t>(m_end - m_begin, 1)));
-        gpu::launchTouchMoved(x + m_begin, xBefore + m_begin, m_end - m_begin, m_neighbours.data(), m_count.data(), m_touched.data(), stream);
+        gpu::launchTouchMoved(x, xBefore, m_end - m_begin, m_rowParticle.data(), m_neighbours.data(), m_count.data(), m_touched.data(), stream);
         return m_touched.data();
     }
 
@@ -71,10 +73,13 @@ private:
         const double reach = m_cutoff + m_skin;
         const CellListView cells = m_cells.build(x, m_n, cellGeometry(vec3Cast<double>(m_box), m_n, reach), stream);
         m_count.resize(size_t(std::max<int64_t>(rows, 1)));
+        m_rowParticle.resize(size_t(std::max<int64_t>(rows, 1)));
+        m_rowOf.resize(size_t(std::max<int64_t>(rows, 1)));
+        gpu::launchListRowOrder(cells, m_n, m_begin, m_end, m_rowParticle.data(), m_rowOf.data(), stream);
         m_flag.resize(1);
         for (;;) {
             m_neighbours.resize(size_t(std::max<int64_t>(rows, 1)) * size_t(m_columns));
-            gpu::NeighbourListArgs<Real> a{x, m_n, m_begin, m_end, cells, Real(reach * reach), m_columns, m_neighbours.data(),
+            gpu::NeighbourListArgs<Real> a{x, m_n, m_begin, m_end, m_rowParticle.data(), cells, Real(reach * reach), m_columns, m_neighbours.data(),
                                            m_count.data(), m_flag.data()};
             gpu::launchBuildNeighbourList(a, stream);
             const unsigned int most = readFlag(stream);
@@ -89,6 +94,7 @@ private:
 
     DeviceCellList<Real> m_cells;
     DeviceBuffer<int32_t> m_neighbours, m_count;
+    DeviceBuffer<int32_t> m_rowParticle, m_rowOf;  // rows in cell order (one GPU), and back
     DeviceBuffer<Vec3<Real>> m_xBuilt;
     DeviceBuffer<unsigned int> m_flag;  // the displacement flag, then the build's largest count
     DeviceBuffer<unsigned char> m_touched;  // touchMoved's row mask
