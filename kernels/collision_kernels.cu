@@ -10,8 +10,11 @@ namespace {
 
 template <class Real>
 __global__ void findEventsKernel(CollisionArgs<Real> a) {
-    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i >= a.p.n) return;
+    const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (k >= a.p.n) return;
+    // Threads take particles in the cell list's order: a warp's 27-cell walks overlap, so its loads of
+    // the partners hit the caches (in index order, 10^7 particles took 14 ms per search on an H200).
+    const int64_t i = a.grid.sorted[k];
     const bool checkAll = a.active[i] != 0;
     const Vec3<Real> xi = a.p.x[i], vi = a.p.v[i];
     const Real ri = a.table.radius[a.p.species[i]];

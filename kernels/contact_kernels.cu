@@ -36,9 +36,10 @@ __device__ int forEachContact(const ContactArgs<Real>& a, int64_t i, Fn&& fn) {
 
 template <class Real>
 __global__ void countContactsKernel(ContactArgs<Real> a) {
-    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i == 0) a.contactStart[0] = 0;
-    if (i >= a.p.n) return;
+    const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (k == 0) a.contactStart[0] = 0;
+    if (k >= a.p.n) return;
+    const int64_t i = a.cells.sorted[k];  // in cell order, as findEventsKernel
     a.contactStart[i + 1] = forEachContact(a, i, [](int64_t) {});
 }
 
