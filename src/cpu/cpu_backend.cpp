@@ -244,7 +244,12 @@ public:
         // every particle looking, without walking the whole fluid again).
         const int64_t active = int64_t(std::count(m_active.begin(), m_active.end(), char(1)));
         if (4 * active >= n) {
-            parallelForDynamic(m_threads, n, [&](int64_t i) { m_events[size_t(i)] = earliestEvent(i, m_near[size_t(i)]); });
+            // In the grid's order: consecutive particles walk overlapping cells (cache reuse).
+            const std::vector<int32_t>& order = m_grid.sorted();
+            parallelForDynamic(m_threads, n, [&](int64_t k) {
+                const int64_t i = order[size_t(k)];
+                m_events[size_t(i)] = earliestEvent(i, m_near[size_t(i)]);
+            });
         } else {
             m_lookers.assign(size_t(n), 0);
             for (int64_t i = 0; i < n; ++i) {
@@ -587,7 +592,8 @@ private:
         m_pairForce.resize(size_t(m_list.pairCount()));
         if (pairEnergy) m_pairEnergy.resize(size_t(m_list.pairCount()));
         const size_t speciesCount = m_mass.size();
-        parallelFor(m_threads, n, [&](int64_t i) {
+        parallelFor(m_threads, n, [&](int64_t r) {  // rows in memory order
+            const int64_t i = m_list.particleAt(r);
             const Vec3<Real> xi = x[size_t(i)];
             const PairCoefficients<Real>* row = &m_pairs[size_t(m_species[size_t(i)]) * speciesCount];
             const int64_t end = m_list.rowEnd(i);
@@ -604,7 +610,10 @@ private:
                 }
             }
         });
-        parallelFor(m_threads, n, [&](int64_t i) { out[size_t(i)] = gatherSlots(i, pairEnergy ? &pairEnergy[i] : nullptr); });
+        parallelFor(m_threads, n, [&](int64_t r) {
+            const int64_t i = m_list.particleAt(r);
+            out[size_t(i)] = gatherSlots(i, pairEnergy ? &pairEnergy[i] : nullptr);
+        });
         m_pairsMatchX = &x == &m_x;
     }
 

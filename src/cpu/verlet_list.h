@@ -8,8 +8,8 @@
 // - Rebuilt when some particle has moved more than skin / 2 since the last build (then no pair can
 //   have come from beyond r_c + skin to within r_c), never on a schedule; also when the reach, the
 //   particle count or the box changed.
-// - Layout: compressed rows. Row i holds its partners by ascending index, slots rowStart[i] ..
-//   rowStart[i + 1]. The transposed index lists, for every j, the slots of the pairs whose partner it
+// - Layout: compressed rows, placed in memory in the cell list's order (particleAt). Row i holds its
+//   partners by ascending index, slots rowBegin(i) .. rowEnd(i). The transposed index lists, for every j, the slots of the pairs whose partner it
 //   is, by ascending owner index. The force pass evaluates each pair once into its slot; then every
 //   particle gathers its own and its incoming slots merged by ascending partner index
 //   (forEachPartner; the merged order is kept per particle as a gather plan, built with the list), so
@@ -47,19 +47,23 @@ public:
 
     int64_t builds() const { return m_builds; }
     int64_t pairCount() const { return int64_t(m_partner.size()); }
-    int64_t rowBegin(int64_t i) const { return m_rowStart[size_t(i)]; }
-    int64_t rowEnd(int64_t i) const { return m_rowStart[size_t(i) + 1]; }
+    // Rows, incoming lists and gather plans lie in memory in the cell list's order (particleAt(r) is the
+    // r-th particle of that order): the slots a particle gathers belong to its spatial neighbours and
+    // lie near its own, and loops over r walk memory in order.
+    int64_t particleAt(int64_t r) const { return m_order[size_t(r)]; }
+    int64_t rowBegin(int64_t i) const { return m_rowStart[size_t(m_rank[size_t(i)])]; }
+    int64_t rowEnd(int64_t i) const { return m_rowStart[size_t(m_rank[size_t(i)]) + 1]; }
     int32_t partner(int64_t slot) const { return m_partner[size_t(slot)]; }
     // Pairs whose partner is j: entries inBegin(j) .. inEnd(j) of inSlot / inOwner.
-    int64_t inBegin(int64_t j) const { return m_inStart[size_t(j)]; }
-    int64_t inEnd(int64_t j) const { return m_inStart[size_t(j) + 1]; }
+    int64_t inBegin(int64_t j) const { return m_inStart[size_t(m_rank[size_t(j)])]; }
+    int64_t inEnd(int64_t j) const { return m_inStart[size_t(m_rank[size_t(j)]) + 1]; }
     int64_t inSlot(int64_t k) const { return m_inSlot[size_t(k)]; }
     int32_t inOwner(int64_t k) const { return m_inOwner[size_t(k)]; }
 
     // The gather plan of i: entries gatherBegin(i) .. gatherEnd(i) of gatherEntry, one per listed
     // partner by ascending index: 2 * slot for an own pair, 2 * slot + 1 for an incoming one.
-    int64_t gatherBegin(int64_t i) const { return m_rowStart[size_t(i)] + m_inStart[size_t(i)]; }
-    int64_t gatherEnd(int64_t i) const { return m_rowStart[size_t(i) + 1] + m_inStart[size_t(i) + 1]; }
+    int64_t gatherBegin(int64_t i) const { return rowBegin(i) + inBegin(i); }
+    int64_t gatherEnd(int64_t i) const { return rowEnd(i) + inEnd(i); }
     int64_t gatherEntry(int64_t e) const { return m_gather[size_t(e)]; }
 
     // fn(j, slot) for every listed partner j of i, own and incoming, by ascending j.
@@ -126,6 +130,10 @@ private:
         const double reach = cutoff + skin;
         const Real reach2 = Real(reach * reach);
         m_grid.build(x, box, reach);
+        const CellListView grid = m_grid.view();
+        m_order.assign(grid.sorted, grid.sorted + n);
+        m_rank.resize(size_t(n));
+        for (int64_t r = 0; r < n; ++r) m_rank[size_t(m_order[size_t(r)])] = int32_t(r);
         m_rowStart.assign(size_t(n) + 1, 0);
         const int64_t chunks = (n + kReductionChunk - 1) / kReductionChunk;
         m_chunkPartners.resize(size_t(chunks));
@@ -134,37 +142,39 @@ private:
             std::vector<int32_t>& partners = m_chunkPartners[size_t(chunk)];
             partners.clear();
             const int64_t end = std::min(n, (chunk + 1) * kReductionChunk);
-            for (int64_t i = chunk * kReductionChunk; i < end; ++i) {
+            for (int64_t r = chunk * kReductionChunk; r < end; ++r) {
                 const size_t before = partners.size();
-                forPartners(x, i, reach2, [&](int64_t j) { partners.push_back(int32_t(j)); });
+                forPartners(x, m_order[size_t(r)], reach2, [&](int64_t j) { partners.push_back(int32_t(j)); });
                 std::sort(partners.begin() + std::ptrdiff_t(before), partners.end());
-                m_rowStart[size_t(i) + 1] = int64_t(partners.size() - before);
+                m_rowStart[size_t(r) + 1] = int64_t(partners.size() - before);
             }
         }
-        for (int64_t i = 0; i < n; ++i) m_rowStart[size_t(i) + 1] += m_rowStart[size_t(i)];
+        for (int64_t r = 0; r < n; ++r) m_rowStart[size_t(r) + 1] += m_rowStart[size_t(r)];
         m_partner.resize(size_t(m_rowStart[size_t(n)]));
 #pragma omp parallel for schedule(static) num_threads(threads) if (chunks > 1)
         for (int64_t chunk = 0; chunk < chunks; ++chunk) {
             const std::vector<int32_t>& partners = m_chunkPartners[size_t(chunk)];
             std::copy(partners.begin(), partners.end(), m_partner.begin() + m_rowStart[size_t(chunk * kReductionChunk)]);
         }
-        // Transpose by a counting sort over the slots in ascending order: ascending owner per partner.
+        // Transpose by a counting sort (incoming lists by the partner's rank), filled from the owners in
+        // ascending index: ascending owner per partner.
         m_inStart.assign(size_t(n) + 1, 0);
-        for (int32_t j : m_partner) ++m_inStart[size_t(j) + 1];
-        for (int64_t j = 0; j < n; ++j) m_inStart[size_t(j) + 1] += m_inStart[size_t(j)];
+        for (int32_t j : m_partner) ++m_inStart[size_t(m_rank[size_t(j)]) + 1];
+        for (int64_t r = 0; r < n; ++r) m_inStart[size_t(r) + 1] += m_inStart[size_t(r)];
         m_inSlot.resize(m_partner.size());
         m_inOwner.resize(m_partner.size());
         m_fill.assign(m_inStart.begin(), m_inStart.end() - 1);
         for (int64_t i = 0; i < n; ++i) {
-            for (int64_t k = m_rowStart[size_t(i)]; k < m_rowStart[size_t(i) + 1]; ++k) {
-                const int64_t q = m_fill[size_t(m_partner[size_t(k)])]++;
+            for (int64_t k = rowBegin(i); k < rowEnd(i); ++k) {
+                const int64_t q = m_fill[size_t(m_rank[size_t(m_partner[size_t(k)])])]++;
                 m_inSlot[size_t(q)] = k;
                 m_inOwner[size_t(q)] = int32_t(i);
             }
         }
         m_gather.resize(2 * m_partner.size());
 #pragma omp parallel for schedule(static) num_threads(threads) if (chunks > 1)
-        for (int64_t i = 0; i < n; ++i) {
+        for (int64_t r = 0; r < n; ++r) {
+            const int64_t i = m_order[size_t(r)];
             int64_t e = gatherBegin(i);
             int64_t k = rowBegin(i), q = inBegin(i);
             while (k < rowEnd(i) || q < inEnd(i)) {
@@ -183,6 +193,7 @@ private:
     CellList m_grid;
     std::vector<int64_t> m_rowStart, m_inStart, m_inSlot, m_fill, m_gather;
     std::vector<int32_t> m_partner, m_inOwner;
+    std::vector<int32_t> m_order, m_rank;  // the cell list's order of the particles, and each one's place in it
     std::vector<std::vector<int32_t>> m_chunkPartners;  // build scratch, kept to reuse its memory
     std::vector<Vec3<Real>> m_xBuilt;
     Vec3<Real> m_box{0, 0, 0};
