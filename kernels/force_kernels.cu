@@ -248,6 +248,63 @@ void launchForces(const ForceArgs<Real>& a, cudaStream_t stream) {
     }
 }
 
+namespace {
+
+template <class Real>
+__global__ void markMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t n, unsigned char* moved, int32_t* movedList,
+                                unsigned int* movedCount) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    const Vec3<Real> a = x[i], b = xBefore[i];
+    const bool m = !(a.x == b.x && a.y == b.y && a.z == b.z);
+    moved[i] = m ? 1 : 0;
+    if (m) movedList[atomicAdd(movedCount, 1u)] = int32_t(i);
+}
+
+template <class Real>
+__global__ void exchangeMovedKernel(ForceArgs<Real> a, const Vec3<Real>* xBefore, const unsigned char* moved, const int32_t* movedList,
+                                    int64_t movedCount) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.n || moved[i]) return;
+    const Vec3<Real> xi = a.x[i];
+    const PairCoefficients<Real>* pairs = a.table.pairs + a.species[i] * a.table.count;
+    Vec3<Real> change{0, 0, 0};
+    for (int64_t k = 0; k < movedCount; ++k) {
+        const int32_t j = movedList[k];
+        const PairCoefficients<Real>& p = pairs[a.species[j]];
+        const Vec3<Real> now = xi - a.x[j], was = xi - xBefore[j];
+        change += pairForceOverR(p, norm2(now), static_cast<Real*>(nullptr)) * now;
+        change -= pairForceOverR(p, norm2(was), static_cast<Real*>(nullptr)) * was;
+    }
+    a.acceleration[i] += a.table.invMass[a.species[i]] * change;
+}
+
+}  // namespace
+
+template <class Real>
+void launchMarkMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t n, unsigned char* moved, int32_t* movedList,
+                     unsigned int* movedCount, cudaStream_t stream) {
+    cudaMemsetAsync(movedCount, 0, sizeof(unsigned int), stream);
+    if (n <= 0) return;
+    markMovedKernel<Real><<<blocksFor(n), kBlock, 0, stream>>>(x, xBefore, n, moved, movedList, movedCount);
+    checkLaunch("moved particles kernel");
+}
+
+template <class Real>
+void launchExchangeMovedPairForces(const ForceArgs<Real>& a, const Vec3<Real>* xBefore, const unsigned char* moved, const int32_t* movedList,
+                                   int64_t movedCount, cudaStream_t stream) {
+    if (a.n <= 0 || movedCount <= 0) return;
+    exchangeMovedKernel<Real><<<blocksFor(a.n), kBlock, 0, stream>>>(a, xBefore, moved, movedList, movedCount);
+    checkLaunch("moved pair forces kernel");
+}
+
+template void launchMarkMoved<float>(const Vec3<float>*, const Vec3<float>*, int64_t, unsigned char*, int32_t*, unsigned int*, cudaStream_t);
+template void launchMarkMoved<double>(const Vec3<double>*, const Vec3<double>*, int64_t, unsigned char*, int32_t*, unsigned int*,
+                                      cudaStream_t);
+template void launchExchangeMovedPairForces<float>(const ForceArgs<float>&, const Vec3<float>*, const unsigned char*, const int32_t*, int64_t,
+                                                   cudaStream_t);
+template void launchExchangeMovedPairForces<double>(const ForceArgs<double>&, const Vec3<double>*, const unsigned char*, const int32_t*,
+                                                    int64_t, cudaStream_t);
 template void launchForces<float>(const ForceArgs<float>&, cudaStream_t);
 template void launchForces<double>(const ForceArgs<double>&, cudaStream_t);
 template size_t forceScratchBytes<float>(int64_t, int64_t);

@@ -80,6 +80,17 @@ struct ForceArgs {
 };
 template <class Real>
 void launchForces(const ForceArgs<Real>& args, cudaStream_t stream);
+// The particles whose position differs from xBefore: moved[i] = 1 (else 0) and their indices appended
+// to movedList (in no particular order; *movedCount, reset by the launch, counts them).
+template <class Real>
+void launchMarkMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t n, unsigned char* moved, int32_t* movedList,
+                     unsigned int* movedCount, cudaStream_t stream);
+// All pairs after a collision stage that moved a few particles (movedList, ascending, count of them):
+// every particle not moved exchanges each moved partner's old pair force (at xBefore) for its new one,
+// partners in list order; acceleration[i] += invMass (sum of new - old). O(N x moved).
+template <class Real>
+void launchExchangeMovedPairForces(const ForceArgs<Real>& args, const Vec3<Real>* xBefore, const unsigned char* moved,
+                                   const int32_t* movedList, int64_t movedCount, cudaStream_t stream);
 
 // ---- neighbour lists (neighbour_list_kernels.cu) ----
 // Full Verlet lists (both directions, each row sums its own pairs: no atomics, a fixed order) of rows

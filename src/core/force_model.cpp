@@ -24,9 +24,9 @@ std::string ForceChoice::summary() const { return std::string(forceModelName(mod
 
 // CPU: measured with `corebox bench md --sizes 32,64,125,250,500 --precision fp64` on 2 cores
 // (docs/results/md_cpu_crossover.json): all pairs is faster at N = 32, the half lists from N = 64 on.
-// CUDA: measured with `corebox bench md --backend cuda --sizes 2000,4000,8000,16000,24000` on an H200
-// (docs/results/md_h200_crossover.json): all pairs is faster at N = 4000 (0.32 against 0.40 ms per
-// step in fp32), the two are even at 8000, and lists are 1.7x faster at 16000.
+// CUDA: measured with `corebox bench md --backend cuda --sizes 4000,8000,12000,16000,24000` on an H200
+// (docs/results/md_h200_crossover.json): all pairs is faster at N = 4000 (0.33 against 0.37 ms per
+// step in fp32), the two are even at 8000, lists are faster from 12000 (0.45 against 0.53 ms).
 int64_t neighbourListCrossover(const std::string& backendName) {
     if (backendName == "cuda") return 10000;
     return 64;

@@ -58,7 +58,7 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     m_impactRows.resize(size_t(kImpulseRows + 1) * n);
     m_eventsApplied = false;
     cudaStream_t s = stream();
-    m_refreshable = m_accelerationMatchesX && gpuCount() == 1 && useLists();
+    m_refreshable = m_accelerationMatchesX && gpuCount() == 1;
     m_accelerationMatchesX = false;  // until refreshAccelerations or a full pass
     if (m_refreshable) {
         m_xBeforeCollisions.resize(n);

@@ -74,6 +74,8 @@ public:
     void computeAccelerations() override;
     bool supportsNeighbourLists() const override { return true; }
     bool refreshAccelerations() override;
+    std::vector<Vec3<double>> cachedAccelerations() const override;
+    void restoreAccelerations(const std::vector<Vec3<double>>& a) override;
     ForceCounters forceCounters() const override;
     void kick(double h) override;
     void drift(double dt) override;
@@ -192,7 +194,12 @@ private:
     // not changed since, X as the collision stage found it, and whether both held then.
     bool m_accelerationMatchesX = false;
     bool m_refreshable = false;
+    bool m_accelerationIncremental = false;  // A holds an all-pairs exchange, not a full pass's bits (checkpoints carry it)
     DeviceBuffer<Vec3<Real>> m_xBeforeCollisions;
+    DeviceBuffer<unsigned char> m_movedFlags;
+    DeviceBuffer<int32_t> m_movedList;
+    DeviceBuffer<unsigned int> m_movedCount;
+    bool refreshAllPairs();
     bool m_timingForces = false;  // between the Integrate and Collide marks
 
     DeviceBuffer<Vec3<Real>> m_scratch, m_contactAcceleration;

@@ -1,6 +1,7 @@
 // The CUDA backend's integration operations: force passes (positions shared between GPUs first,
 // timed by stream events on the home GPU), Runge-Kutta stages and Verlet's kick and drift, each a
 // launch of kernels/force_kernels.cu or kernels/integrate_kernels.cu per GPU over its slice.
+#include <algorithm>
 #include <cmath>
 
 #include "cuda_device.h"
@@ -73,12 +74,15 @@ void CudaDevice<Real>::forcePass(int stage) {
     m_homeCurrent = gpuCount() == 1;
     ++m_fullPasses;
     m_accelerationMatchesX = stage < 0;
+    if (stage < 0) m_accelerationIncremental = false;
 }
 
-// The collision stage moved a few particles (against the copy taken at beginCollisions): with lists on
-// one GPU, only the rows whose sums read a moved particle are summed again, by the same kernel in the
-// same order, so A is bit for bit what a full pass gives. Otherwise (all pairs, several GPUs, or the
-// moves pushed someone past half the skin) a full pass now.
+// The collision stage moved a few particles (against the copy taken at beginCollisions), on one GPU.
+// Lists: only the rows whose sums read a moved particle are summed again, by the same kernel in the
+// same order, so A is bit for bit what a full pass gives (a full pass when the moves pushed someone
+// past half the skin). All pairs: each moved particle sums again over everyone, and everyone else
+// exchanges the old pair force of each moved partner for the new one (O(N M), as the CPU does; a full
+// pass when more than a quarter moved). Several GPUs: a full pass at the next step.
 template <class Real>
 bool CudaDevice<Real>::refreshAccelerations() {
     if (!m_refreshable) return false;
@@ -89,6 +93,7 @@ bool CudaDevice<Real>::refreshAccelerations() {
         return true;
     }
     Replica<Real>& r = home();
+    if (!useLists()) return refreshAllPairs();
     if (r.list.update(r.x.data(), m_n, 0, m_n, m_box, m_model.cutoff, m_model.skin, stream())) {
         forcePass(-1);
         return true;
@@ -99,6 +104,77 @@ bool CudaDevice<Real>::refreshAccelerations() {
     gpu::launchForces(f, stream());
     m_accelerationMatchesX = true;
     return true;
+}
+
+template <class Real>
+bool CudaDevice<Real>::refreshAllPairs() {
+    Replica<Real>& r = home();
+    const size_t n = size_t(m_n);
+    m_movedFlags.resize(n);
+    m_movedList.resize(n);
+    m_movedCount.resize(1);
+    gpu::launchMarkMoved(r.x.data(), m_xBeforeCollisions.data(), m_n, m_movedFlags.data(), m_movedList.data(), m_movedCount.data(), stream());
+    const int64_t moved = int64_t(readBack(m_movedCount));
+    if (moved == 0) {
+        m_accelerationMatchesX = true;
+        return true;
+    }
+    if (4 * moved > m_n) {
+        forcePass(-1);
+        return true;
+    }
+    // Ascending: each row's exchange sums the moved partners in one fixed order.
+    std::vector<int32_t> ascending(static_cast<size_t>(moved));
+    cudaCheck(cudaMemcpyAsync(ascending.data(), m_movedList.data(), size_t(moved) * sizeof(int32_t), cudaMemcpyDeviceToHost, stream()), "moved list");
+    sync();
+    std::sort(ascending.begin(), ascending.end());
+    cudaCheck(cudaMemcpyAsync(m_movedList.data(), ascending.data(), size_t(moved) * sizeof(int32_t), cudaMemcpyHostToDevice, stream()), "moved list");
+    sync();  // the host vector goes out of scope
+    gpu::ForceArgs<Real> exchange = homeForceArgs(r.x.data(), r.acceleration.data());
+    gpu::launchExchangeMovedPairForces(exchange, m_xBeforeCollisions.data(), m_movedFlags.data(), m_movedList.data(), moved, stream());
+    gpu::ForceArgs<Real> rows = homeForceArgs(r.x.data(), r.acceleration.data());
+    rows.begin = 0;
+    rows.end = moved;
+    rows.rowIndex = m_movedList.data();
+    const size_t scratch = gpu::forceScratchBytes<Real>(moved, m_n);
+    if (m_homeForceScratch.size() < scratch) m_homeForceScratch.resize(scratch);
+    rows.scratch = m_homeForceScratch.data();
+    rows.scratchBytes = m_homeForceScratch.size();
+    gpu::launchForces(rows, stream());
+    m_accelerationMatchesX = true;
+    m_accelerationIncremental = true;
+    return true;
+}
+
+template <class Real>
+std::vector<Vec3<double>> CudaDevice<Real>::cachedAccelerations() const {
+    if (!m_accelerationIncremental || gpuCount() != 1) return {};
+    sync();
+    std::vector<Vec3<Real>> a(static_cast<size_t>(m_n));
+    if (m_n > 0) {
+        cudaCheck(cudaMemcpyAsync(a.data(), home().acceleration.data(), size_t(m_n) * sizeof(Vec3<Real>), cudaMemcpyDeviceToHost, stream()),
+                  "accelerations");
+        sync();
+    }
+    std::vector<Vec3<double>> out(a.size());
+    for (size_t i = 0; i < a.size(); ++i) out[i] = vec3Cast<double>(a[i]);
+    return out;
+}
+
+// The values were this precision's before the round trip through double: restored exactly.
+template <class Real>
+void CudaDevice<Real>::restoreAccelerations(const std::vector<Vec3<double>>& a) {
+    if (gpuCount() != 1 || int64_t(a.size()) != m_n) return;  // never written for several GPUs
+    sync();
+    std::vector<Vec3<Real>> values(a.size());
+    for (size_t i = 0; i < a.size(); ++i) values[i] = vec3Cast<Real>(a[i]);
+    if (m_n > 0) {
+        cudaCheck(cudaMemcpyAsync(home().acceleration.data(), values.data(), values.size() * sizeof(Vec3<Real>), cudaMemcpyHostToDevice, stream()),
+                  "accelerations");
+        sync();
+    }
+    m_accelerationMatchesX = true;
+    m_accelerationIncremental = true;
 }
 
 template <class Real>

@@ -114,6 +114,26 @@ TEST(CudaNeighbourList, ACollisionStepCostsNoSecondForcePass) {
     expectSameRun(simulate(scene, "cpu", steps), gpu, scene.box.size[0]);
 }
 
+// The same with all pairs: the moved particles sum again and everyone else exchanges their old pair
+// forces for new ones (O(N M)), never a second full pass; the run follows the CPU's, which does the same.
+TEST(CudaAllPairs, ACollisionStepCostsNoSecondForcePass) {
+    COREBOX_REQUIRE_GPU();
+    Scene scene = liquid(ForceModel::AllPairs, Precision::Fp64);
+    scene.species[1].epsilon = 0;
+    scene.species[1].radius = 0.5;
+    const int steps = 60;
+    Simulation sim(scene, backendFor("cuda", Precision::Fp64), makeInitialState(scene));
+    int64_t collisions = 0;
+    for (int s = 0; s < steps; ++s) collisions += sim.step().pairCollisions;
+    const ForceCounters c = sim.backend().forceCounters();
+    ASSERT_EQ(sim.forceChoice().model, ForceModel::AllPairs);
+    EXPECT_GT(collisions, 20);
+    EXPECT_GT(c.refreshes, 20);
+    EXPECT_LE(c.fullPasses, steps + 1) << "a full pass beyond one per step";
+    const SimRun gpu{sim.state(), sim.observe(), sim.forceChoice(), c};
+    expectSameRun(simulate(scene, "cpu", steps), gpu, scene.box.size[0]);
+}
+
 TEST(CudaNeighbourList, RebuildsKeepTheCpuResult) {
     COREBOX_REQUIRE_GPU();
     Scene scene = liquid(ForceModel::NeighbourList, Precision::Fp64);
