@@ -6,8 +6,8 @@
 // energy bookkeeping (dissipated, thermostat, parameter work, the conserved sum's base and scale),
 // the counters and pressure window since the last observables row, and the adaptive controller's next
 // dt. The backends hold nothing else that a step reads but Verlet's cached accelerations. Those are
-// carried when they are not what a force pass at X gives bit for bit (the CPU's all-pairs update
-// after collisions exchanges the old pair forces of the moved particles for new ones:
+// carried when they are not what a force pass at X gives bit for bit (the all-pairs update after
+// collisions, CPU and one GPU, exchanges the old pair forces of the moved particles for new ones:
 // Backend::cachedAccelerations); otherwise they are recomputed from the restored X bit for bit (the force pass has a fixed summation order, and
 // neighbour lists, rebuilt at restore, sum each particle's partners by ascending index), the
 // thermostat's and placement's random numbers are counter-based on (seed, step, particle), and an
