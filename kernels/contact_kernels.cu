@@ -65,7 +65,7 @@ __global__ void sweepKernel(ContactArgs<Real> a) {
     ImpulseSums given;
     auto contactsOf = [&](int64_t j) { return int(a.contactStart[j + 1] - a.contactStart[j]); };
     relaxParticle(i, count, [&](int c) { return a.partner[first + c]; }, contactsOf, a.p.x, a.p.v, a.p.species, a.table.mass,
-                  a.table.radius, a.box, a.up, a.dv[i], a.dx[i], r, given);
+                  a.table.radius, a.box, a.up, a.bounce, a.dv[i], a.dx[i], r, given);
     // Each particle's own impulse rows (no atomics): summed in a fixed order when asked.
     const size_t n = size_t(a.p.n);
     for (int k = 0; k < kWallCount; ++k) {

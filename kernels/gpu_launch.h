@@ -232,6 +232,7 @@ struct ContactArgs {
     int64_t* partner;         // particle index, or wall code -1 - (2 axis + side)
     RestingContact<Real> resting;
     Vec3<Real> up;            // against gravity, unit (0 without gravity): overlapShare
+    ContactBounce<Real> bounce;  // which contacts keep their restitution (contactRestitution)
     Vec3<Real>* dv;           // n: one sweep's velocity change
     Vec3<Real>* dx;           // n: one sweep's position change
     unsigned long long* residual;  // [approach speed, overlap] as the bits of non-negative doubles (max)

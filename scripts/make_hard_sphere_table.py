@@ -45,16 +45,19 @@ The measurement runs with no heat bath.
   4 n sigma^2 sqrt(pi kT / m) g(sigma) with g(sigma) = (1 - phi/2) / (1 - phi)^3, at the bulk density and
   temperature. `rate box` is the whole box's pair collisions x 2 / (N t), walls' layers included.
 - **Energy drift**: relative change of the kinetic energy over the measurement; `dissipated` is what
-  the contact relaxation took (rare dense configurations the impact rounds hand to it).
+  the collision stage booked as lost (0 up to rounding in an elastic fluid: the rare overlaps the
+  impact rounds cannot take bounce elastically in the contact phase; runs before that change show a
+  few 1e-5 here).
 - **steps/s**: measured steps over their wall time, state downloads for the bulk measures excluded.
 
 Notes. The bulk's kinetic temperature differs from the box's mean by a few percent: a region of a few
 thousand particles keeps the random temperature it got at the last velocity draw (standard deviation
 sqrt(2 / (3 N_region))) for as long as heat takes to conduct out of it, longer than a run (seen even
-at phi = 0.05); so Z and Enskog use the bulk's own temperature. Open: rare dense configurations that
-the parallel impact rounds cannot order go to the contact relaxation, which then takes a little
-kinetic energy (booked as dissipated, the `dissipated` column: up to a few 1e-5 over 8 tau; none in
-most runs of a few thousand spheres; more with larger steps). On a 2-core CPU, steps/s drop several
+at phi = 0.05); so Z and Enskog use the bulk's own temperature. Rare overlaps that the impact rounds
+cannot take (an earlier impact of the same step turned one of the pair, so the straight-line rewind
+runs past the step) go to the contact phase; alone in its list, such a pair bounces with its
+restitution (kernels/contact_relaxation.h), so the fluid keeps its energy; a cluster of them would
+stop (restitution 0), which no run here has shown at dt = 0.02 collisions per particle per step. On a 2-core CPU, steps/s drop several
 times over while another process competes for the cores (each parallel loop waits for its slowest
 thread): compare steps/s only between rows measured on a quiet machine.
 """

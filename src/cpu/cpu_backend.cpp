@@ -333,7 +333,7 @@ public:
             const double height = dot(up, vec3Cast<double>(m_x[size_t(i)]));
             forEachContactOf(i, rest, [&](int64_t partner) {
                 if (!ownContact(i, partner)) return;
-                Contact c{i, partner, height, Real(0)};
+                Contact c{i, partner, height, Real(0), Real(0)};
                 if (partner >= 0) c.height = std::min(c.height, dot(up, vec3Cast<double>(m_x[size_t(partner)])));
                 m_contacts[size_t(slot++)] = c;
             });
@@ -342,8 +342,37 @@ public:
         std::stable_sort(m_contacts.begin(), m_contacts.end(), [](const Contact& a, const Contact& b) {
             return a.height < b.height || (a.height == b.height && isWallContact(a.partner) && !isWallContact(b.partner));
         });
+        setBounceTargets(rest.speed);
         m_xListed = m_x;
         return int64_t(m_contacts.size());
+    }
+
+    // Isolated contacts (the only one of both particles) approaching faster than the resting speed
+    // aim at e times their approach speed (contactRestitution); every other contact stops.
+    void setBounceTargets(Real restingSpeed) {
+        m_contactCount.assign(m_x.size(), 0);
+        for (const Contact& c : m_contacts) {
+            ++m_contactCount[size_t(c.i)];
+            if (!isWallContact(c.partner)) ++m_contactCount[size_t(c.partner)];
+        }
+        const ContactBounce<Real> bounce{Real(m_model.restitution), Real(m_model.wallRestitution), Real(m_model.elasticBelowSpeed), restingSpeed};
+        for (Contact& c : m_contacts) {
+            const size_t i = size_t(c.i);
+            if (m_contactCount[i] != 1) continue;
+            if (isWallContact(c.partner)) {
+                const int code = int(-1 - c.partner);
+                const Real vn = (code % 2 == 0 ? Real(1) : Real(-1)) * m_v[i][code / 2];
+                if (vn < Real(0)) c.target = -contactRestitution(true, vn, bounce.wallRestitution, bounce) * vn;
+                continue;
+            }
+            const size_t j = size_t(c.partner);
+            if (m_contactCount[j] != 1) continue;
+            const Vec3<Real> rij = m_x[i] - m_x[j];
+            const Real dist = std::sqrt(norm2(rij));
+            if (!(dist > Real(0))) continue;
+            const Real vn = dot(m_v[i] - m_v[j], rij) / dist;
+            if (vn < Real(0)) c.target = -contactRestitution(true, vn, bounce.restitution, bounce) * vn;
+        }
     }
 
     ContactResidual<double> relaxContacts(int sweeps) override {
@@ -356,14 +385,15 @@ public:
                 const size_t i = size_t(c.i);
                 if (isWallContact(c.partner)) {
                     const int code = int(-1 - c.partner), axis = code / 2;
-                    stopWallContact(m_v[i][axis], code % 2 == 0 ? Real(1) : Real(-1), c.lambda, r);
+                    stopWallContact(m_v[i][axis], code % 2 == 0 ? Real(1) : Real(-1), c.target, c.lambda, r);
                     continue;
                 }
                 const size_t j = size_t(c.partner);
                 const Vec3<Real> rij = m_x[i] - m_x[j];
                 const Real dist = std::sqrt(norm2(rij));
                 if (!(dist > Real(0))) continue;
-                stopPairContact(m_v[i], m_v[j], m_mass[size_t(m_species[i])], m_mass[size_t(m_species[j])], (Real(1) / dist) * rij, c.lambda, r);
+                stopPairContact(m_v[i], m_v[j], m_mass[size_t(m_species[i])], m_mass[size_t(m_species[j])], (Real(1) / dist) * rij, c.target,
+                                c.lambda, r);
             }
             for (const Contact& c : m_contacts) {
                 const size_t i = size_t(c.i);
@@ -733,6 +763,7 @@ private:
         int64_t i, partner;  // partner: particle index > i, or a wall code
         double height;       // of the lower of the two against gravity: the sweep order
         Real lambda;         // accumulated normal impulse of the velocity level
+        Real target;         // separation speed the velocity level aims at: 0, or a bounce (contactRestitution)
     };
 
     // fn(partner) for each contact of particle i that the relaxation acts on (contact_relaxation.h:
@@ -825,6 +856,7 @@ private:
 
     std::vector<int64_t> m_contactStart;  // per particle: its first contact in m_contacts before sorting
     std::vector<Contact> m_contacts;      // bottom-up
+    std::vector<int32_t> m_contactCount;  // listed contacts per particle (setBounceTargets)
     std::vector<Vec3<Real>> m_xListed;
 
     Clock::time_point m_phaseStart[3] = {};

@@ -147,6 +147,7 @@ gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
     a.partner = m_contactPartner.data();
     a.resting = m_resting;
     a.up = upOf(m_gravity);
+    a.bounce = ContactBounce<Real>{Real(m_model.restitution), Real(m_model.wallRestitution), Real(m_model.elasticBelowSpeed), m_resting.speed};
     a.dv = m_dv.data();
     a.dx = m_dx.data();
     a.residual = m_residual.data();

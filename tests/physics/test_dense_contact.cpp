@@ -2,6 +2,8 @@
 // - a random configuration full of overlaps handed to the collision stage: kinetic plus potential
 //   energy never rises, the overlaps are gone to the relaxation's tolerance, and momentum is exact
 //   (away from the walls, which are the only external impulses);
+// - an overlapping pair the impacts cannot take, alone in the contact list, bounces with its
+//   restitution (an elastic fluid keeps its energy);
 // - a ball resting on the floor and a column of ten balls stay put for 10^4 steps under gravity: no
 //   creep sideways, no sinking, no overlap, and the energy they lose is what the conserved sum books;
 // - the pressure bookkeeping of both phases: a resting ball presses on the floor with its weight, and
@@ -81,6 +83,40 @@ TEST_P(DenseContact, OverlapsHandedToTheStageAddNoEnergyAndKeepMomentum) {
         const double overlapAfter = worstOverlap(end, 0.5, scene.box.size);
         RecordProperty("overlap_after_seed_" + std::to_string(seed), std::to_string(overlapAfter));
         EXPECT_LT(overlapAfter, 0.01) << "seed " << seed << ", " << report.contactSweeps << " sweeps";
+    }
+}
+
+TEST_P(DenseContact, AnIsolatedOverlapTheImpactsCannotTakeBouncesWithItsRestitution) {
+    // Two balls overlapping by a fifth of a diameter, closing at 2: the straight-line rewind to
+    // contact (0.1) is far beyond the step (1e-3), so it is no impact of this step, as when an earlier
+    // impact of the step turned one of them. Alone in the contact list, the pair bounces with e: an
+    // elastic fluid keeps its energy to rounding, and an inelastic one loses (1 - e^2) mu vn^2 / 2.
+    for (double e : {1.0, 0.5}) {
+        Scene scene = hardSphereScene(2, 20.0, Method::Verlet, 1e-3);
+        scene.interaction.restitution = e;
+        ParticleState st;
+        st.resize(2);
+        st.position[0] = {9.6, 10.0, 10.0};
+        st.position[1] = {10.4, 10.0, 10.0};
+        st.velocity[0] = {1.0, 0.25, 0.0};
+        st.velocity[1] = {-1.0, 0.25, 0.0};  // a common tangential drift keeps the line of centres on x
+        st.species[0] = st.species[1] = 0;
+        auto sim = makeSimulation(backendName(), scene, st);
+        const ObservablesRow before = sim->observe();
+        const StepReport report = sim->step();
+        const ObservablesRow after = sim->observe();
+        const ParticleState end = sim->state();
+        EXPECT_EQ(report.pairCollisions, 0) << "the test needs an overlap the impacts do not take";
+        EXPECT_EQ(report.contacts, 1);
+        const double vn = end.velocity[1].x - end.velocity[0].x;  // separation speed along x
+        EXPECT_NEAR(vn, e * 2.0, 1e-12) << "e " << e;
+        EXPECT_NEAR(end.velocity[0].y, 0.25, 1e-15);  // tangential motion untouched
+        EXPECT_NEAR(end.velocity[1].y, 0.25, 1e-15);
+        const double loss = 0.5 * (1 - e * e) * 0.5 * 2.0 * 2.0;  // mu = 1/2, vn = 2
+        EXPECT_NEAR(before.kinetic - after.kinetic, loss, 1e-12) << "e " << e;
+        EXPECT_NEAR(after.dissipated - before.dissipated, loss, 1e-12) << "e " << e;
+        EXPECT_LT(std::sqrt(norm2(momentum(end) - momentum(st))), 1e-14);
+        EXPECT_LT(worstOverlap(end, 0.5, scene.box.size), 2e-3);
     }
 }
 
