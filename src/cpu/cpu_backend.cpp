@@ -228,6 +228,8 @@ public:
         m_near.assign(n, 1);
         m_nearValid = false;
         m_nearGap = Real(window.restingSpeed * window.maxRewind);  // >= the resting gap listContacts uses (maxRewind > dt)
+        m_round = 0;
+        m_candidatesValid = false;  // the integration moved everyone
         m_refreshable = m_accelerationMatchesX && (!m_useList || m_pairsMatchX);
         if (m_refreshable) m_xBeforeCollisions = m_x;
         m_accelerationMatchesX = false;  // until refreshAccelerations or a full pass
@@ -235,9 +237,12 @@ public:
 
     int64_t findEvents(EventScope scope) override {
         const int64_t n = size();
+        if (scope == EventScope::All) std::fill(m_active.begin(), m_active.end(), 1);
+        // A step that needs a third round is a dense one (a pile, a cluster): from then on the rounds
+        // read per-particle candidate lists instead of walking 27 cells (buildCandidates).
+        if (++m_round >= 3 || m_candidatesValid) return findEventsAmongCandidates();
         // Cells also wide enough for the pairs within the resting gap bound (earliestEvent's `near`).
         m_grid.build(m_x, m_boxLength, 2.0 * m_model.maxRadius() + double(m_nearGap));
-        if (scope == EventScope::All) std::fill(m_active.begin(), m_active.end(), 1);
         // After the first round few particles are active. An inactive particle had no event in the
         // previous round and has not changed since, so it can only have one with an active particle in
         // its 27 cells: only the active particles and their grid neighbours look (the same events as
@@ -265,6 +270,64 @@ public:
         return int64_t(std::count_if(m_events.begin(), m_events.end(), [](const CollisionEvent& e) { return isValid(e); }));
     }
 
+    // The rounds of a dense step (findEvents): every particle's candidates are the particles within
+    // the largest contact distance plus the near gap plus a margin, listed once; a round reads them,
+    // and the list is made again when a resolution has moved some particle by more than half the
+    // margin since. The same events as the grid walk: every pair that can overlap or come within the
+    // near gap is a candidate, and isBetter orders events whatever the order they are visited in.
+    int64_t findEventsAmongCandidates() {
+        const int64_t n = size();
+        if (!m_candidatesValid) buildCandidates();
+        const int64_t active = int64_t(std::count(m_active.begin(), m_active.end(), char(1)));
+        if (4 * active >= n) {
+            parallelForDynamic(m_threads, n, [&](int64_t k) {
+                const int64_t i = m_candidateOrder[size_t(k)];
+                m_events[size_t(i)] = earliestEventAmongCandidates(i, m_near[size_t(i)]);
+            });
+        } else {
+            m_lookers.assign(size_t(n), 0);
+            for (int64_t i = 0; i < n; ++i) {
+                if (!m_active[size_t(i)]) continue;
+                m_lookers[size_t(i)] = 1;
+                for (int64_t c = m_candidateStart[size_t(i)]; c < m_candidateStart[size_t(i) + 1]; ++c) m_lookers[size_t(m_candidates[size_t(c)])] = 1;
+            }
+            parallelForDynamic(m_threads, n, [&](int64_t i) {
+                m_events[size_t(i)] = m_lookers[size_t(i)] ? earliestEventAmongCandidates(i, m_near[size_t(i)]) : noEvent();
+            });
+        }
+        m_nearValid = true;
+        return int64_t(std::count_if(m_events.begin(), m_events.end(), [](const CollisionEvent& e) { return isValid(e); }));
+    }
+
+    void buildCandidates() {
+        const int64_t n = size();
+        const double margin = kCandidateMargin * 2.0 * m_model.maxRadius();
+        m_grid.build(m_x, m_boxLength, 2.0 * m_model.maxRadius() + double(m_nearGap) + margin);
+        m_candidateOrder = m_grid.sorted();
+        const Real gap = m_nearGap + Real(margin);
+        auto within = [&](int64_t i, int64_t j) {
+            const Real reach = m_radius[size_t(m_species[size_t(i)])] + m_radius[size_t(m_species[size_t(j)])] + gap;
+            return j != i && norm2(m_x[size_t(i)] - m_x[size_t(j)]) < reach * reach;
+        };
+        m_candidateStart.assign(size_t(n) + 1, 0);
+        parallelFor(m_threads, n, [&](int64_t i) {
+            int64_t count = 0;
+            m_grid.forNeighbours(m_x[size_t(i)], [&](int64_t j) { count += within(i, j); });
+            m_candidateStart[size_t(i) + 1] = count;
+        });
+        for (int64_t i = 0; i < n; ++i) m_candidateStart[size_t(i) + 1] += m_candidateStart[size_t(i)];
+        m_candidates.resize(size_t(m_candidateStart[size_t(n)]));
+        parallelFor(m_threads, n, [&](int64_t i) {
+            int64_t slot = m_candidateStart[size_t(i)];
+            m_grid.forNeighbours(m_x[size_t(i)], [&](int64_t j) {
+                if (within(i, j)) m_candidates[size_t(slot++)] = int32_t(j);
+            });
+        });
+        m_xCandidates = m_x;
+        m_candidateSlack2 = Real(0.25 * margin * margin);
+        m_candidatesValid = true;
+    }
+
     void applyEvents() override {
         const int64_t n = size();
         // End-of-step accelerations of the particles about to be resolved (second-order rewind),
@@ -289,6 +352,10 @@ public:
             m_active[size_t(i)] = isValid(m_events[size_t(i)]);  // resolved now or still pending: look again
             if (m_kind[size_t(i)] == kPairCollision) ++m_tally.pairCollisions;
             if (m_kind[size_t(i)] == kWallCollision) ++m_tally.wallCollisions;
+            // Only particles with an event moved: the candidates stay complete while none has gone
+            // half the margin since they were listed.
+            if (m_candidatesValid && m_active[size_t(i)] && norm2(m_x[size_t(i)] - m_xCandidates[size_t(i)]) > m_candidateSlack2)
+                m_candidatesValid = false;
         }
     }
 
@@ -739,12 +806,25 @@ private:
     // (listContacts skips its walk when no particle is): set afresh by an active particle; an
     // inactive one only adds what its active neighbours bring (its other pairs have not moved).
     CollisionEvent earliestEvent(int64_t i, char& near) const {
+        return earliestEventAmong(i, near, [&](auto&& fn) { m_grid.forNeighbours(m_x[size_t(i)], fn); });
+    }
+
+    CollisionEvent earliestEventAmongCandidates(int64_t i, char& near) const {
+        return earliestEventAmong(i, near, [&](auto&& fn) {
+            for (int64_t c = m_candidateStart[size_t(i)]; c < m_candidateStart[size_t(i) + 1]; ++c) fn(int64_t(m_candidates[size_t(c)]));
+        });
+    }
+
+    // Particle i's earliest event among the partners forNeighbours(fn) visits and the walls; notes
+    // in `near` whether a partner or wall is within the near gap.
+    template <class ForNeighbours>
+    CollisionEvent earliestEventAmong(int64_t i, char& near, ForNeighbours&& forNeighbours) const {
         CollisionEvent best = noEvent();
         const bool checkAll = m_active[size_t(i)] != 0;
         const Vec3<Real> xi = m_x[size_t(i)], vi = m_v[size_t(i)];
         const Real ai = m_radius[size_t(m_species[size_t(i)])];
         bool close = !checkAll && near != 0;
-        m_grid.forNeighbours(xi, [&](int64_t j) {
+        forNeighbours([&](int64_t j) {
             if (j == i || !(checkAll || m_active[size_t(j)])) return;
             const Vec3<Real> xj = m_x[size_t(j)];
             const Real aj = m_radius[size_t(m_species[size_t(j)])];
@@ -824,6 +904,16 @@ private:
     std::vector<CollisionEvent> m_events;
     std::vector<char> m_active;
     std::vector<char> m_lookers;  // findEvents: the particles that may have an event this round
+    int m_round = 0;              // findEvents calls this step
+    // Candidate lists of a dense step's rounds (buildCandidates): the partners of particle i are
+    // m_candidates[m_candidateStart[i] .. m_candidateStart[i + 1]), listed at m_xCandidates.
+    static constexpr double kCandidateMargin = 0.1;  // of the largest diameter
+    bool m_candidatesValid = false;
+    std::vector<int64_t> m_candidateStart;
+    std::vector<int32_t> m_candidates;
+    std::vector<int32_t> m_candidateOrder;  // the grid's order at the listing: neighbours walk together
+    std::vector<Vec3<Real>> m_xCandidates;
+    Real m_candidateSlack2 = 0;
     // Per particle: a partner or wall within m_nearGap at its last look (findEvents); valid until
     // the contact sweeps move particles.
     std::vector<char> m_near;
