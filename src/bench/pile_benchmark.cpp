@@ -96,6 +96,25 @@ void measureFinalState(const ParticleState& state, PileRunResult& r) {
     r.outside = m.outside + m.nonFinite;
 }
 
+// What the collision stage did per step, summed over the run.
+struct PilePhaseSums {
+    int64_t steps = 0, rounds = 0, sweeps = 0;
+    double collide = 0, all = 0;
+    void add(const StepReport& s) {
+        ++steps;
+        rounds += s.rounds;
+        sweeps += s.contactSweeps;
+        collide += s.secondsCollide;
+        all += s.secondsForces + s.secondsIntegrate + s.secondsCollide;
+    }
+    void fill(PileRunResult& r) const {
+        if (steps == 0) return;
+        r.meanRounds = double(rounds) / double(steps);
+        r.meanContactSweeps = double(sweeps) / double(steps);
+        r.collideShare = all > 0 ? collide / all : -1;
+    }
+};
+
 PileRunResult runCorebox(const PileBenchmarkOptions& o, const std::string& backend, Precision precision, int64_t n,
                          const ParticleState& initial) {
     Scene scene = pileScene(n, precision);
@@ -109,6 +128,7 @@ PileRunResult runCorebox(const PileBenchmarkOptions& o, const std::string& backe
     r.maxRounds = 0;
     std::unique_ptr<Simulation> sim;
     PileFrameTimes times;
+    PilePhaseSums phases;
     ObservablesRow first, last;
     try {
         sim =
@@ -121,7 +141,11 @@ PileRunResult runCorebox(const PileBenchmarkOptions& o, const std::string& backe
         Clock::time_point lastProgress = Clock::now();
         for (int64_t f = 0; f < frames; ++f) {
             const Clock::time_point start = Clock::now();
-            for (int s = 0; s < o.substeps; ++s) r.maxRounds = std::max(r.maxRounds, sim->step().rounds);
+            for (int s = 0; s < o.substeps; ++s) {
+                const StepReport step = sim->step();
+                r.maxRounds = std::max(r.maxRounds, step.rounds);
+                phases.add(step);
+            }
             sim->backend().finish();
             times.ms.push_back(1e3 * secondsSince(start));
             last = sim->observe();
@@ -147,6 +171,7 @@ PileRunResult runCorebox(const PileBenchmarkOptions& o, const std::string& backe
     if (sim) {
         r.secondsSimulated = sim->time();
         r.roundCapHits = sim->roundCapHits();
+        phases.fill(r);
         r.energyEnd = last.conserved();
         r.dissipated = last.dissipated;
         r.kineticEnd = last.kinetic;
@@ -270,6 +295,9 @@ nlohmann::json resultJson(const PileRunResult& r) {
             {"time_to_rest", r.timeToRest ? nlohmann::json(*r.timeToRest) : nlohmann::json(nullptr)},
             {"round_cap_hits", r.roundCapHits >= 0 ? nlohmann::json(r.roundCapHits) : nlohmann::json(nullptr)},
             {"max_rounds", r.maxRounds >= 0 ? nlohmann::json(r.maxRounds) : nlohmann::json(nullptr)},
+            {"mean_rounds", r.meanRounds >= 0 ? nlohmann::json(r.meanRounds) : nlohmann::json(nullptr)},
+            {"mean_contact_sweeps", r.meanContactSweeps >= 0 ? nlohmann::json(r.meanContactSweeps) : nlohmann::json(nullptr)},
+            {"collide_share", r.collideShare >= 0 ? nlohmann::json(r.collideShare) : nlohmann::json(nullptr)},
             {"final_state", r.finalState},
             {"outcome", r.outcome},
             {"message", r.message}};
@@ -280,14 +308,15 @@ const char* const kCsvHeader =
     "simulated,frames,"
     "ms_per_frame_mean,ms_per_frame_last_second,max_overlap_fraction,max_wall_penetration_fraction,outside,energy_"
     "start,energy_end,"
-    "energy_change_relative,potential_released,dissipated,time_to_rest,round_cap_hits,max_rounds,final_state,outcome,"
+    "energy_change_relative,potential_released,dissipated,time_to_rest,round_cap_hits,max_rounds,mean_rounds,mean_"
+    "contact_sweeps,collide_share,final_state,outcome,"
     "message\n";
 
 std::string csvRow(const PileRunResult& r) {
     char line[1024];
     std::snprintf(line, sizeof line,
                   "%s,%s,%s,%s,%d,%lld,%g,%g,%g,%d,%d,%.9g,%g,%.6g,%lld,%.4f,%.4f,%.6g,%.6g,%lld,%.10g,%.10g,%.6g,%."
-                  "10g,%s,%s,%s,%s,%s,%s,",
+                  "10g,%s,%s,%s,%s,%s,%s,%s,%s,%s,",
                   r.engine.c_str(), r.backend.c_str(), csvQuote(r.device).c_str(), r.precision.c_str(), r.threads,
                   (long long)r.n, r.box[0], r.box[1], r.box[2], r.boxGrown ? 1 : 0, r.substeps, r.dt,
                   r.secondsRequested, r.secondsSimulated, (long long)r.frames, r.msPerFrameMean, r.msPerFrameLastSecond,
@@ -296,7 +325,9 @@ std::string csvRow(const PileRunResult& r) {
                   r.engine == "corebox" ? shortText(r.dissipated).c_str() : "",
                   r.timeToRest ? shortText(*r.timeToRest).c_str() : "",
                   r.roundCapHits >= 0 ? std::to_string(r.roundCapHits).c_str() : "",
-                  r.maxRounds >= 0 ? std::to_string(r.maxRounds).c_str() : "", r.finalState.c_str(), r.outcome.c_str());
+                  r.maxRounds >= 0 ? std::to_string(r.maxRounds).c_str() : "", r.meanRounds >= 0 ? shortText(r.meanRounds).c_str() : "",
+                  r.meanContactSweeps >= 0 ? shortText(r.meanContactSweeps).c_str() : "",
+                  r.collideShare >= 0 ? shortText(r.collideShare).c_str() : "", r.finalState.c_str(), r.outcome.c_str());
     return line + csvQuote(r.message) + "\n";
 }
 

@@ -67,6 +67,9 @@ struct PileRunResult {
     std::optional<double> timeToRest;  // none: not at rest at the end, or the run failed
     int64_t roundCapHits = -1;         // steps whose collision rounds hit the cap (-1: not applicable)
     int maxRounds = -1;                // most collision rounds in one step (-1: not applicable)
+    double meanRounds = -1;            // impact rounds per step, mean (-1: not applicable)
+    double meanContactSweeps = -1;     // contact sweeps per step, mean (-1: not applicable)
+    double collideShare = -1;          // share of the step's marked phases spent in the collision stage
     std::string finalState;            // "end" or "last_good" (the state before the failing step)
     std::string outcome;               // ok | instability | device_error | error
     std::string message;
