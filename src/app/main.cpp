@@ -19,6 +19,7 @@
 #include "p2p_benchmark.h"
 #include "pile_benchmark.h"
 #include "run_command.h"
+#include "study.h"
 #include "table1_benchmark.h"
 #include "throughput_benchmark.h"
 #include "md_benchmark.h"
@@ -338,6 +339,28 @@ int main(int argc, char** argv) {
     spheresCmd->add_option("--threads", spheres.threads, "CPU threads (0: all cores)")->capture_default_str();
     spheresCmd->add_option("--out", spheres.outputPrefix, "Write OUT.csv and OUT.json");
 
+    StudyOptions study;
+    CLI::App* studyCmd = app.add_subcommand(
+        "study", "Speed against accuracy on one scene: every method over a ladder of dt in fp64 and fp32 (state error at a short "
+                 "horizon against a Hairer 10 reference, energy error over a long run, force passes and wall time per unit time, "
+                 "largest stable dt), CSV and JSON");
+    studyCmd->add_option("scene", study.scenePath, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
+    studyCmd->add_option("--backend", study.backend, "Backend: one of " + backendTable().list())
+        ->check(oneOf(backendTable()))
+        ->capture_default_str();
+    studyCmd->add_option("--threads", study.threads, "CPU threads (0: all cores)")->capture_default_str();
+    addChoices(studyCmd, "--methods", methodTable(), "Methods (default: every one)", study.methods);
+    addChoices(studyCmd, "--precision", precisionTable(), "Precisions", study.precisions);
+    studyCmd->add_option("--dt", study.dtFactors, "The ladder: steps as multiples of the scene's dt")->delimiter(',')->capture_default_str();
+    studyCmd->add_option("--tolerances", study.tolerances, "Adaptive dp5 tolerances")->delimiter(',')->capture_default_str();
+    studyCmd->add_option("--horizon", study.horizon, "Short horizon T of the state error [tau] (default: 100 of the scene's steps)")
+        ->check(CLI::PositiveNumber);
+    studyCmd->add_option("--long", study.longRun, "Long run L of the energy error and of each stability trial [tau] (default: 10 T)")
+        ->check(CLI::PositiveNumber);
+    studyCmd->add_flag("--no-stability", [&](int64_t) { study.stability = false; }, "Skip the search for each method's largest stable dt");
+    studyCmd->add_flag("--quiet", study.quiet, "No progress or summary on stderr");
+    studyCmd->add_option("--out", study.outputPrefix, "Write OUT.csv and OUT.json");
+
     addIntegerRangeChecks(app);
     try {
         app.parse(argc, argv);
@@ -346,7 +369,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         return reportError(std::make_exception_ptr(InputError(std::string(e.what()) + " (see corebox --help)")));
     }
-    for (int* threads : {&run.backend.threads, &forces.threads, &pile.threads, &spheres.threads})
+    for (int* threads : {&run.backend.threads, &forces.threads, &pile.threads, &spheres.threads, &study.threads})
         *threads = capThreads(*threads, "--threads");
     run.stepsGiven = stepsOpt->count() > 0;
     run.headless.framesGiven = framesOpt->count() > 0;
@@ -391,6 +414,10 @@ int main(int argc, char** argv) {
     if (*table1Cmd) {
         table1.commandLine = commandLine(argc, argv);
         return runReportingErrors([&] { runTable1Benchmark(table1); });
+    }
+    if (*studyCmd) {
+        study.commandLine = commandLine(argc, argv);
+        return runReportingErrors([&] { runStudyCommand(study); });
     }
     if (*forcesCmd) {
         forces.commandLine = commandLine(argc, argv);

@@ -35,6 +35,10 @@ public:
     void restoreNextDt(double dt) {
         if (dt > 0) m_dtNext = dt;
     }
+    // Shortens the adaptive controller's next step to at most dt (to land on a given time).
+    void limitNextDt(double dt) {
+        if (dt > 0 && dt < m_dtNext) m_dtNext = dt;
+    }
 
 private:
     void compositionStep(Backend& backend, double dt);

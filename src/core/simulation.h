@@ -58,6 +58,10 @@ public:
     // when the conserved energy drifted beyond the limit or a value is not finite.
     ObservablesRow observe();
 
+    // Adaptive dp5: the next step is at most dt (a run that must end on a given time); no effect on
+    // fixed steps.
+    void limitNextStep(double dt) { m_driver.limitNextDt(dt); }
+
     void setStepParameters(const StepParameters& parameters);
     void setThermostat(const ThermostatDef& thermostat);
     // Replaces the backend (e.g. to switch precision), carrying the current state over.
