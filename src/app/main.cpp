@@ -357,6 +357,10 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
     studyCmd->add_option("--long", study.longRun, "Long run L of the energy error and of each stability trial [tau] (default: 10 T)")
         ->check(CLI::PositiveNumber);
+    studyCmd->add_option("--drift-limit", study.driftLimit,
+                         "Stability trials fail when the conserved sum moves by more than this fraction of the energy scale")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     studyCmd->add_flag("--no-stability", [&](int64_t) { study.stability = false; }, "Skip the search for each method's largest stable dt");
     studyCmd->add_flag("--quiet", study.quiet, "No progress or summary on stderr");
     studyCmd->add_option("--out", study.outputPrefix, "Write OUT.csv and OUT.json");

@@ -38,11 +38,12 @@ Scene sceneFor(const Scene& base, Method method, Precision precision, double dt,
     return s;
 }
 
-std::unique_ptr<Simulation> simulationFor(const Scene& scene, const ParticleState& initial, const StudyOptions& o) {
+std::unique_ptr<Simulation> simulationFor(const Scene& scene, const ParticleState& initial, const StudyOptions& o,
+                                          SimulationLimits limits = SimulationLimits{}) {
     BackendChoice choice;
     choice.name = o.backend;
     choice.threads = o.threads;
-    return std::make_unique<Simulation>(scene, makeBackend(backendChoiceFor(scene, choice)), initial);
+    return std::make_unique<Simulation>(scene, makeBackend(backendChoiceFor(scene, choice)), initial, limits);
 }
 
 // Steps a simulation to time t: fixed steps land there by construction; an adaptive step is cut
@@ -144,7 +145,9 @@ StudyRun ladderRun(const Scene& base, const ParticleState& initial, const StudyO
 bool survives(const Scene& base, const ParticleState& initial, const StudyOptions& o, Method method, Precision precision, double dt,
               double longRun, std::string& failure) {
     try {
-        auto sim = simulationFor(sceneFor(base, method, precision, dt, 0), initial, o);
+        SimulationLimits limits;
+        limits.maxEnergyDrift = o.driftLimit;
+        auto sim = simulationFor(sceneFor(base, method, precision, dt, 0), initial, o, limits);
         sim->observe();
         const int64_t steps = std::max<int64_t>(1, int64_t(std::ceil(longRun / dt)));
         for (int64_t s = 1; s <= steps; ++s) {
