@@ -234,8 +234,10 @@ double observedOrder(const StudyResult& result, Method method, Precision precisi
     return x.size() >= 2 ? slope(x, y) : std::numeric_limits<double>::quiet_NaN();
 }
 
-StudyResult runStudy(const Scene& scene, const ParticleState& initial, const StudyOptions& o,
+StudyResult runStudy(const Scene& sceneAsGiven, const ParticleState& initial, const StudyOptions& o,
                      const std::function<void(int, int, const std::string&)>& progress) {
+    Scene scene = sceneAsGiven;
+    scene.thermostat.kind = ThermostatKind::None;  // the design note says why
     if (o.precisions.empty()) throw InputError("study: --precision lists no precision");
     if (o.dtFactors.empty()) throw InputError("study: --dt lists no step");
     for (double f : o.dtFactors) {
@@ -247,6 +249,9 @@ StudyResult runStudy(const Scene& scene, const ParticleState& initial, const Stu
     }
     StudyResult result;
     result.methods = methods;
+    result.thermostat = sceneAsGiven.thermostat.kind == ThermostatKind::None
+                            ? "none"
+                            : std::string("off (the scene's ") + thermostatTable().name(sceneAsGiven.thermostat.kind) + " is switched off)";
     result.precisions = o.precisions;
     result.particles = int64_t(initial.size());
     const double sceneDt = scene.integrator.dt;

@@ -21,6 +21,9 @@
 //   the loose limit (RK4 on the LJ pair "survived" 200 periods at omega dt 2.97 > 2.83 with it)
 //   or when the collision rounds hit their cap on more than 1% of its steps; the failure's kind is
 //   recorded.
+// The scene's thermostat is switched off: the study measures the integration, and a thermostat's
+// kicks (Bussi's are random, drawn once per step) make runs at different steps different processes,
+// whose trajectories do not converge to one another.
 // Fixed-step runs land on T exactly (the step is T / round(T / dt)); adaptive DP5 runs at each
 // tolerance have their last step shortened to land on T.
 #pragma once
@@ -81,6 +84,7 @@ struct StudyResult {
     std::string device;
     int64_t particles = 0;
     double horizon = 0, longRun = 0;
+    std::string thermostat;       // "none", or what was switched off
     std::string reference;        // "hairer10 fp64 dt = ..."
     double referenceError = 0;    // RMS difference of the reference and its check at half the step [sigma]
     std::vector<Method> methods;

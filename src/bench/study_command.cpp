@@ -58,6 +58,7 @@ nlohmann::json jsonOf(const StudyResult& r, const StudyOptions& o, const Scene& 
     j["scene_dt"] = scene.integrator.dt;
     j["horizon"] = r.horizon;
     j["long_run"] = r.longRun;
+    j["thermostat"] = r.thermostat;
     j["reference"] = r.reference;
     j["reference_error"] = r.referenceError;
     for (const StudyRun& run : r.runs) {
@@ -113,7 +114,7 @@ void runStudyCommand(const StudyOptions& o) {
     }
     if (o.outputPrefix.empty()) return;
     std::string preamble = "# " + o.commandLine + "\n";
-    preamble += "# scene " + o.scenePath + ", " + std::to_string(r.particles) + " particles, " + r.device + "\n";
+    preamble += "# scene " + o.scenePath + ", " + std::to_string(r.particles) + " particles, " + r.device + ", thermostat " + r.thermostat + "\n";
     char line[256];
     std::snprintf(line, sizeof line, "# horizon T = %.6g, long run L = %.6g, reference %s, its error %.6g sigma\n", r.horizon, r.longRun,
                   r.reference.c_str(), r.referenceError);
