@@ -2,7 +2,9 @@
 
 #include <cstdio>
 #include <memory>
+#include <optional>
 
+#include "blow_up_recovery.h"
 #include "checkpoint.h"
 #include "error_report.h"
 #include "errors.h"
@@ -28,7 +30,7 @@ int runBatch(const RunOptions& options, const Scene& scene) {
             const SimulationCheckpoint checkpoint = readCheckpoint(options.restartPath);
             sim = std::make_unique<Simulation>(scene, makeBackend(backendChoiceFor(scene, options.backend)), checkpoint, limits);
         }
-        Backend& backend = sim->backend();
+        const Backend& backend = sim->backend();  // for the start line only (a recovery replaces it)
         const int64_t first = sim->stepIndex();  // 0, or the checkpoint's step
         if (first > options.steps)
             throw InputError("--restart: the checkpoint is at step " + std::to_string(first) + ", beyond --steps " +
@@ -55,21 +57,43 @@ int runBatch(const RunOptions& options, const Scene& scene) {
         // A restarted run's rows go on after the checkpoint's step (the row at that step, if any, is in
         // the first run's file).
         if (first == 0) observables->row(sim->observe());
+        // --recover: a recovery point at every row (blow_up_recovery.h), the rows held until the next.
+        std::optional<BlowUpRecovery> recovery;
+        if (options.recover) {
+            recovery.emplace();
+            recovery->remember(*sim);
+            observables->hold();
+        }
+        auto rowNow = [&] {
+            observables->row(sim->observe());
+            if (recovery && recovery->rememberIfDue(*sim)) observables->release();
+        };
         int64_t lastRow = first;
         for (int64_t s = first + 1; s <= options.steps && !interruptRequested(); ++s) {
-            sim->step();
-            // A checkpoint carries what the rows have not reported yet: it follows the regular rows
-            // (every K steps, which a run that never stopped writes too) and precedes the extra row at
-            // the end of this run (which such a run does not write).
-            const bool regularRow = s % options.every == 0;
-            if (regularRow) {
-                observables->row(sim->observe());
-                lastRow = s;
-            }
-            if (s == options.steps || (options.checkpointEvery > 0 && s % options.checkpointEvery == 0)) writeCheckpointNow();
-            if (!regularRow && s == options.steps) {
-                observables->row(sim->observe());
-                lastRow = s;
+            try {
+                sim->step();
+                // A checkpoint carries what the rows have not reported yet: it follows the regular rows
+                // (every K steps, which a run that never stopped writes too) and precedes the extra row
+                // at the end of this run (which such a run does not write).
+                const bool regularRow = s % options.every == 0;
+                if (regularRow) {
+                    rowNow();
+                    lastRow = s;
+                }
+                if (s == options.steps || (options.checkpointEvery > 0 && s % options.checkpointEvery == 0)) writeCheckpointNow();
+                if (!regularRow && s == options.steps) {
+                    rowNow();
+                    lastRow = s;
+                }
+            } catch (const InstabilityError& e) {
+                if (!recovery) throw;
+                const RecoveryEvent event = recovery->recover(
+                    sim, e, [&](const Scene& running) { return makeBackend(backendChoiceFor(running, options.backend)); });
+                observables->discardAfter(event.resumedStep);
+                lastRow = event.resumedStep;
+                s = event.resumedStep;  // the loop goes on from the step after it
+                std::fprintf(stderr, "[corebox] recovered from a blow-up at %s\n", event.summary().c_str());
+                continue;
             }
             if (sim->roundCapHits() > capHitsReported) {
                 std::fprintf(stderr, "[corebox] warning: step %lld: overlaps remained after %d collision rounds (%lld steps so far); "
@@ -99,6 +123,9 @@ int runBatch(const RunOptions& options, const Scene& scene) {
             const ForceCounters c = sim->backend().forceCounters();
             std::fprintf(stderr, "[corebox] forces: %s; %lld force passes, %lld refreshes after collisions, %lld neighbour-list builds\n",
                          forceModelName(sim->forceChoice().model), (long long)c.fullPasses, (long long)c.refreshes, (long long)c.listBuilds);
+            if (recovery && recovery->recoveries() > 0)
+                std::fprintf(stderr, "[corebox] %d recoveries from blow-ups; the run ended with %s dt = %g\n", recovery->recoveries(),
+                             methodName(sim->scene().integrator.method), sim->scene().integrator.dt);
         }
         observables->commit();
         if (!options.stateOutPath.empty()) writeStateCsv(options.stateOutPath, sim->state());

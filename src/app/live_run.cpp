@@ -16,7 +16,9 @@ LiveRun::LiveRun(const Scene& scene, const BackendChoice& backend, LiveRunOption
     if (!m_options.observablesPath.empty()) {
         m_observables = std::make_unique<ObservablesOutput>(m_options.observablesPath);
         m_observables->header(scene);
+        if (m_options.recover) m_observables->hold();
     }
+    if (m_options.recover) m_recovery.emplace(RecoveryPolicy{8, m_options.recoveryPointSeconds});
     m_performance.backend = simulation().backend().name();
     m_performance.device = simulation().backend().deviceName();
     noteForceModel();
@@ -34,6 +36,46 @@ void LiveRun::observe(int64_t stepsSinceLast) {
                    s.thermostat.kind == ThermostatKind::None ? 0.0 : s.thermostat.temperature, stepsSinceLast);
     if (m_observables) m_observables->row(m_lastRow);
     m_lastObservedStep = simulation().stepIndex();
+    keepRecoveryPoint(false);
+}
+
+// Right after an observation passed the checks: a point when one is due, or at once when the session
+// was replaced (a reset, a precision switch) since the last one, whose point belongs to another run.
+void LiveRun::keepRecoveryPoint(bool force) {
+    if (!m_recovery) return;
+    const bool replaced = m_recoveryGeneration != m_session.generation() || !m_recovery->hasPoint();
+    if (force || replaced) {
+        m_recovery->remember(simulation());
+    } else if (!m_recovery->rememberIfDue(simulation())) {
+        return;
+    }
+    m_recoveryGeneration = m_session.generation();
+    if (m_observables) m_observables->release();
+}
+
+void LiveRun::stepOnce() {
+    // A session replaced by an edit must not fall back to a point from before it.
+    if (m_recovery && m_recoveryGeneration != m_session.generation()) keepRecoveryPoint(true);
+    const Clock::time_point t = Clock::now();
+    const StepReport r = simulation().step();
+    m_stepSeconds += std::chrono::duration<double>(Clock::now() - t).count();
+    m_forceSeconds += r.secondsForces;
+    m_integrateSeconds += r.secondsIntegrate;
+    m_collideSeconds += r.secondsCollide;
+    ++m_rateSteps;
+    const int64_t step = simulation().stepIndex();
+    if (step % m_options.observeEvery == 0) observe(step - m_lastObservedStep);
+}
+
+void LiveRun::recoverFrom(const InstabilityError& error) {
+    const RecoveryEvent event = m_session.recover(*m_recovery, error);  // throws when it gives up
+    m_recoveryGeneration = m_session.generation();
+    if (m_observables) m_observables->discardAfter(event.resumedStep);
+    m_history.dropAfter(event.resumedTime);
+    m_lastObservedStep = event.resumedStep;
+    m_recoveries.push_back(event);
+    status = "recovered from a blow-up at " + event.summary();
+    std::fprintf(stderr, "[corebox] %s\n", status.c_str());
 }
 
 ScriptEffects LiveRun::advance(int64_t steps, double budgetSeconds) {
@@ -50,15 +92,15 @@ ScriptEffects LiveRun::advance(int64_t steps, double budgetSeconds) {
     };
     runDue();
     for (int64_t k = 0; k < steps && !effects.quit && effects.screenshotPath.empty() && !effects.reset; ++k) {
-        const Clock::time_point t = Clock::now();
-        const StepReport r = simulation().step();
-        m_stepSeconds += std::chrono::duration<double>(Clock::now() - t).count();
-        m_forceSeconds += r.secondsForces;
-        m_integrateSeconds += r.secondsIntegrate;
-        m_collideSeconds += r.secondsCollide;
-        ++m_rateSteps;
-        const int64_t step = simulation().stepIndex();
-        if (step % m_options.observeEvery == 0) observe(step - m_lastObservedStep);
+        if (m_recovery) {
+            try {
+                stepOnce();
+            } catch (const InstabilityError& e) {
+                recoverFrom(e);
+            }
+        } else {
+            stepOnce();
+        }
         runDue();
         if (budgetSeconds > 0 && std::chrono::duration<double>(Clock::now() - start).count() > budgetSeconds) break;
         if (interruptRequested()) break;
@@ -71,6 +113,7 @@ std::string LiveRun::reset() {
     if (!error.empty()) return error;
     m_history.clear();
     m_lastObservedStep = 0;
+    if (m_observables) m_observables->release();  // the rows of the run before the reset
     observe(0);
     m_conserved0 = m_lastRow.conserved();
     m_performance.backend = simulation().backend().name();

@@ -2,12 +2,17 @@
 // speed distributions the panels show, performance figures, an optional script and an optional
 // observables file. The window and the headless frame loop both drive one of these, so a script or
 // a panel edit behaves the same in either.
+//
+// With recovery on (the window always, headless runs with --recover) a blow-up does not end the run:
+// the session goes back to its last good state with dt halved (blow_up_recovery.h), the plots and the
+// held observables rows after that state are dropped, and `status` says what failed and what changed.
 #pragma once
 
 #include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "observables_output.h"
 #include "script.h"
@@ -24,6 +29,8 @@ struct LiveRunOptions {
     std::optional<Script> script;
     SetupProgress setupProgress;   // long set-ups and restarts report here (progress.h); null: silent
     bool quiet = false;            // script lines only when refused, no force-model lines (--quiet)
+    bool recover = false;          // go on after a blow-up (blow_up_recovery.h)
+    double recoveryPointSeconds = 0;  // wall time between recovery points (0: at every observation)
 };
 
 class LiveRun {
@@ -39,7 +46,7 @@ public:
     // Runs up to `steps` steps (stopping early for a script's quit/screenshot/reset, or once
     // `budgetSeconds` > 0 of stepping has passed, so a window stays responsive whatever steps/frame
     // asks, or after the step in progress when SIGINT/SIGTERM arrives: interruption.h), observing
-    // when due. Throws InstabilityError.
+    // when due. Throws InstabilityError (with recovery on: only when recovery gives up).
     ScriptEffects advance(int64_t steps, double budgetSeconds = 0);
     // Restart from the controls' pending scene; clears the plots.
     std::string reset();
@@ -54,11 +61,15 @@ public:
     const ObservableHistory& history() const { return m_history; }
     const SpeedDistributionData& speeds() const { return m_speeds; }
     const PerformanceData& performance() const { return m_performance; }
+    const std::vector<RecoveryEvent>& recoveries() const { return m_recoveries; }
     std::string status;
 
 private:
     void observe(int64_t stepsSinceLast);
     void noteForceModel();
+    void stepOnce();
+    void keepRecoveryPoint(bool force);
+    void recoverFrom(const InstabilityError& error);
 
     LiveRunOptions m_options;
     Session m_session;
@@ -68,6 +79,9 @@ private:
     SpeedDistributionData m_speeds;
     PerformanceData m_performance;
     std::unique_ptr<ObservablesOutput> m_observables;
+    std::optional<BlowUpRecovery> m_recovery;
+    uint64_t m_recoveryGeneration = 0;  // the session generation the recovery point belongs to
+    std::vector<RecoveryEvent> m_recoveries;
     ObservablesRow m_lastRow;
     int64_t m_lastObservedStep = 0;
     double m_conserved0 = 0;

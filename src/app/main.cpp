@@ -154,6 +154,9 @@ int main(int argc, char** argv) {
     runCmd->add_option("--max-drift", run.maxEnergyDrift,
                        "Stop (exit 3) when the conserved energy moves by more than this fraction of the energy scale")
         ->capture_default_str();
+    runCmd->add_flag("--recover", run.recover,
+                     "Batch and headless runs: after a blow-up go back to the last good state (the last observables row), "
+                     "halve dt and go on (the window always does), instead of stopping with exit code 3");
     runCmd->add_flag("--quiet", run.quiet, "Only warnings and errors on stderr (no start line, progress or summary)");
     HeadlessOptions& h = run.headless;
     runCmd->add_flag("--headless", h.enabled, "Render frames without a display (EGL) into --out");

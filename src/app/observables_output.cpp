@@ -19,7 +19,22 @@ void ObservablesOutput::row(const ObservablesRow& row) {
     // Formatted first, then written and flushed in one piece: the file never ends inside a row.
     std::ostringstream text;
     writeObservablesRow(text, row);
+    if (m_holding) {
+        m_held.emplace_back(row.step, text.str());
+        return;
+    }
     write(text.str());
+}
+
+void ObservablesOutput::release() {
+    std::string text;
+    for (const auto& [step, line] : m_held) text += line;
+    m_held.clear();
+    if (!text.empty()) write(text);
+}
+
+void ObservablesOutput::discardAfter(int64_t step) {
+    while (!m_held.empty() && m_held.back().first > step) m_held.pop_back();
 }
 
 void ObservablesOutput::write(const std::string& text) {
@@ -40,6 +55,7 @@ void ObservablesOutput::write(const std::string& text) {
 void ObservablesOutput::commit() {
     if (m_committed) return;  // an instability after a commit, a second finish()
     m_committed = true;
+    release();
     if (m_file) {
         m_file->commit();
         m_file.reset();

@@ -24,7 +24,7 @@ LiveRunOptions liveRunOptions(const RunOptions& options, int64_t observeEvery) {
     live.quiet = options.quiet;
     if (!options.scriptPath.empty()) live.script = Script::load(options.scriptPath);
     live.setupProgress = setupProgressLines(!options.quiet);
-    live.quiet = options.quiet;
+    live.recover = options.recover;
     return live;
 }
 

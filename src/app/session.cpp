@@ -25,4 +25,11 @@ void Session::restart(const Scene& scene) {
     ++m_generation;
 }
 
+RecoveryEvent Session::recover(BlowUpRecovery& recovery, const InstabilityError& error) {
+    const RecoveryEvent event =
+        recovery.recover(m_sim, error, [&](const Scene& scene) { return makeBackend(backendChoiceFor(scene, m_backend)); });
+    ++m_generation;
+    return event;
+}
+
 }  // namespace corebox

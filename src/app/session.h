@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "backend_factory.h"
+#include "blow_up_recovery.h"
 #include "initial_conditions.h"
 #include "live_controls.h"
 #include "simulation.h"
@@ -27,6 +28,9 @@ public:
     void applyThermostat(const ThermostatDef& thermostat) override { m_sim->setThermostat(thermostat); }
     void switchPrecision(Precision precision) override;
     void restart(const Scene& scene) override;
+    // After a blow-up: the simulation rebuilt at `recovery`'s point with dt halved (a new generation).
+    // Throws InstabilityError when recovery gives up.
+    RecoveryEvent recover(BlowUpRecovery& recovery, const InstabilityError& error);
 
 private:
     BackendChoice m_backend;

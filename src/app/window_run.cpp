@@ -55,7 +55,11 @@ int runWindow(const RunOptions& options, const Scene& scene) {
         const UiSettingsFile settingsFile = UiSettingsFile::standard();
         ImGuiLayer ui(window.handle(), settingsFile.imguiIniPath());
         BackendChoice choice{options.backend.name, scene.integrator.precision, options.backend.threads, 0};
-        live = std::make_unique<LiveRun>(scene, choice, liveRunOptions(options, 10));
+        // The window never ends on a blow-up: it goes back to a good state at most half a second old.
+        LiveRunOptions liveOptions = liveRunOptions(options, 10);
+        liveOptions.recover = true;
+        liveOptions.recoveryPointSeconds = 0.5;
+        live = std::make_unique<LiveRun>(scene, choice, liveOptions);
         settingsFile.load(live->display());
         ParticleRenderer renderer;
         LiveFeed feed;
@@ -73,7 +77,7 @@ int runWindow(const RunOptions& options, const Scene& scene) {
             int width = 0, height = 0;
             window.framebufferSize(&width, &height);
             if (width <= 0 || height <= 0) continue;  // minimised
-            const Scene& running = live->simulation().scene();
+            const Scene& running = live->simulation().scene();  // before advance(): a reset or recovery replaces it
             const std::array<float, 3> box{float(running.box.size[0]), float(running.box.size[1]), float(running.box.size[2])};
             if (!framedOnce) {
                 camera.frameBox({box[0], box[1], box[2]}, float(width) / float(height));
@@ -148,7 +152,7 @@ int runWindow(const RunOptions& options, const Scene& scene) {
                 std::fprintf(stderr, "[corebox] %s\n", live->status.c_str());
             }
             glfwSwapBuffers(window.handle());
-            window.setTitle("corebox - " + running.sourcePath + " - " + live->simulation().backend().name() + " (" +
+            window.setTitle("corebox - " + live->simulation().scene().sourcePath + " - " + live->simulation().backend().name() + " (" +
                             (feed.usesInterop() ? "interop" : "copy") + ") - " +
                             std::to_string(int(live->performance().stepsPerSecond)) + " steps/s");
             ++frame;

@@ -135,7 +135,7 @@ StudyRun ladderRun(const Scene& base, const ParticleState& initial, const StudyO
         r.wallSecondsPerTime = wall / sim->time();
         if (tolerance > 0) r.dt = sim->time() / double(std::max<int64_t>(1, sim->stepIndex()));
     } catch (const InstabilityError& e) {
-        r.outcome = stabilityFailureKind(e.what());
+        r.outcome = instabilityKind(e.what());
         r.message = e.what();
     }
     return r;
@@ -160,7 +160,7 @@ bool survives(const Scene& base, const ParticleState& initial, const StudyOption
         }
         return true;
     } catch (const InstabilityError& e) {
-        failure = stabilityFailureKind(e.what());
+        failure = instabilityKind(e.what());
         return false;
     }
 }
@@ -210,17 +210,6 @@ StabilityLimit stabilityLimit(const Scene& base, const ParticleState& initial, c
 }
 
 }  // namespace
-
-std::string stabilityFailureKind(const std::string& message) {
-    auto has = [&](const char* what) { return message.find(what) != std::string::npos; };
-    if (has("non-finite") || has("not finite")) return "non_finite";
-    if (has("escaped")) return "escape";
-    if (has("runaway")) return "runaway";
-    if (has("energy drift")) return "energy_growth";
-    if (has("adaptive")) return "adaptive_failed";
-    if (has("collision rounds")) return "rounds_capped";
-    return "failed";
-}
 
 double observedOrder(const StudyResult& result, Method method, Precision precision) {
     const double floor = std::max(10.0 * result.referenceError, 1e-12);

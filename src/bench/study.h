@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "blow_up_recovery.h"
 #include "butcher_tableau.h"
 #include "particle_state.h"
 #include "scene.h"
@@ -67,7 +68,7 @@ struct StudyRun {
     double energyDriftRate = 0;       // slope of (E - E0) / scale [1 / tau]
     double forcePassesPerTime = 0;    // force passes per unit simulated time (short run)
     double wallSecondsPerTime = 0;    // wall seconds per unit simulated time (long run)
-    std::string outcome = "ok";       // ok, or the failure's kind (stabilityFailureKind)
+    std::string outcome = "ok";       // ok, or the failure's kind (instabilityKind)
     std::string message;
 };
 
@@ -92,10 +93,6 @@ struct StudyResult {
     std::vector<StudyRun> runs;
     std::vector<StabilityLimit> limits;
 };
-
-// "non_finite", "escape", "energy_growth", "runaway", "adaptive_failed", "rounds_capped" or
-// "failed", from the blow-up detector's message.
-std::string stabilityFailureKind(const std::string& message);
 
 // Runs the study of `scene` from `initial`; `progress(done, total, what)` is called before each run.
 StudyResult runStudy(const Scene& scene, const ParticleState& initial, const StudyOptions& options,

@@ -76,6 +76,7 @@ public:
     double thermostatEnergy() const { return m_thermostatEnergy; }
     int64_t roundCapHits() const { return m_roundCapHits; }
     double energyScale() const { return m_energyScale; }
+    const SimulationLimits& limits() const { return m_limits; }
     // Work done on the system by live edits of the potential (gravity, mixing, cutoff) [eps]: the
     // conserved sum is re-based by it at each edit.
     double parameterWork() const { return m_parameterWork; }

@@ -1,5 +1,6 @@
 #include "panel_data.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace corebox {
@@ -26,6 +27,15 @@ void ObservableHistory::push(const ObservablesRow& row, double conserved0, doubl
         append(pressureWall, row.pressureWall, m_capacity);
         append(pressureVirial, row.pressureVirial, m_capacity);
     }
+}
+
+void ObservableHistory::dropAfter(double t) {
+    size_t drop = 0;
+    while (drop < time.size() && double(time[time.size() - 1 - drop]) > t) ++drop;
+    // The pressure series skip rows without a window, so they lose at most as many points.
+    for (auto* s : {&time, &kinetic, &potential, &total, &dissipated, &drift, &temperature, &target, &collisionsPerStep, &pressureWall,
+                    &pressureVirial})
+        s->resize(s->size() - std::min(drop, s->size()));
 }
 
 void ObservableHistory::clear() {

@@ -19,6 +19,8 @@ public:
     explicit ObservableHistory(size_t capacity = 600) : m_capacity(capacity) {}
     void push(const ObservablesRow& row, double conserved0, double targetTemperature, int64_t stepsSinceLast);
     void clear();
+    // A recovery went back to `time`: the points after it are dropped.
+    void dropAfter(double time);
 
     std::vector<float> time, kinetic, potential, total, dissipated, drift, temperature, target, collisionsPerStep;
     // Averaged over the window since the previous row (pressure.h); rows with no window are skipped.

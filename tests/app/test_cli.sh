@@ -161,6 +161,25 @@ expect "headless blow-up" 3 "instability at step [0-9]+" -- \
 [ -s "$work/out/frames/observables.csv" ] && pass || fail "no observables after a headless blow-up"
 [ -s "$work/out/frames/last_good_state.csv" ] && pass || fail "no last good state after a headless blow-up"
 
+# --recover: verlet at 25 times the preset's dt blows up (exit 3 without it); with it the run goes
+# back to the last good row, halves dt, says so and finishes: exit 0, one row per step in order up to
+# the end, and the final state. The same in a headless run.
+rm -rf "$work/out" && mkdir -p "$work/out"
+expect "no recover" 3 "instability at step [0-9]+" -- run "$SRC/assets/argon_gas.toml" --dt 0.05 --steps 400 --every 10 --quiet \
+    --observables "$work/out/plain.csv"
+expect "recover" 0 "recovered from a blow-up at step [0-9]+ .*back to step [0-9]+, verlet fp64 dt 0.05 -> 0.025" -- \
+    run "$SRC/assets/argon_gas.toml" --dt 0.05 --steps 400 --every 10 --recover --observables "$work/out/obs.csv" \
+    --state-out "$work/out/state.csv"
+python3 - "$work/out/obs.csv" <<'PY' && pass || fail "recovered run: rows not one per step in order up to 400"
+import csv, sys
+steps = [int(r["step"]) for r in csv.DictReader(open(sys.argv[1]))]
+sys.exit(0 if steps == list(range(0, 401, 10)) else 1)
+PY
+[ -s "$work/out/state.csv" ] && pass || fail "recovered run: no final state"
+expect "headless recover" 0 "recovered from a blow-up" -- run "$SRC/assets/argon_gas.toml" --dt 0.05 --recover --headless --software-gl \
+    --frames 21 --steps-per-frame 20 --size 64x64 --out "$work/out/frames"
+[ -s "$work/out/frames/frame_000020.png" ] && pass || fail "recovered headless run: no last frame"
+
 # An output that fails during the run (a script's screenshot into a missing directory): exit 2,
 # the path named.
 printf '2 screenshot %s\n' "$work/missing_dir/shot.png" >"$work/shot.script"

@@ -2,7 +2,8 @@
 # The window app under Xvfb running a script that raises the temperature, switches rk4 to verlet,
 # takes a screenshot and quits: exit code 0, a screenshot showing particles and the panel, and
 # observables with the temperature rising and the switch at the scripted step. Then the same script
-# headless with --hud: the histogram is drawn into the frame. Needs COREBOX and SRC.
+# headless with --hud: the histogram is drawn into the frame. Then a scripted dt jump that blows the
+# window's run up: recovered, and the observables go on. Needs COREBOX and SRC.
 set -u
 : "${COREBOX:?}" "${SRC:?}"
 if ! command -v xvfb-run >/dev/null; then echo "xvfb-run not installed: window test skipped"; exit 77; fi
@@ -70,6 +71,24 @@ if [ -s "$work/hud.png" ]; then
 else
     fail "no HUD screenshot written"
 fi
+
+# A scripted dt jump (25 times the preset's) blows the run up; the window goes back to its last good
+# state with dt halved, says so, and the run and its observables go on to the quit, one row per step.
+cat >"$work/jump.script" <<SCRIPT
+30 set dt 0.05
+150 quit
+SCRIPT
+timeout 300 xvfb-run -a -s "-screen 0 1280x720x24" "$COREBOX" run "$SRC/assets/argon_gas.toml" --script "$work/jump.script" \
+    --frames 2000 --observables "$work/jump.csv" >"$work/jump_out" 2>"$work/jump_err"
+rc=$?
+[ $rc -eq 0 ] && pass || fail "window run with a dt jump exit $rc: $(tail -3 "$work/jump_err")"
+grep -q "recovered from a blow-up at step .*dt 0.05 -> 0.025" "$work/jump_err" && pass || fail "no recovery in the log: $(grep corebox "$work/jump_err" | tail -3)"
+python3 - "$work/jump.csv" <<'PY' && pass || fail "observables do not go on after the recovery"
+import csv, sys
+steps = [int(r["step"]) for r in csv.DictReader(open(sys.argv[1]))]
+ok = steps == sorted(set(steps)) and steps[-1] >= 150 and any(s > 30 for s in steps)
+sys.exit(0 if ok else 1)
+PY
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

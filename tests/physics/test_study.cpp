@@ -94,12 +94,12 @@ TEST(Study, FindsRk4sStabilityLimitOnTheSmallOscillation) {
 }
 
 TEST(Study, NamesTheKindOfFailure) {
-    EXPECT_EQ(stabilityFailureKind("instability at step 3 (t = 1): 2 particle(s) with non-finite position or velocity"), "non_finite");
-    EXPECT_EQ(stabilityFailureKind("instability at step 3: 1 particle(s) escaped the box (e.g. particle 4)"), "escape");
-    EXPECT_EQ(stabilityFailureKind("instability at step 3: energy drift beyond the bound: ..."), "energy_growth");
-    EXPECT_EQ(stabilityFailureKind("adaptive dp5 could not meet tolerance 1e-8"), "adaptive_failed");
-    EXPECT_EQ(stabilityFailureKind("instability at step 9: the energy is not finite: E_kin = nan"), "non_finite");
-    EXPECT_EQ(stabilityFailureKind("instability at step 9: energy is growing without bound: kinetic energy 1e9 exceeds the runaway "
+    EXPECT_EQ(instabilityKind("instability at step 3 (t = 1): 2 particle(s) with non-finite position or velocity"), "non_finite");
+    EXPECT_EQ(instabilityKind("instability at step 3: 1 particle(s) escaped the box (e.g. particle 4)"), "escape");
+    EXPECT_EQ(instabilityKind("instability at step 3: energy drift beyond the bound: ..."), "energy_growth");
+    EXPECT_EQ(instabilityKind("adaptive dp5 could not meet tolerance 1e-8"), "adaptive_failed");
+    EXPECT_EQ(instabilityKind("instability at step 9: the energy is not finite: E_kin = nan"), "non_finite");
+    EXPECT_EQ(instabilityKind("instability at step 9: energy is growing without bound: kinetic energy 1e9 exceeds the runaway "
                                    "bound 20"),
               "runaway");
 }
