@@ -5,7 +5,6 @@
 #include "interruption.h"
 #include "observables.h"
 #include "speed_distributions.h"
-#include "symplectic_composition.h"
 
 namespace corebox {
 
@@ -21,6 +20,7 @@ LiveRun::LiveRun(const Scene& scene, const BackendChoice& backend, LiveRunOption
     if (m_options.recover) m_recovery.emplace(RecoveryPolicy{8, m_options.recoveryPointSeconds});
     m_performance.backend = simulation().backend().name();
     m_performance.device = simulation().backend().deviceName();
+    m_performance.integrator = m_options.integratorChoice;
     noteForceModel();
     observe(0);
     m_conserved0 = m_lastRow.conserved();
@@ -117,6 +117,7 @@ std::string LiveRun::reset() {
     observe(0);
     m_conserved0 = m_lastRow.conserved();
     m_performance.backend = simulation().backend().name();
+    if (!m_session.integratorChoice().empty()) m_performance.integrator = m_session.integratorChoice();
     refreshSpeedDistributions();
     return "";
 }
@@ -144,7 +145,7 @@ void LiveRun::recordFrame(double msInterop, double msRender) {
     p.framesPerSecond = double(m_rateFrames) / elapsed;
     const double n = double(simulation().particleCount());
     const Method m = simulation().scene().integrator.method;
-    const double passes = isComposition(m) ? double(forcePassesPerStep(compositionFor(m))) : double(tableauFor(m).solutionStages);
+    const double passes = double(forcePassesPerStepOf(m));
     p.pairForces = false;
     for (const SpeciesDef& s : simulation().scene().species) p.pairForces = p.pairForces || s.epsilon > 0;
     p.pairInteractionsPerSecond = p.pairForces ? p.stepsPerSecond * passes * n * (n - 1) : 0.0;

@@ -30,6 +30,7 @@ struct LiveRunOptions {
     SetupProgress setupProgress;   // long set-ups and restarts report here (progress.h); null: silent
     bool quiet = false;            // script lines only when refused, no force-model lines (--quiet)
     bool recover = false;          // go on after a blow-up (blow_up_recovery.h)
+    std::string integratorChoice;  // method = "auto": the pilot's choice, for the panel
     double recoveryPointSeconds = 0;  // wall time between recovery points (0: at every observation)
 };
 

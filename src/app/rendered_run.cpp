@@ -25,6 +25,7 @@ LiveRunOptions liveRunOptions(const RunOptions& options, int64_t observeEvery) {
     if (!options.scriptPath.empty()) live.script = Script::load(options.scriptPath);
     live.setupProgress = setupProgressLines(!options.quiet);
     live.recover = options.recover;
+    live.integratorChoice = options.integratorChoice;
     return live;
 }
 

@@ -1,5 +1,7 @@
 #include "run_command.h"
 
+#include "auto_integrator.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -25,6 +27,7 @@ void applyOverrides(const RunOptions& options, Scene& scene) {
     if (options.precision) scene.integrator.precision = *options.precision;
     if (options.method) {
         scene.integrator.method = *options.method;
+        scene.integrator.automatic = false;
         if (scene.integrator.adaptive && scene.integrator.method != Method::Dp5) scene.integrator.adaptive = false;
     }
     if (options.dt) {
@@ -157,6 +160,13 @@ int runCommand(const RunOptions& requested) {
         checkOutputsApart(options, scene);
     });
     if (checked != kExitOk) return checked;
+    if (scene.integrator.automatic) {
+        const int resolved = runReportingErrors([&] {
+            const BackendChoice choice{options.backend.name, scene.integrator.precision, options.backend.threads, 0};
+            scene = resolveAutomaticIntegrator(scene, choice, options.quiet, &options.integratorChoice);
+        });
+        if (resolved != kExitOk) return resolved;
+    }
     if (options.headless.enabled) return runHeadlessFrames(options, scene);
     const bool batchOnly = !options.restartPath.empty() || !options.checkpointPath.empty();
     if (!options.noWindow && !batchOnly && GlfwWindow::displayAvailable()) return runWindow(options, scene);

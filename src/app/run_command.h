@@ -55,6 +55,7 @@ struct RunOptions {
     int64_t checkpointEvery = 0;           // 0: only at the end and on interruption
     std::string restartPath;               // --restart: go on from this checkpoint (its scene, step, state)
     bool recover = false;                  // --recover: after a blow-up, back to the last good state with dt halved
+    std::string integratorChoice;          // method = "auto": the pilot's choice and why (set by runCommand)
 };
 
 // Where a run that blew up writes its last good state: beside --state-out (NAME.last_good.csv),

@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "auto_integrator.h"
+
 namespace corebox {
 
 Session::Session(const Scene& scene, const BackendChoice& backend, SimulationLimits limits, SetupProgress setupProgress)
@@ -19,7 +21,9 @@ void Session::switchPrecision(Precision precision) {
     ++m_generation;
 }
 
-void Session::restart(const Scene& scene) {
+void Session::restart(const Scene& requested) {
+    // A preset with method = "auto" gets its pilot study here (a scene from the command line arrives resolved).
+    const Scene scene = resolveAutomaticIntegrator(requested, m_backend, false, &m_integratorChoice);
     const ParticleState initial = makeInitialState(scene, m_setupProgress);  // throws InputError before anything changes
     m_sim = std::make_unique<Simulation>(scene, makeBackend(backendChoiceFor(scene, m_backend)), initial, m_limits);
     ++m_generation;

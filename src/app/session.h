@@ -22,6 +22,8 @@ public:
 
     Simulation& simulation() { return *m_sim; }
     uint64_t generation() const { return m_generation; }
+    // The automatic integrator's choice at the last restart of a scene with method = "auto" ("" otherwise).
+    const std::string& integratorChoice() const { return m_integratorChoice; }
 
     const Scene& runningScene() const override { return m_sim->scene(); }
     void applyStepParameters(const StepParameters& parameters) override { m_sim->setStepParameters(parameters); }
@@ -38,6 +40,7 @@ private:
     SetupProgress m_setupProgress;
     std::unique_ptr<Simulation> m_sim;
     uint64_t m_generation = 0;
+    std::string m_integratorChoice;
 };
 
 }  // namespace corebox

@@ -10,6 +10,7 @@
 #include "backend_factory.h"
 #include "errors.h"
 #include "simulation.h"
+#include "study_runs.h"
 #include "vocabulary.h"
 
 namespace corebox {
@@ -29,52 +30,18 @@ constexpr double kCapHitShare = 0.01;       // a trial whose rounds hit the cap 
 bool isAdaptiveCapable(Method m) { return m == Method::Dp5; }
 
 Scene sceneFor(const Scene& base, Method method, Precision precision, double dt, double tolerance) {
-    Scene s = base;
-    s.integrator.method = method;
-    s.integrator.precision = precision;
-    s.integrator.dt = dt;
-    s.integrator.adaptive = tolerance > 0;
-    if (tolerance > 0) s.integrator.tolerance = tolerance;
-    return s;
+    return sceneWithIntegrator(base, method, precision, dt, tolerance);
 }
 
 std::unique_ptr<Simulation> simulationFor(const Scene& scene, const ParticleState& initial, const StudyOptions& o,
                                           SimulationLimits limits = SimulationLimits{}) {
-    BackendChoice choice;
-    choice.name = o.backend;
-    choice.threads = o.threads;
-    return std::make_unique<Simulation>(scene, makeBackend(backendChoiceFor(scene, choice)), initial, limits);
-}
-
-// Steps a simulation to time t: fixed steps land there by construction; an adaptive step is cut
-// short so that the last one ends on t.
-void advanceTo(Simulation& sim, double t) {
-    const double eps = 1e-12 * std::max(1.0, std::fabs(t));
-    while (sim.time() < t - eps) {
-        if (sim.scene().integrator.adaptive) sim.limitNextStep(t - sim.time());
-        sim.step();
-    }
+    return simulationOn(scene, initial, o.backend, o.threads, limits);
 }
 
 double rmsDistance(const ParticleState& a, const ParticleState& b) {
     double sum = 0;
     for (size_t i = 0; i < a.size(); ++i) sum += norm2(a.position[i] - b.position[i]);
     return a.size() > 0 ? std::sqrt(sum / double(a.size())) : 0.0;
-}
-
-// Least-squares slope of y over t.
-double slope(const std::vector<double>& t, const std::vector<double>& y) {
-    const double n = double(t.size());
-    if (t.size() < 2) return 0;
-    double st = 0, sy = 0, stt = 0, sty = 0;
-    for (size_t k = 0; k < t.size(); ++k) {
-        st += t[k];
-        sy += y[k];
-        stt += t[k] * t[k];
-        sty += t[k] * y[k];
-    }
-    const double d = n * stt - st * st;
-    return d != 0 ? (n * sty - st * sy) / d : 0.0;
 }
 
 // The position state at T of a fixed-step run at step dt (rounded to divide T).
@@ -130,7 +97,7 @@ StudyRun ladderRun(const Scene& base, const ParticleState& initial, const StudyO
         double worst = 0;
         for (double e : errors) worst = std::max(worst, std::fabs(e));
         r.energyErrorMax = worst;
-        r.energyDriftRate = slope(times, errors);
+        r.energyDriftRate = leastSquaresSlope(times, errors);
         r.forcePassesPerTime = double(sim->backend().forceCounters().fullPasses - passes0) / sim->time();
         r.wallSecondsPerTime = wall / sim->time();
         if (tolerance > 0) r.dt = sim->time() / double(std::max<int64_t>(1, sim->stepIndex()));
@@ -220,7 +187,7 @@ double observedOrder(const StudyResult& result, Method method, Precision precisi
         x.push_back(std::log(run.dt));
         y.push_back(std::log(run.stateError));
     }
-    return x.size() >= 2 ? slope(x, y) : std::numeric_limits<double>::quiet_NaN();
+    return x.size() >= 2 ? leastSquaresSlope(x, y) : std::numeric_limits<double>::quiet_NaN();
 }
 
 StudyResult runStudy(const Scene& sceneAsGiven, const ParticleState& initial, const StudyOptions& o,

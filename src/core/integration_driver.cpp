@@ -7,6 +7,10 @@
 
 namespace corebox {
 
+int forcePassesPerStepOf(Method method) {
+    return isComposition(method) ? forcePassesPerStep(compositionFor(method)) : tableauFor(method).solutionStages;
+}
+
 void IntegrationDriver::configure(Backend& backend, const IntegratorDef& integrator) {
     if (!m_configured || integrator.dt != m_integrator.dt || m_dtNext <= 0) m_dtNext = integrator.dt;
     m_integrator = integrator;

@@ -14,6 +14,10 @@
 
 namespace corebox {
 
+// Force evaluations per step of a fixed-step method: its stages, or a composition's kicks (Verlet: 1,
+// its first-same-as-last kick reused).
+int forcePassesPerStepOf(Method method);
+
 class IntegrationDriver {
 public:
     // Applies an integrator setting (at creation and on every live edit); a new dt restarts the

@@ -50,7 +50,12 @@ struct IntegratorDef {
     double dt = 1e-3;                // [tau]; the initial step when adaptive
     Precision precision = Precision::Fp64;
     bool adaptive = false;           // dp5 only: step size from the embedded error estimate
-    double tolerance = 1e-8;         // absolute and relative tolerance of the adaptive controller
+    double tolerance = 1e-8;         // adaptive: absolute and relative tolerance of the controller;
+                                     // automatic: the energy error allowed per unit time [1/tau]
+    // method = "auto": method, precision and dt are chosen at start by a pilot study (auto_integrator.h)
+    // as the cheapest that keeps the conserved sum within `tolerance` per unit time; a simulation
+    // refuses a scene whose choice has not been made.
+    bool automatic = false;
 };
 
 struct ThermostatDef {

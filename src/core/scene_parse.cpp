@@ -273,7 +273,13 @@ private:
     }
 
     void readIntegrator(const toml::table& t, IntegratorDef* in) const {
-        readChoice(field(t, "integrator", "method"), methodTable(), &in->method);
+        const Field method = field(t, "integrator", "method");
+        if (method.node) {
+            std::string text;
+            readString(method, &text);
+            in->automatic = text == "auto";
+            check(method, in->automatic || methodTable().parse(text, &in->method), methodTable().unknown(text) + ", or auto");
+        }
 
         readNumber(field(t, "integrator", "dt"), &in->dt);
         readChoice(field(t, "integrator", "precision"), precisionTable(), &in->precision);

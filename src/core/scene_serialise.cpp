@@ -109,7 +109,7 @@ std::string sceneToToml(const Scene& scene) {
 
     const IntegratorDef& integrator = scene.integrator;
     out << "\n[integrator]\n"
-        << "method = " << quoted(methodName(integrator.method)) << "\n"
+        << "method = " << quoted(integrator.automatic ? "auto" : methodName(integrator.method)) << "\n"
         << "dt = " << number(integrator.dt) << "\n"
         << "precision = " << quoted(precisionName(integrator.precision)) << "\n"
         << "adaptive = " << (integrator.adaptive ? "true" : "false") << "\n"

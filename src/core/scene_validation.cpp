@@ -114,6 +114,8 @@ private:
               std::string("needs method = \"dp5\" (the only method with an error estimate), not \"") + methodName(integrator.method) +
                   "\"");
         checkPositive("integrator.tolerance", integrator.tolerance);
+        check("integrator.adaptive", !(integrator.automatic && integrator.adaptive),
+              "cannot be true with method = \"auto\" (the choice is among fixed-step methods)");
     }
 
     void checkThermostat(const ThermostatDef& thermostat) const {

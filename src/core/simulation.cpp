@@ -89,6 +89,8 @@ SimulationCheckpoint Simulation::checkpoint() const {
 }
 
 void Simulation::applyParameters() {
+    if (m_scene.integrator.automatic)
+        throw InputError("integrator: method = \"auto\" must be resolved (auto_integrator.h) before a simulation runs the scene");
     const StepParameters parameters = stepParametersOf(m_scene);
     m_forceChoice = chooseForceModel(parameters, m_particleCount, m_backend->name(), m_backend->supportsNeighbourLists());
     DeviceModel model = deviceModelOf(parameters);

@@ -52,6 +52,7 @@ struct SpeedDistributionData {
 struct PerformanceData {
     std::string backend, device;
     std::string forces;  // the pair-force model in use and why (force_model.h)
+    std::string integrator;  // method = "auto": what the pilot chose and why (auto_integrator.h); "" otherwise
     double stepsPerSecond = 0, framesPerSecond = 0, pairInteractionsPerSecond = 0;
     bool pairForces = true;  // false for pure hard spheres: no force pass to rate
     double msStep = 0;  // simulation steps per frame (wall clock), split into:

@@ -51,6 +51,7 @@ void drawPerformance(const PerformanceData& p, bool place) {
     ImGui::Begin("Performance", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
     ImGui::Text("%s: %s", p.backend.c_str(), p.device.c_str());
     ImGui::TextWrapped("forces: %s", p.forces.c_str());
+    if (!p.integrator.empty()) ImGui::TextWrapped("%s", p.integrator.c_str());
     ImGui::Text("%.1f steps/s   %.1f frames/s   %d steps/frame", p.stepsPerSecond, p.framesPerSecond, p.stepsPerFrame);
     if (p.pairForces) ImGui::Text("pair interactions/s: %.3g", p.pairInteractionsPerSecond);
     else ImGui::TextDisabled("no pair forces (hard spheres)");

@@ -180,6 +180,11 @@ expect "headless recover" 0 "recovered from a blow-up" -- run "$SRC/assets/argon
     --frames 21 --steps-per-frame 20 --size 64x64 --out "$work/out/frames"
 [ -s "$work/out/frames/frame_000020.png" ] && pass || fail "recovered headless run: no last frame"
 
+# method = "auto": a pilot study picks the integrator and says which and why; the run goes on with it.
+sed -e 's/^method = .*/method = "auto"/' -e 's/^dt = .*/dt = 0.002\ntolerance = 1e-3/' "$SRC/assets/argon_gas.toml" >"$work/auto.toml"
+expect "method auto" 0 "integrator auto \(energy error <= 0.001 per unit time\): [a-z0-9_]+ fp64 dt = [0-9.e-]+, .*the fastest of [0-9]+ pilot runs" -- \
+    run "$work/auto.toml" --steps 20 --every 10 --observables "$work/out/auto.csv"
+
 # An output that fails during the run (a script's screenshot into a missing directory): exit 2,
 # the path named.
 printf '2 screenshot %s\n' "$work/missing_dir/shot.png" >"$work/shot.script"
