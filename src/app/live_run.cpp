@@ -1,8 +1,13 @@
 #include "live_run.h"
 
+#include <cmath>
 #include <cstdio>
 
+#include "errors.h"
 #include "interruption.h"
+#include "study_curves.h"
+#include "study_runs.h"
+#include "vocabulary.h"
 #include "observables.h"
 #include "speed_distributions.h"
 
@@ -18,6 +23,17 @@ LiveRun::LiveRun(const Scene& scene, const BackendChoice& backend, LiveRunOption
         if (m_options.recover) m_observables->hold();
     }
     if (m_options.recover) m_recovery.emplace(RecoveryPolicy{8, m_options.recoveryPointSeconds});
+    if (!m_options.studyPath.empty()) {
+        m_accuracy.studySource = m_options.studyPath;
+        m_accuracy.study = loadStudyCurves(m_options.studyPath);  // --study: a bad file is an input error
+    } else if (const std::string found = findStudyFile(scene, simulation().backend().name()); !found.empty()) {
+        try {
+            m_accuracy.study = loadStudyCurves(found);
+            m_accuracy.studySource = found;
+        } catch (const InputError& e) {
+            std::fprintf(stderr, "[corebox] warning: %s; the speed-vs-accuracy panel shows no study\n", e.what());
+        }
+    }
     m_performance.backend = simulation().backend().name();
     m_performance.device = simulation().backend().deviceName();
     m_performance.integrator = m_options.integratorChoice;
@@ -37,6 +53,31 @@ void LiveRun::observe(int64_t stepsSinceLast) {
     if (m_observables) m_observables->row(m_lastRow);
     m_lastObservedStep = simulation().stepIndex();
     keepRecoveryPoint(false);
+    trackAccuracy();
+}
+
+void LiveRun::trackAccuracy() {
+    Simulation& sim = simulation();
+    const IntegratorDef& in = sim.scene().integrator;
+    char label[120];
+    if (in.adaptive) std::snprintf(label, sizeof label, "%s %s tol %g", methodName(in.method), precisionName(in.precision), in.tolerance);
+    else std::snprintf(label, sizeof label, "%s %s dt %g", methodName(in.method), precisionName(in.precision), in.dt);
+    const int64_t passes = sim.backend().forceCounters().fullPasses;
+    const bool fresh = m_segment.label != label || m_segment.generation != m_session.generation() || passes < m_segment.passes0 ||
+                       sim.time() < m_segment.time0;
+    if (fresh) {
+        if (!m_accuracy.live.empty()) m_accuracy.live.back().running = false;
+        if (m_accuracy.live.size() >= 12) m_accuracy.live.erase(m_accuracy.live.begin());
+        m_accuracy.live.push_back(AccuracyPoint{label, 0, 0, true});
+        m_segment = AccuracySegment{label, m_session.generation(), passes, sim.time(), {}, {}};
+    }
+    m_segment.times.push_back(sim.time());
+    m_segment.energies.push_back(m_lastRow.conserved() / sim.energyScale());
+    const double elapsed = sim.time() - m_segment.time0;
+    if (m_segment.times.size() < 3 || !(elapsed > 0)) return;
+    AccuracyPoint& point = m_accuracy.live.back();
+    point.cost = double(passes - m_segment.passes0) / elapsed;
+    point.driftRate = std::fabs(leastSquaresSlope(m_segment.times, m_segment.energies));
 }
 
 // Right after an observation passed the checks: a point when one is due, or at once when the session

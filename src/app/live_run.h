@@ -6,6 +6,11 @@
 // With recovery on (the window always, headless runs with --recover) a blow-up does not end the run:
 // the session goes back to its last good state with dt halved (blow_up_recovery.h), the plots and the
 // held observables rows after that state are dropped, and `status` says what failed and what changed.
+//
+// The speed-vs-accuracy panel's points: each integrator setting the run goes through (method,
+// precision, dt; a live switch, a reset or a recovery starts a new one) gets the force passes per unit
+// time and the least-squares drift rate of the conserved sum it showed, over the study's lines of
+// this scene (study_curves.h).
 #pragma once
 
 #include <chrono>
@@ -31,6 +36,7 @@ struct LiveRunOptions {
     bool quiet = false;            // script lines only when refused, no force-model lines (--quiet)
     bool recover = false;          // go on after a blow-up (blow_up_recovery.h)
     std::string integratorChoice;  // method = "auto": the pilot's choice, for the panel
+    std::string studyPath;         // the speed-vs-accuracy panel's lines ("": looked for beside the scene)
     double recoveryPointSeconds = 0;  // wall time between recovery points (0: at every observation)
 };
 
@@ -63,6 +69,7 @@ public:
     const SpeedDistributionData& speeds() const { return m_speeds; }
     const PerformanceData& performance() const { return m_performance; }
     const std::vector<RecoveryEvent>& recoveries() const { return m_recoveries; }
+    const SpeedAccuracyData& speedAccuracy() const { return m_accuracy; }
     std::string status;
 
 private:
@@ -71,6 +78,7 @@ private:
     void stepOnce();
     void keepRecoveryPoint(bool force);
     void recoverFrom(const InstabilityError& error);
+    void trackAccuracy();
 
     LiveRunOptions m_options;
     Session m_session;
@@ -83,6 +91,17 @@ private:
     std::optional<BlowUpRecovery> m_recovery;
     uint64_t m_recoveryGeneration = 0;  // the session generation the recovery point belongs to
     std::vector<RecoveryEvent> m_recoveries;
+    // The running setting's point of the speed-vs-accuracy panel: its samples of the conserved sum
+    // (relative to the energy scale) since it started, and the force passes and time at its start.
+    struct AccuracySegment {
+        std::string label;
+        uint64_t generation = 0;
+        int64_t passes0 = 0;
+        double time0 = 0;
+        std::vector<double> times, energies;
+    };
+    SpeedAccuracyData m_accuracy;
+    AccuracySegment m_segment;
     ObservablesRow m_lastRow;
     int64_t m_lastObservedStep = 0;
     double m_conserved0 = 0;

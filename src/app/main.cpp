@@ -154,6 +154,11 @@ int main(int argc, char** argv) {
     runCmd->add_option("--max-drift", run.maxEnergyDrift,
                        "Stop (exit 3) when the conserved energy moves by more than this fraction of the energy scale")
         ->capture_default_str();
+    runCmd->add_option("--study", run.studyPath,
+                       "Window and headless: the study file (corebox study SCENE --out PREFIX writes PREFIX.json) whose lines the "
+                       "speed-vs-accuracy panel draws under the running simulation's points (default: "
+                       "docs/results/study_<scene>_<cpu|h200>.json beside the scene's directory, when there is one)")
+        ->check(CLI::ExistingFile);
     runCmd->add_flag("--recover", run.recover,
                      "Batch and headless runs: after a blow-up go back to the last good state (the last observables row), "
                      "halve dt and go on (the window always does), instead of stopping with exit code 3");

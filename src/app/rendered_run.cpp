@@ -26,6 +26,7 @@ LiveRunOptions liveRunOptions(const RunOptions& options, int64_t observeEvery) {
     live.setupProgress = setupProgressLines(!options.quiet);
     live.recover = options.recover;
     live.integratorChoice = options.integratorChoice;
+    live.studyPath = options.studyPath;
     return live;
 }
 

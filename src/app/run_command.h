@@ -56,6 +56,7 @@ struct RunOptions {
     std::string restartPath;               // --restart: go on from this checkpoint (its scene, step, state)
     bool recover = false;                  // --recover: after a blow-up, back to the last good state with dt halved
     std::string integratorChoice;          // method = "auto": the pilot's choice and why (set by runCommand)
+    std::string studyPath;                 // --study: the speed-vs-accuracy panel's lines
 };
 
 // Where a run that blew up writes its last good state: beside --state-out (NAME.last_good.csv),

@@ -111,6 +111,7 @@ int runWindow(const RunOptions& options, const Scene& scene) {
                 drawSpeedHistogram(live->speeds());
                 drawTimePlots(live->history());
                 drawPerformance(live->performance());
+                drawSpeedAccuracy(live->speedAccuracy());
             }
             drawHelp(&display.showHelp);
             ui.endFrame();

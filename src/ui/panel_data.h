@@ -49,6 +49,30 @@ struct SpeedDistributionData {
     double targetTemperature = 0;  // 0: no thermostat
 };
 
+// The speed-vs-accuracy panel: cost (force passes per unit time) against the energy drift rate
+// (|slope| of the conserved sum over the energy scale, per unit time), log-log. The study's runs of
+// this scene are lines, one per method and precision; the running simulation adds one point per
+// integrator setting it ran with (a live switch starts a new one).
+struct AccuracySeries {
+    std::string label;                         // "rk4 fp64"
+    std::string method;                        // "rk4", "dp5 adaptive": the legend's entry
+    bool faint = false;                        // fp32: drawn fainter than fp64 in the method's colour
+    std::array<float, 3> color{1, 1, 1};
+    std::vector<std::array<double, 2>> points;  // (cost, drift rate), by cost
+};
+
+struct AccuracyPoint {
+    std::string label;  // "verlet fp64 dt 0.002"
+    double cost = 0, driftRate = 0;
+    bool running = false;  // the setting running now (its point moves as the run goes on)
+};
+
+struct SpeedAccuracyData {
+    std::string studySource;  // the study file the lines come from; "" none found
+    std::vector<AccuracySeries> study;
+    std::vector<AccuracyPoint> live;
+};
+
 struct PerformanceData {
     std::string backend, device;
     std::string forces;  // the pair-force model in use and why (force_model.h)

@@ -1,5 +1,5 @@
 // ImGui panels (Dear ImGui 1.86): the control panel, the speed histogram against Maxwell-Boltzmann,
-// time plots and the performance readout. They edit LiveControls and DisplaySettings and read
+// time plots, the performance readout and speed against accuracy. They edit LiveControls and DisplaySettings and read
 // the panel data; they never call GL or a backend.
 #pragma once
 
@@ -17,6 +17,7 @@ void drawControlPanel(LiveControls& controls, DisplaySettings& display, PanelAct
 void drawSpeedHistogram(const SpeedDistributionData& speeds, bool place = true);
 void drawTimePlots(const ObservableHistory& history, bool place = true, float plotHeight = 40);
 void drawPerformance(const PerformanceData& performance, bool place = true);
+void drawSpeedAccuracy(const SpeedAccuracyData& data, bool place = true);
 void drawHelp(bool* open);
 
 // Read-only heads-up display for dumped frames: histogram and plots in one column on the right,

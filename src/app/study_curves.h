@@ -1,0 +1,22 @@
+// The study of a scene (`corebox study SCENE --out PREFIX` writes PREFIX.json) as the lines of the
+// speed-vs-accuracy panel, and where a scene's study is looked for when --study does not name one.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "panel_data.h"
+#include "scene.h"
+
+namespace corebox {
+
+// One line per method and precision (adaptive dp5 apart) of the runs that finished, as (force
+// passes per unit time, |energy drift rate|), by cost. Throws InputError when the file cannot be read
+// or is not a study.
+std::vector<AccuracySeries> loadStudyCurves(const std::string& path);
+
+// docs/results/study_<scene stem>_<cpu|h200>.json beside the scene's assets/ directory, the one of
+// this backend first ("cuda": h200); "" when there is none.
+std::string findStudyFile(const Scene& scene, const std::string& backendName);
+
+}  // namespace corebox
