@@ -45,9 +45,10 @@ std::string csvOf(const StudyResult& r) {
 
 nlohmann::json numberOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
-nlohmann::json jsonOf(const StudyResult& r, const StudyOptions& o, const Scene& scene) {
+nlohmann::json jsonOf(const StudyResult& r, const StudyOptions& o, const Scene& scene, double wallSeconds) {
     nlohmann::json j;
     j["benchmark"] = "study";
+    j["wall_seconds"] = wallSeconds;  // the whole study, reference and stability included
     j["command"] = o.commandLine;
     j["timestamp"] = utcTimestamp();
     j["scene"] = o.scenePath;
@@ -119,7 +120,7 @@ void runStudyCommand(const StudyOptions& o) {
     std::snprintf(line, sizeof line, "# horizon T = %.6g, long run L = %.6g, reference %s, its error %.6g sigma\n", r.horizon, r.longRun,
                   r.reference.c_str(), r.referenceError);
     preamble += line;
-    writeResultFiles(o.outputPrefix, preamble + csv, jsonOf(r, o, scene));
+    writeResultFiles(o.outputPrefix, preamble + csv, jsonOf(r, o, scene, secondsSince(start)));
 }
 
 }  // namespace corebox
