@@ -1,5 +1,6 @@
 #include "integration_driver.h"
 
+#include <algorithm>
 #include <string>
 
 #include "errors.h"
@@ -71,7 +72,10 @@ void IntegrationDriver::adaptiveStep(Backend& backend, StepReport& report) {
         if (error <= 1.0) {
             report.dt = dt;
             report.rejectedSteps = attempt;
-            m_dtNext = dt * factor;
+            // The error estimate sees only the smooth forces: under gravity alone it is zero and the
+            // step would grow until balls pass through each other and the walls. The cap keeps the
+            // collision stage's work bounded.
+            m_dtNext = std::min(dt * factor, kAdaptiveGrowthCap * m_integrator.dt);
             backend.acceptStage();
             return;
         }

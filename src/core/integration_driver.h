@@ -18,6 +18,9 @@ namespace corebox {
 // its first-same-as-last kick reused).
 int forcePassesPerStepOf(Method method);
 
+// An adaptive step never exceeds this many times the scene's dt.
+constexpr double kAdaptiveGrowthCap = 16;
+
 class IntegrationDriver {
 public:
     // Applies an integrator setting (at creation and on every live edit); a new dt restarts the

@@ -236,6 +236,12 @@ SpeedStatistics Simulation::speedStatistics(const SpeedRequest& request) const {
 std::string Simulation::likelyCause() const {
     const Method m = m_scene.integrator.method;
     std::ostringstream out;
+    if (m_scene.integrator.adaptive) {
+        out << "likely cause: adaptive " << methodName(m) << " (tolerance " << m_scene.integrator.tolerance << ") had grown its step to "
+            << m_driver.nextDt() << " (at most " << kAdaptiveGrowthCap << " x dt = " << kAdaptiveGrowthCap * m_scene.integrator.dt
+            << "): its error estimate sees the smooth forces only, not collisions or walls; tighten the tolerance or lower dt";
+        return out.str();
+    }
     out << "likely cause: dt = " << m_scene.integrator.dt << " is too large for " << methodName(m) << " ("
         << precisionName(m_scene.integrator.precision) << ")";
     switch (m) {
