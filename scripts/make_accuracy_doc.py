@@ -204,10 +204,18 @@ def summary(studies):
     claims = []
     for path, data in studies:
         scene = pathlib.Path(data["scene"]).stem
-        orders = sorted(o["order"] for o in data.get("orders", []) if o["precision"] == "fp64" and ok(o["order"])
-                        and NOMINAL.get(o["method"], 0) >= 4)
+        # fp64 where the study ran it, else fp32 (the 10^6 preset's study is fp32 only)
+        prec = "fp64" if any(r["precision"] == "fp64" for r in data["runs"]) else "fp32"
+        if prec == "fp64":
+            orders = sorted(o["order"] for o in data.get("orders", []) if o["precision"] == "fp64" and ok(o["order"])
+                            and NOMINAL.get(o["method"], 0) >= 4)
+        else:
+            orders = sorted(v for v in (fp32_order(data, m) for m in {r["method"] for r in data["runs"]} if NOMINAL.get(m, 0) >= 4)
+                            if ok(v))
         median = orders[len(orders) // 2] if orders else float("nan")
         limits = {(l["method"], l["precision"]): l for l in data.get("stability", [])}
+        if prec == "fp32":
+            limits = {(m, "fp64"): l for (m, p), l in limits.items() if p == "fp32"}
         v = limits.get(("verlet", "fp64"), {}).get("stable_dt")
         ratio = float("nan")
         if ok(v) and v > 0:
@@ -229,15 +237,16 @@ def summary(studies):
             lines.append(f"| {scene} | {data['backend']} | {data['particles']} | {short(loose)} | {short(tight)} | {short(precise)} | "
                          f"no pair forces: constant accelerations, which every method but euler integrates exactly between collisions | - |")
             continue
-        if ok(median) and median < 3:
+        if ok(median) and median < 3 and prec == "fp64":
             f = scene_features(data)
             why = (f"cutoff {f['cutoff']:g}, shift {f['shift']}" if f.get("cutoff", 0) > 0 else "no cutoff: hard-core collisions")
             collapsed_scenes.append(f"{scene} ({data['backend']}) {median:.2f} ({why})")
         if precise is not None and NOMINAL.get(precise["method"], 0) >= 4:
             high_order_wins.append(f"{scene} ({data['backend']}): {precise['method']}")
         fmt = lambda v: f"{v:.2f}" if ok(v) else "-"
+        tag = "" if prec == "fp64" else " (fp32)"
         lines.append(f"| {scene} | {data['backend']} | {data['particles']} | {short(loose)} | {short(tight)} | {short(precise)} | "
-                     f"{fmt(median)} | {fmt(ratio)} |")
+                     f"{fmt(median)}{tag if ok(median) else ''} | {fmt(ratio)}{tag if ok(ratio) else ''} |")
     lines.append("")
     if claims:
         verdict = "holds" if min(claims) >= 1 else ("does not hold in any of them" if max(claims) < 1 else "holds in some only")

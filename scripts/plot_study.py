@@ -57,6 +57,8 @@ def adaptive_points(data, precision, key):
 def plot(data, out):
     fig, axes = plt.subplots(1, 3, figsize=(18, 6.2))
     methods = [m for m in ORDER if any(r["method"] == m for r in data["runs"])]
+    # The legend names each method once, on its fp64 line, or its fp32 line in an fp32-only study.
+    label_precision = "fp64" if any(r["precision"] == "fp64" for r in data["runs"]) else "fp32"
     for ax, key, title in ((axes[0], "state_error", f"state error at T = {data['horizon']:.3g} (RMS, sigma)"),
                            (axes[1], "energy_error_max", f"max |E - E0| / energy scale over L = {data['long_run']:.3g}")):
         for m in methods:
@@ -64,12 +66,12 @@ def plot(data, out):
                 pts = series(data, m, precision, key)
                 if pts:
                     ax.plot(*zip(*pts), style, marker="o", ms=3, color=COLOURS[m],
-                            label=m if precision == "fp64" else None)
+                            label=m if precision == label_precision else None)
         for precision, style in (("fp64", "-"), ("fp32", "--")):
             pts = adaptive_points(data, precision, key)
             if pts:
                 ax.plot(*zip(*pts), style, marker="s", ms=4, color="black",
-                        label="dp5 adaptive" if precision == "fp64" else None)
+                        label="dp5 adaptive" if precision == label_precision else None)
         if key == "state_error" and positive(data.get("reference_error")):
             ax.axhline(data["reference_error"], color="grey", lw=0.8, ls=":")
             ax.text(ax.get_xlim()[0], data["reference_error"], " reference's own error", color="grey", va="bottom", fontsize=8)
@@ -82,17 +84,18 @@ def plot(data, out):
 
     ax = axes[2]
     limits = {(s["method"], s["precision"]): s for s in data.get("stability", [])}
-    verlet = limits.get(("verlet", "fp64"))
+    lp = "fp64" if ("verlet", "fp64") in limits else "fp32"  # an fp32-only study shows its fp32 limits
+    verlet = limits.get(("verlet", lp))
     if verlet and positive(verlet["stable_dt"]):
         omega = 2.0 / verlet["stable_dt"]  # the scene's fastest frequency, as Verlet's limit sees it
-        names = [m for m in methods if (m, "fp64") in limits]
+        names = [m for m in methods if (m, lp) in limits]
         xs = range(len(names))
-        measured = [omega * limits[(m, "fp64")]["stable_dt"] for m in names]
-        ax.bar([x - 0.2 for x in xs], measured, width=0.4, color=[COLOURS[m] for m in names], label="measured (fp64)")
+        measured = [omega * limits[(m, lp)]["stable_dt"] for m in names]
+        ax.bar([x - 0.2 for x in xs], measured, width=0.4, color=[COLOURS[m] for m in names], label=f"measured ({lp})")
         ax.bar([x + 0.2 for x in xs], [LINEAR_BOUND[m] for m in names], width=0.4, color="lightgrey", edgecolor="grey",
                label="linear bound")
         for x, m in zip(xs, names):
-            s = limits[(m, "fp64")]
+            s = limits[(m, lp)]
             ax.text(x - 0.2, omega * s["stable_dt"], s["failure"].replace("_", " "), rotation=90, fontsize=6, ha="center",
                     va="bottom")
         ax.set_xticks(list(xs))
