@@ -155,8 +155,9 @@ int main(int argc, char** argv) {
                        "Stop (exit 3) when the conserved energy moves by more than this fraction of the energy scale")
         ->capture_default_str();
     runCmd->add_option("--study", run.studyPath,
-                       "Window and headless: the study file (corebox study SCENE --out PREFIX writes PREFIX.json) whose lines the "
-                       "speed-vs-accuracy panel draws under the running simulation's points (default: "
+                       "A study file of the scene (corebox study SCENE --out PREFIX writes PREFIX.json): method = \"auto\" takes "
+                       "its cheapest run that meets the tolerance instead of a pilot, and the window's speed-vs-accuracy panel draws "
+                       "its lines under the running simulation's points (default for the panel: "
                        "docs/results/study_<scene>_<cpu|h200>.json beside the scene's directory, when there is one)")
         ->check(CLI::ExistingFile);
     runCmd->add_flag("--recover", run.recover,

@@ -1,6 +1,7 @@
 #include "run_command.h"
 
 #include "auto_integrator.h"
+#include "study_curves.h"
 
 #include <cmath>
 #include <cstdio>
@@ -160,6 +161,19 @@ int runCommand(const RunOptions& requested) {
         checkOutputsApart(options, scene);
     });
     if (checked != kExitOk) return checked;
+    if (scene.integrator.automatic && !options.studyPath.empty()) {
+        // A study of the scene answers without a pilot when one of its runs meets the tolerance.
+        const int fromStudy = runReportingErrors([&] {
+            IntegratorDef chosen;
+            std::string why;
+            if (chooseIntegratorFromStudy(options.studyPath, scene, &chosen, &why)) {
+                scene.integrator = chosen;
+                options.integratorChoice = why;
+            }
+            if (!options.quiet) std::fprintf(stderr, "[corebox] %s%s\n", why.c_str(), scene.integrator.automatic ? "; running a pilot" : "");
+        });
+        if (fromStudy != kExitOk) return fromStudy;
+    }
     if (scene.integrator.automatic) {
         const int resolved = runReportingErrors([&] {
             const BackendChoice choice{options.backend.name, scene.integrator.precision, options.backend.threads, 0};

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "errors.h"
+#include "vocabulary.h"
 
 namespace corebox {
 namespace {
@@ -25,9 +26,7 @@ std::array<float, 3> methodColor(const std::string& method) {
     return it != colors.end() ? it->second : std::array<float, 3>{1, 1, 1};
 }
 
-}  // namespace
-
-std::vector<AccuracySeries> loadStudyCurves(const std::string& path) {
+nlohmann::json readStudy(const std::string& path) {
     std::ifstream in(path);
     if (!in) throw InputError("--study '" + path + "': cannot be read");
     nlohmann::json j;
@@ -38,6 +37,13 @@ std::vector<AccuracySeries> loadStudyCurves(const std::string& path) {
     }
     if (!j.is_object() || !j.contains("runs") || !j["runs"].is_array())
         throw InputError("--study '" + path + "': not a study file (no \"runs\"; write one with corebox study SCENE --out PREFIX)");
+    return j;
+}
+
+}  // namespace
+
+std::vector<AccuracySeries> loadStudyCurves(const std::string& path) {
+    const nlohmann::json j = readStudy(path);
     std::map<std::string, AccuracySeries> series;
     std::vector<std::string> order;
     for (const nlohmann::json& run : j["runs"]) {
@@ -66,6 +72,45 @@ std::vector<AccuracySeries> loadStudyCurves(const std::string& path) {
         out.push_back(std::move(s));
     }
     return out;
+}
+
+bool chooseIntegratorFromStudy(const std::string& path, const Scene& scene, IntegratorDef* chosen, std::string* summary) {
+    const nlohmann::json j = readStudy(path);
+    const double longRun = j.value("long_run", 0.0);
+    const double tolerance = scene.integrator.tolerance;
+    const nlohmann::json* best = nullptr;
+    int candidates = 0;
+    for (const nlohmann::json& run : j["runs"]) {
+        const nlohmann::json& error = run["energy_error_max"];
+        if (run.value("outcome", "") != "ok" || run.value("tolerance", 0.0) > 0 || !error.is_number() || !(longRun > 0)) continue;
+        ++candidates;
+        if (error.get<double>() / longRun > 0.5 * tolerance) continue;
+        if (!best || run.value("force_passes_per_time", 0.0) < (*best).value("force_passes_per_time", 0.0)) best = &run;
+    }
+    char line[500];
+    if (!best) {
+        std::snprintf(line, sizeof line, "no run of the study %s (%d finished fixed-step runs) meets an energy error of %g per unit time",
+                      path.c_str(), candidates, tolerance);
+        *summary = line;
+        return false;
+    }
+    Method method = Method::Verlet;
+    Precision precision = Precision::Fp64;
+    if (!methodTable().parse((*best).value("method", ""), &method) || !precisionTable().parse((*best).value("precision", ""), &precision))
+        throw InputError("--study '" + path + "': a run names an unknown method or precision");
+    *chosen = scene.integrator;
+    chosen->automatic = false;
+    chosen->adaptive = false;
+    chosen->method = method;
+    chosen->precision = precision;
+    chosen->dt = (*best).value("dt", scene.integrator.dt);
+    std::snprintf(line, sizeof line,
+                  "integrator auto (energy error <= %g per unit time): %s %s dt = %g from the study %s: %.2g per unit time over t = %g, "
+                  "%.4g force passes per unit time, the cheapest in force passes of its %d finished runs that meet it",
+                  tolerance, methodName(method), precisionName(precision), chosen->dt, path.c_str(),
+                  (*best)["energy_error_max"].get<double>() / longRun, longRun, (*best).value("force_passes_per_time", 0.0), candidates);
+    *summary = line;
+    return true;
 }
 
 std::string findStudyFile(const Scene& scene, const std::string& backendName) {

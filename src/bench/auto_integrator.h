@@ -18,6 +18,9 @@
 // won by the one with fewer force passes, so timing noise rarely changes the choice. A budget of wall time bounds the pilot; when it runs out, or no
 // candidate meets the tolerance, the most accurate run tried is chosen and the line printed says
 // that the tolerance was not met.
+// With --study FILE the app first looks for the answer in a study of the scene (study_curves.h:
+// chooseIntegratorFromStudy, by force passes since the study may come from another machine) and runs
+// the pilot only when no run of the study meets the tolerance.
 // A scene with no pair force integrates constant accelerations (gravity or none), which Verlet
 // does exactly between collisions: it gets Verlet at its dt without a pilot.
 #pragma once

@@ -184,6 +184,9 @@ expect "headless recover" 0 "recovered from a blow-up" -- run "$SRC/assets/argon
 sed -e 's/^method = .*/method = "auto"/' -e 's/^dt = .*/dt = 0.002\ntolerance = 1e-3/' "$SRC/assets/argon_gas.toml" >"$work/auto.toml"
 expect "method auto" 0 "integrator auto \(energy error <= 0.001 per unit time\): [a-z0-9_]+ fp64 dt = [0-9.e-]+, .*the fastest of [0-9]+ pilot runs" -- \
     run "$work/auto.toml" --steps 20 --every 10 --observables "$work/out/auto.csv"
+# ... or from a study file of the scene, without a pilot: its cheapest run that meets the tolerance.
+expect "method auto from a study" 0 "integrator auto \(energy error <= 0.001 per unit time\): [a-z0-9_]+ fp(32|64) dt = [0-9.e-]+ from the study .*study_argon_gas_cpu.json" -- \
+    run "$work/auto.toml" --study "$SRC/docs/results/study_argon_gas_cpu.json" --steps 20 --every 10 --observables "$work/out/auto2.csv"
 
 # An output that fails during the run (a script's screenshot into a missing directory): exit 2,
 # the path named.
