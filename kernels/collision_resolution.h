@@ -42,6 +42,18 @@ struct ImpactWindow {
     Real restingSpeed;
 };
 
+// How one resolved impact went, for the contact log (backend.h ContactRecord, the library's contacts):
+// the rewind from the end of the step to contact, the unit normal at contact (from j to i for a pair,
+// into the box for a wall), the normal impulse given to i (to the particle, for a wall) including
+// a resting-contact stop after the rebound, and the normal approach speed at contact.
+template <class Real>
+struct ImpactDetail {
+    Real rewind;
+    Vec3<Real> normal;
+    Real impulse;
+    Real speed;
+};
+
 COREBOX_HD inline CollisionEvent noEvent() { return CollisionEvent{-DBL_MAX, kNoPartner}; }
 COREBOX_HD inline bool isValid(const CollisionEvent& e) { return e.partner != kNoPartner; }
 // Deterministic order: earlier event first, then the lower partner code.
@@ -89,7 +101,7 @@ COREBOX_HD inline void considerWalls(Vec3<Real> x, Vec3<Real> v, Real radius, Ve
 template <class Real>
 COREBOX_HD inline int resolvePairEvent(Vec3<Real>& xi, Vec3<Real>& vi, Vec3<Real> ai, Real mi, Vec3<Real>& xj, Vec3<Real>& vj,
                                        Vec3<Real> aj, Real mj, Real d, double key, Real maxRewind, Real e, Real elasticBelow,
-                                       double* loss, double* virial) {
+                                       double* loss, double* virial, ImpactDetail<Real>* detail = nullptr) {
     const Real mu = mi * mj / (mi + mj);
     // Refined along the parabola, still bounded by the step (the key is the straight-line time).
     const Real s = parabolicContactRewindTime(xi - xj, vi - vj, ai - aj, d, Real(key), maxRewind);
@@ -102,6 +114,7 @@ COREBOX_HD inline int resolvePairEvent(Vec3<Real>& xi, Vec3<Real>& vi, Vec3<Real
     const Real dist = realSqrt(norm2(r));
     const Vec3<Real> n = (Real(1) / dist) * r;
     const Real vn = dot(vi - vj, n);
+    if (detail) *detail = ImpactDetail<Real>{s, n, Real(0), vn < Real(0) ? -vn : Real(0)};
     if (vn < Real(0)) {
         const Real eEff = effectiveRestitution(e, vn, elasticBelow);
         const Real impulse = collisionImpulse(mu, vn, eEff);
@@ -109,6 +122,7 @@ COREBOX_HD inline int resolvePairEvent(Vec3<Real>& xi, Vec3<Real>& vi, Vec3<Real
         vj -= (impulse / mj) * n;
         *loss += double(collisionEnergyLoss(mu, vn, eEff));
         *virial += double(dist) * double(impulse);  // J_ij = impulse n, r_ij = dist n
+        if (detail) detail->impulse += impulse;
     }
     xi += s * vi + halfS2 * ai;  // and forward to the end of the step
     xj += s * vj + halfS2 * aj;
@@ -134,6 +148,7 @@ COREBOX_HD inline int resolvePairEvent(Vec3<Real>& xi, Vec3<Real>& vi, Vec3<Real
             vj -= (impulse / mj) * nEnd;
             *loss += double(collisionEnergyLoss(mu, closing, Real(0)));
             *virial += double(dot(xi - xj, nEnd)) * double(impulse);
+            if (detail) detail->impulse += impulse;
         }
     }
     return kPairCollision;
@@ -143,7 +158,8 @@ COREBOX_HD inline int resolvePairEvent(Vec3<Real>& xi, Vec3<Real>& vi, Vec3<Real
 // momentum the wall received (along its outward normal, impulse_sums.h) to *wallImpulse.
 template <class Real>
 COREBOX_HD inline int resolveWallEvent(Real& x, Real& v, Real a, Real mass, Real radius, Real boxLength, int side, double key,
-                                       Real maxRewind, Real e, Real elasticBelow, double* loss, double* wallImpulse) {
+                                       Real maxRewind, Real e, Real elasticBelow, double* loss, double* wallImpulse,
+                                       ImpactDetail<Real>* detail = nullptr) {
     const Real wall = side == 0 ? radius : boxLength - radius;
     // Normal coordinate pointing into the box: p = distance from the wall plane.
     const Real sign = side == 0 ? Real(1) : Real(-1);
@@ -154,9 +170,11 @@ COREBOX_HD inline int resolveWallEvent(Real& x, Real& v, Real a, Real mass, Real
     const Real vContact = vIn - aIn * s;
     const Real eEff = effectiveRestitution(e, vContact, elasticBelow);
     const Real vOut = vContact < Real(0) ? -eEff * vContact : vContact;
+    if (detail) detail->impulse = Real(0);
     if (vContact < Real(0)) {
         *loss += double(collisionEnergyLoss(mass, vContact, eEff));
         *wallImpulse += double(mass) * (double(vOut) - double(vContact));
+        if (detail) detail->impulse = mass * (vOut - vContact);
     }
     Real pEnd = vOut * s + Real(0.5) * aIn * s * s;
     Real vEnd = vOut + aIn * s;
@@ -169,11 +187,18 @@ COREBOX_HD inline int resolveWallEvent(Real& x, Real& v, Real a, Real mass, Real
         if (vEnd < Real(0)) {
             *loss += double(Real(0.5) * mass * vEnd * vEnd);
             *wallImpulse -= double(mass) * double(vEnd);
+            if (detail) detail->impulse -= mass * vEnd;
             vEnd = 0;
         }
     }
     x = wall + sign * pEnd;
     v = sign * vEnd;
+    if (detail) {
+        detail->rewind = s;
+        detail->speed = vContact < Real(0) ? -vContact : Real(0);
+        // The normal along this wall's axis is filled by the caller, which knows the axis.
+        detail->normal = Vec3<Real>{Real(0), Real(0), Real(0)};
+    }
     return kWallCollision;
 }
 

@@ -71,6 +71,19 @@ struct CollisionTally {
     int64_t total() const { return pairCollisions + wallCollisions; }
 };
 
+// One impact resolved by the impact rounds of the last step (collision_resolution.h ImpactDetail), in
+// particle indices. Every pair and wall collision counted by the tally has one record. Contacts held by
+// the contact relaxation (resting, slow) are not impacts and have none.
+struct ContactRecord {
+    int64_t a = 0;             // the particle (of a pair, the lower index)
+    int64_t b = 0;             // the partner's index, or a wall code -1 - (2 axis + side)
+    int32_t round = 0;         // the impact round of the step (events of one round touch distinct particles)
+    double time = 0;           // when within the step, 0 .. dt [tau]
+    Vec3<double> normal{0, 0, 0};  // unit, from b to a; for a wall, into the box
+    double impulse = 0;        // normal impulse given to a (b receives its opposite) [m sigma / tau]
+    double speed = 0;          // normal approach speed at contact [sigma / tau]
+};
+
 // The end-of-step check without a thermostat: the kinetic energy and the health report together (a
 // GPU reads both back at once).
 struct StepCheck {
@@ -101,6 +114,19 @@ struct InstanceTarget {
     InstanceKey key = InstanceKey::Species;
 };
 
+// The state in a GPU's memory, for library users who read it from their own kernels: arrays of n
+// Vec3<Real> (x, y, z contiguous; Real = float for fp32, double for fp64) in particle index order,
+// valid once work queued on `stream` before the call is done. device -1: the backend is not a GPU.
+struct DeviceStateView {
+    int device = -1;                  // CUDA device ordinal
+    Precision precision = Precision::Fp64;
+    const void* position = nullptr;   // [sigma]
+    const void* velocity = nullptr;   // [sigma / tau]
+    const int32_t* species = nullptr;
+    int64_t count = 0;
+    void* stream = nullptr;           // the cudaStream_t the backend's work is ordered on
+};
+
 class Backend {
 public:
     virtual ~Backend() = default;
@@ -111,6 +137,8 @@ public:
     virtual Precision precision() const = 0;
     // The CUDA device whose memory writeInstances can fill directly (interop), or -1: host only.
     virtual int interopDevice() const { return -1; }
+    // The state on the GPU after the last step (with several GPUs: the home GPU's gathered copy).
+    virtual DeviceStateView deviceState() { return DeviceStateView{}; }
 
     // ---- model and state ----
     virtual void setModel(const DeviceModel& model) = 0;         // per-species tables, box, gravity, restitution
@@ -157,6 +185,11 @@ public:
     // resolutions write one particle), then marks the particles that had an event as active.
     virtual void applyEvents() = 0;
     virtual CollisionTally collisionTally() = 0;  // since beginCollisions
+    // The contact log: when on, applyEvents records every impact it resolves and beginCollisions
+    // clears the record; contactLog() returns the step's records ordered by (round, a), the same on
+    // every backend. Off by default (it costs a record per impact).
+    virtual void setContactLog(bool on) = 0;
+    virtual std::vector<ContactRecord> contactLog() const = 0;
 
     // ---- collision stage, 2: contact relaxation (contact_relaxation.h) ----
     // Lists every particle's contacts (pairs and walls within the contact margin) from the current

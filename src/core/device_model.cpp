@@ -20,6 +20,9 @@ DeviceModel deviceModelOf(const StepParameters& parameters) {
         model.box[a] = parameters.box.size[size_t(a)];
         model.gravity[a] = parameters.interaction.gravity[size_t(a)];
     }
+    for (const SpeciesDef& s : parameters.species) {
+        model.acceleration.push_back(model.gravity + Vec3<double>{s.acceleration[0], s.acceleration[1], s.acceleration[2]});
+    }
     model.hasCutoff = parameters.interaction.cutoff > 0;
     model.cutoff = parameters.interaction.cutoff;
     model.skin = parameters.interaction.skin;

@@ -17,7 +17,8 @@ struct DeviceModel {
     std::vector<double> mass;                     // per species [m]
     std::vector<double> radius;                   // hard-core radius per species [sigma]
     Vec3<double> box{1, 1, 1};                    // edge lengths [sigma]; walls at 0 and L
-    Vec3<double> gravity{0, 0, 0};                // uniform acceleration [sigma / tau^2]
+    Vec3<double> gravity{0, 0, 0};                // uniform acceleration [sigma / tau^2]; "up" of the contact phase
+    std::vector<Vec3<double>> acceleration;       // per species: gravity plus the species' own [sigma / tau^2]
     double restitution = 1.0;                     // particle-particle e
     double wallRestitution = 1.0;                 // e_w
     double elasticBelowSpeed = 1e-3;              // contacts slower than this are elastic [sigma / tau]

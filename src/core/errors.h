@@ -2,29 +2,14 @@
 // InputError 2 (bad scene, file or flag), InstabilityError 3 (blow-up detected), DeviceError 4.
 #pragma once
 
-#include <stdexcept>
 #include <string>
+
+#include "corebox/errors.h"  // InputError, InstabilityError, DeviceError: shared with the public API
 
 namespace corebox {
 
-// A problem with something the user gave: a scene, a CSV, a flag, a path. The message already
-// names the file, line and key where one is known ("scene.toml:12: species[1].mass: must be > 0").
-class InputError : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
-
-class InstabilityError : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
-
-class DeviceError : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
-
-// "file:line: key: message", leaving out the parts that are unknown (line <= 0, empty key).
+// An InputError's message names the file, line and key where one is known
+// ("scene.toml:12: species[1].mass: must be > 0"): "file:line: key: message", leaving out the parts that are unknown (line <= 0, empty key).
 std::string locatedMessage(const std::string& file, long line, const std::string& key, const std::string& message);
 
 }  // namespace corebox

@@ -30,6 +30,9 @@ struct SpeciesDef {
     double sigma = 1.0;     // LJ length [sigma]
     double epsilon = 1.0;   // LJ well depth [eps]; 0: no pair force (pure hard spheres)
     std::array<float, 3> color{0.8f, 0.3f, 0.2f};  // linear RGB in [0, 1], for the renderer
+    // This species' own uniform acceleration, added to interaction.gravity [sigma / tau^2] (a balloon
+    // species rising, a heavy one falling faster). The contact phase takes "up" from the global gravity.
+    std::array<double, 3> acceleration{0, 0, 0};
 };
 
 struct InteractionDef {

@@ -27,7 +27,7 @@ namespace fs = std::filesystem;
 
 const char* const kRootKeys[] = {"box", "species", "interaction", "integrator", "thermostat", "init", "devices"};
 const char* const kBoxKeys[] = {"size", "wall_restitution"};
-const char* const kSpeciesKeys[] = {"name", "count", "mass", "radius", "sigma", "epsilon", "color"};
+const char* const kSpeciesKeys[] = {"name", "count", "mass", "radius", "sigma", "epsilon", "color", "acceleration"};
 const char* const kInteractionKeys[] = {"mixing",      "cutoff",  "shift", "restitution", "gravity", "elastic_below_speed",
                                         "max_collision_rounds", "forces", "skin"};
 const char* const kIntegratorKeys[] = {"method", "dt", "precision", "adaptive", "tolerance"};
@@ -219,6 +219,7 @@ private:
         readNumber(field(t, path, "radius"), &s.radius);
         readNumber(field(t, path, "sigma"), &s.sigma);
         readNumber(field(t, path, "epsilon"), &s.epsilon);
+        readVec3(field(t, path, "acceleration"), &s.acceleration);
 
         Field color = field(t, path, "color");
         if (color.node) {

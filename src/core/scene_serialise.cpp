@@ -85,6 +85,7 @@ std::string sceneToToml(const Scene& scene) {
             << "sigma = " << number(s.sigma) << "\n"
             << "epsilon = " << number(s.epsilon) << "\n"
             << "color = \"" << hexColor(s.color) << "\"\n";
+        if (s.acceleration != std::array<double, 3>{0, 0, 0}) out << "acceleration = " << numberList(s.acceleration) << "\n";
     }
 
     const InteractionDef& in = scene.interaction;

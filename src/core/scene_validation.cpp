@@ -60,6 +60,8 @@ private:
             checkPositive(path + ".radius", s.radius);
             checkPositive(path + ".sigma", s.sigma);
             checkNonNegative(path + ".epsilon", s.epsilon);
+            check(path + ".acceleration", std::all_of(s.acceleration.begin(), s.acceleration.end(), [](double g) { return finite(g); }),
+                  "must be 3 finite numbers");
         }
         for (size_t i = 0; i < species.size(); ++i) {
             for (size_t j = 0; j < i; ++j) {
@@ -165,7 +167,12 @@ private:
         inRange("integrator.dt", "dt", scene.integrator.dt);
         const double lengthMax = std::max({scene.box.size[0], scene.box.size[1], scene.box.size[2]});
         const double n = double(std::max<int64_t>(scene.particleCount(), 1));
-        const double g = std::hypot(scene.interaction.gravity[0], scene.interaction.gravity[1], scene.interaction.gravity[2]);
+        // The largest field any species feels: the global gravity plus its own acceleration.
+        double g = 0;
+        for (const SpeciesDef& s : scene.species) {
+            g = std::max(g, std::hypot(scene.interaction.gravity[0] + s.acceleration[0], scene.interaction.gravity[1] + s.acceleration[1],
+                                       scene.interaction.gravity[2] + s.acceleration[2]));
+        }
         if (!(g <= bound)) fail("interaction.gravity", "|g|", g);
         below("init.temperature", "kT", scene.init.temperature);
         below("thermostat.temperature", "kT", scene.thermostat.temperature);

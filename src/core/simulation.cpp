@@ -204,12 +204,19 @@ void Simulation::setStepParameters(const StepParameters& parameters) {
     // conserved sum re-based by it, so the drift check keeps watching the integration alone.
     const InteractionDef& was = m_scene.interaction;
     const InteractionDef& next = parameters.interaction;
+    bool accelerationEdited = false;
+    for (size_t s = 0; s < m_scene.species.size() && s < parameters.species.size(); ++s) {
+        accelerationEdited = accelerationEdited || m_scene.species[s].acceleration != parameters.species[s].acceleration;
+    }
     const bool potentialEdited = was.gravity != next.gravity || was.mixing != next.mixing || was.cutoff != next.cutoff ||
-                                 was.shift != next.shift;
+                                 was.shift != next.shift || accelerationEdited;
     const double before = potentialEdited ? m_backend->energies().potential : 0.0;
     m_scene.integrator = parameters.integrator;
     m_scene.interaction = parameters.interaction;
     m_scene.box.wallRestitution = parameters.box.wallRestitution;
+    for (size_t s = 0; s < m_scene.species.size() && s < parameters.species.size(); ++s) {
+        m_scene.species[s].acceleration = parameters.species[s].acceleration;
+    }
     applyParameters();
     if (!potentialEdited) return;
     const EnergySums after = m_backend->energies();
@@ -217,6 +224,32 @@ void Simulation::setStepParameters(const StepParameters& parameters) {
     m_conserved0 += work;
     m_parameterWork += work;
     m_energyScale = std::max(m_energyScale, std::fabs(after.kinetic) + std::fabs(after.potential));
+}
+
+double Simulation::replaceParticles(std::vector<SpeciesDef> species, const ParticleState& state) {
+    std::vector<int64_t> counts(species.size(), 0);
+    for (int32_t s : state.species) {
+        if (s < 0 || size_t(s) >= counts.size())
+            throw InputError("particle of species " + std::to_string(s) + " but the world has " + std::to_string(counts.size()) +
+                             " species");
+        ++counts[size_t(s)];
+    }
+    const EnergySums before = m_backend->energies();
+    for (size_t s = 0; s < species.size(); ++s) species[s].count = counts[s];
+    m_scene.species = std::move(species);
+    m_countPerSpecies = std::move(counts);
+    m_particleCount = int64_t(state.size());
+    m_backend->setState(state);
+    applyParameters();
+    m_driver.invalidateAccelerations();
+    m_backend->keepSnapshot();
+    const EnergySums after = m_backend->energies();
+    const double work = (after.kinetic + after.potential) - (before.kinetic + before.potential);
+    m_conserved0 += work;
+    m_parameterWork += work;
+    m_energyScale = std::max(m_energyScale, std::fabs(after.kinetic) + std::fabs(after.potential));
+    m_lastKinetic = after.kinetic;
+    return work;
 }
 
 void Simulation::setThermostat(const ThermostatDef& thermostat) { m_scene.thermostat = thermostat; }

@@ -63,6 +63,13 @@ public:
     void limitNextStep(double dt) { m_driver.limitNextDt(dt); }
 
     void setStepParameters(const StepParameters& parameters);
+    // An edit of the particles between steps (added, removed, moved, kicked; species added), as the
+    // library's World makes them: `state` and `species` replace the old ones (species counts follow
+    // the state), the force model is chosen again for the new count, and the energy the edit brought
+    // in (E_kin + E_pot after minus before) is work done on the system like a live edit of the
+    // potential: the conserved sum is re-based by it (parameterWork()). Returns that work [eps].
+    // Throws InputError for a species index outside `species`.
+    double replaceParticles(std::vector<SpeciesDef> species, const ParticleState& state);
     void setThermostat(const ThermostatDef& thermostat);
     // Replaces the backend (e.g. to switch precision), carrying the current state over.
     void replaceBackend(std::unique_ptr<Backend> backend);

@@ -15,19 +15,13 @@
 #include <vector>
 
 #include "butcher_tableau.h"  // Method
+#include "corebox/types.h"    // Precision, BackendKind, Exchange: shared with the public API
 #include "pair_potential.h"   // CutoffShift
 
 namespace corebox {
 
-enum class Precision { Fp32, Fp64 };
 enum class ThermostatKind { Bussi, Rescale, None };
 enum class Placement { Lattice, Random };
-// What --backend asks for; the backend factory (src/app/backend_factory.h) makes it.
-enum class BackendKind { Cpu, Cuda, Auto };
-// How several GPUs share positions before each force pass (DESIGN.md sec. 4): the report's
-// synchronous peer copies (DT-S), asynchronous peer copies (DT-A), direct access (DA), or an NCCL
-// all-gather; Auto: the fastest measured for the device count (cuda_backend.h: fastestExchange).
-enum class Exchange { Auto, Dts, Dta, Da, Nccl };
 // How pair forces are summed (DESIGN.md sec. 2): a scene asks for auto, all_pairs or
 // neighbour_list; the resolved model (force_model.h) is AllPairs, NeighbourList or None (no pair
 // force at all: every epsilon is 0).

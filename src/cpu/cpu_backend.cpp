@@ -47,6 +47,8 @@ public:
             m_radius[k] = Real(model.radius[k]);
         }
         m_gravity = vec3Cast<Real>(model.gravity);
+        m_field.clear();
+        for (const Vec3<double>& g : model.acceleration) m_field.push_back(vec3Cast<Real>(g));
         m_boxLength = vec3Cast<Real>(model.box);
         m_useList = model.anyPairForce && model.forces == ForceModel::NeighbourList && model.cutoff > 0;
         forgetForces();
@@ -233,6 +235,10 @@ public:
         m_refreshable = m_accelerationMatchesX && (!m_useList || m_pairsMatchX);
         if (m_refreshable) m_xBeforeCollisions = m_x;
         m_accelerationMatchesX = false;  // until refreshAccelerations or a full pass
+        m_log.clear();
+        m_logRound = 0;
+        m_stepDt = window.maxRewind / 1.1;  // collision_rounds.cpp: the window is 1.1 dt
+        if (m_logContacts) m_detail.resize(n);
     }
 
     int64_t findEvents(EventScope scope) override {
@@ -328,6 +334,9 @@ public:
         m_candidatesValid = true;
     }
 
+    void setContactLog(bool on) override { m_logContacts = on; }
+    std::vector<ContactRecord> contactLog() const override { return m_log; }
+
     void applyEvents() override {
         const int64_t n = size();
         // End-of-step accelerations of the particles about to be resolved (second-order rewind),
@@ -356,7 +365,9 @@ public:
             // half the margin since they were listed.
             if (m_candidatesValid && m_active[size_t(i)] && norm2(m_x[size_t(i)] - m_xCandidates[size_t(i)]) > m_candidateSlack2)
                 m_candidatesValid = false;
+            if (m_logContacts && m_kind[size_t(i)] != kNoCollision) m_log.push_back(contactRecordOf(i));
         }
+        ++m_logRound;
     }
 
     CollisionTally collisionTally() override {
@@ -500,9 +511,10 @@ public:
     }
 
     double contactLiftWork() override {
-        const Vec3<double> g = vec3Cast<double>(m_gravity);
         return deterministicSum<double>(m_threads, size(), [&](int64_t i) {
-            const double m = double(m_mass[size_t(m_species[size_t(i)])]);
+            const size_t sp = size_t(m_species[size_t(i)]);
+            const double m = double(m_mass[sp]);
+            const Vec3<double> g = vec3Cast<double>(m_field[sp]);
             return -m * dot(g, vec3Cast<double>(m_x[size_t(i)]) - vec3Cast<double>(m_xListed[size_t(i)]));
         });
     }
@@ -572,7 +584,7 @@ public:
             const double m = double(m_mass[sp]);
             const Vec3<double> v = vec3Cast<double>(m_v[size_t(i)]);
             // Each pair was counted from both sides; gravity: U = -m g.x.
-            p.potential = 0.5 * pairEnergy[size_t(i)] + gravityPotentialOf(m, vec3Cast<double>(m_gravity), vec3Cast<double>(m_x[size_t(i)]));
+            p.potential = 0.5 * pairEnergy[size_t(i)] + gravityPotentialOf(m, vec3Cast<double>(m_field[sp]), vec3Cast<double>(m_x[size_t(i)]));
             p.momentum = m * v;
             p.kinetic.assign(s, 0.0);
             p.kinetic[sp] = kineticEnergyOf(m, v);
@@ -645,9 +657,9 @@ private:
 
     // a_i = sum_j F_ij / m_i + g over all pairs, and sum_j U_ij into *pairEnergy when asked.
     Vec3<Real> accelerationOf(int64_t i, const std::vector<Vec3<Real>>& x, double* pairEnergy) const {
-        if (!m_model.anyPairForce) {  // pure hard spheres: only gravity, no pair loop
+        if (!m_model.anyPairForce) {  // pure hard spheres: only the uniform fields, no pair loop
             if (pairEnergy) *pairEnergy = 0;
-            return m_gravity;
+            return m_field[size_t(m_species[size_t(i)])];
         }
         if (m_useList && &x == &m_x && m_listMatchesX) return listAccelerationOf(i, x);
         const int64_t n = int64_t(x.size());
@@ -666,7 +678,7 @@ private:
             energy += double(u);
         }
         if (pairEnergy) *pairEnergy = energy;
-        return m_invMass[size_t(m_species[size_t(i)])] * force + m_gravity;
+        return m_invMass[size_t(m_species[size_t(i)])] * force + m_field[size_t(m_species[size_t(i)])];
     }
 
     void accelerations(const std::vector<Vec3<Real>>& x, Vec3<Real>* out, double* pairEnergy) {
@@ -737,7 +749,7 @@ private:
             if (pairEnergy) energy += m_pairEnergy[k];
         }
         if (pairEnergy) *pairEnergy = energy;
-        return m_invMass[size_t(m_species[size_t(i)])] * force + m_gravity;
+        return m_invMass[size_t(m_species[size_t(i)])] * force + m_field[size_t(m_species[size_t(i)])];
     }
 
     // a_i from the list's pairs of i, evaluated afresh (one particle, no slot written): the collision
@@ -751,7 +763,7 @@ private:
             force += pairForceOverR(row[m_species[size_t(j)]], norm2(r), static_cast<Real*>(nullptr)) * r;
         };
         m_list.forEachPartner(i, [&](int64_t j, int64_t) { add(j); });
-        return m_invMass[size_t(m_species[size_t(i)])] * force + m_gravity;
+        return m_invMass[size_t(m_species[size_t(i)])] * force + m_field[size_t(m_species[size_t(i)])];
     }
 
     // Lists: the slots of the moved particles' pairs again, then the gathers of every particle they
@@ -876,15 +888,31 @@ private:
             const size_t sj = size_t(m_species[size_t(j)]);
             return resolvePairEvent(m_x[size_t(i)], m_v[size_t(i)], m_contactAcceleration[size_t(i)], m_mass[si], m_x[size_t(j)],
                                     m_v[size_t(j)], m_contactAcceleration[size_t(j)], m_mass[sj], m_radius[si] + m_radius[sj], e.key,
-                                    m_window.maxRewind, eParticle, elasticBelow, &m_loss[size_t(i)], &m_impulses[size_t(i)].pairVirial);
+                                    m_window.maxRewind, eParticle, elasticBelow, &m_loss[size_t(i)], &m_impulses[size_t(i)].pairVirial,
+                                    m_logContacts ? &m_detail[size_t(i)] : nullptr);
         }
         const int code = int(-1 - e.partner), axis = code / 2;
         double impulse = 0;
         const int kind = resolveWallEvent(m_x[size_t(i)][axis], m_v[size_t(i)][axis], m_contactAcceleration[size_t(i)][axis], m_mass[si],
                                           m_radius[si], m_boxLength[axis], code % 2, e.key, m_window.maxRewind, eWall, elasticBelow,
-                                          &m_loss[size_t(i)], &impulse);
+                                          &m_loss[size_t(i)], &impulse, m_logContacts ? &m_detail[size_t(i)] : nullptr);
+        if (m_logContacts) m_detail[size_t(i)].normal[axis] = code % 2 == 0 ? Real(1) : Real(-1);  // into the box
         m_impulses[size_t(i)].addWall(code, impulse, atWallCentre(m_x[size_t(i)], m_radius[si], m_boxLength, axis));
         return kind;
+    }
+
+    // The contact log entry of particle i's impact resolved in this round.
+    ContactRecord contactRecordOf(int64_t i) const {
+        const ImpactDetail<Real>& d = m_detail[size_t(i)];
+        ContactRecord r;
+        r.a = i;
+        r.b = m_events[size_t(i)].partner;
+        r.round = m_logRound;
+        r.time = std::clamp(m_stepDt - double(d.rewind), 0.0, m_stepDt);
+        r.normal = vec3Cast<double>(d.normal);
+        r.impulse = double(d.impulse);
+        r.speed = double(d.speed);
+        return r;
     }
 
     int m_threads;
@@ -892,7 +920,8 @@ private:
     ButcherTableau m_tableau{};
     std::vector<PairCoefficients<Real>> m_pairs;
     std::vector<Real> m_mass, m_invMass, m_radius;
-    Vec3<Real> m_gravity{0, 0, 0};
+    Vec3<Real> m_gravity{0, 0, 0};    // the global field: "up" of the contact phase
+    std::vector<Vec3<Real>> m_field;  // per species: gravity plus the species' own acceleration
     Vec3<Real> m_boxLength{0, 0, 0};
 
     std::vector<Vec3<Real>> m_x, m_v;
@@ -902,6 +931,11 @@ private:
     std::vector<Vec3<Real>> m_snapshotX, m_snapshotV;
 
     std::vector<CollisionEvent> m_events;
+    bool m_logContacts = false;
+    std::vector<ContactRecord> m_log;           // this step's impacts, by (round, a)
+    std::vector<ImpactDetail<Real>> m_detail;   // per particle, of this round's impact
+    int32_t m_logRound = 0;                     // applyEvents calls this step
+    double m_stepDt = 0;
     std::vector<char> m_active;
     std::vector<char> m_lookers;  // findEvents: the particles that may have an event this round
     int m_round = 0;              // findEvents calls this step

@@ -1,0 +1,249 @@
+// corebox as a library: a World of hard-core balls in a rigid box, stepped by your program.
+//
+// Design note.
+// - One object, World, made from a plain definition (WorldDef, in the style of Box2D's b2WorldDef:
+//   every field has a default and a unit) or from a scene file. It owns one simulation on the CPU
+//   (every core) or on CUDA GPUs, in fp32 or fp64. The header carries no GL, CUDA, ImGui or CLI11:
+//   the implementation sits behind a pointer (pimpl), so the library can change without breaking you.
+// - Particles have stable ids (ParticleId): an id is never reused in a world, and survives the
+//   removal of others. Internally particles live in slots that removal compacts; the id <-> slot maps
+//   are the World's business.
+// - Edits between steps (add, remove, impulses, teleports, velocities, fields) are collected on a host
+//   copy of the state and reach the simulation, in one upload, at the next step. The energy they bring
+//   in is counted as external work, so the energy balance (energy()) still closes.
+// - step(dt) takes one step; advance(frameTime) is the game loop: an accumulator of frame time spent
+//   in fixed substeps of WorldDef::substep, at most maxSubsteps per call (what is left over beyond that
+//   is dropped and reported, so a slow frame cannot snowball). Same calls, same results, bit for bit,
+//   on the same backend and thread count (stateHash() compares).
+// - Reading state: positions(), velocities(), ids() and speciesOf() are spans into a host mirror of
+//   the state, refreshed on request (the first read after a step downloads once; later reads are
+//   free). CUDA users can instead read the GPU arrays in place (deviceState()) and order their kernels
+//   after the world's stream.
+// - contacts(): the impacts of the last step() or advance(), each a particle pair or a wall hit with
+//   its normal, impulse and time, as games need for sounds and effects. Resting contacts held by the
+//   contact solver (a pile pressing on the floor) are not impacts and are not listed.
+// - Errors are exceptions (errors.h: InputError for bad input or unknown ids, InstabilityError for a
+//   blow-up, DeviceError for GPUs), because each carries a message a user can act on and C++ callers
+//   should not have to check every call. corebox_c.h maps them to error codes plus a message for
+//   other languages' foreign-function interfaces, where exceptions cannot cross.
+//
+// Units are the model's reduced units (DESIGN.md sec. 2): lengths in sigma, masses in m, time in tau,
+// energies in m sigma^2 / tau^2. A game can read them as metres, kilograms and seconds: gravity
+// {0, -9.81, 0} is Earth's, and a ball of radius 0.5 is a metre across.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "corebox/errors.h"
+#include "corebox/export.h"
+#include "corebox/types.h"
+
+namespace corebox {
+
+// A point or vector in the box [sigma], [sigma / tau], [sigma / tau^2] or [m sigma / tau].
+struct Vec3d {
+    double x = 0, y = 0, z = 0;
+};
+
+// A particle's id: stable for its life, never reused in a world.
+using ParticleId = uint64_t;
+constexpr ParticleId kNoParticle = ~ParticleId(0);
+
+// A contiguous read-only view (C++17 has no std::span). Valid until the next call that edits or steps
+// the world.
+template <class T>
+struct Span {
+    const T* data = nullptr;
+    size_t size = 0;
+    const T* begin() const { return data; }
+    const T* end() const { return data + size; }
+    const T& operator[](size_t i) const { return data[i]; }
+    bool empty() const { return size == 0; }
+};
+
+// A kind of particle.
+struct ParticleSpecies {
+    std::string name = "ball";     // unique within the world
+    double mass = 1.0;             // [m], > 0
+    double radius = 0.5;           // hard-core radius [sigma], > 0: two balls collide at R < a_i + a_j
+    // Lennard-Jones pair force (DESIGN.md sec. 2), off by default: game balls are pure hard spheres.
+    double epsilon = 0.0;          // well depth [m sigma^2 / tau^2]; 0: no pair force
+    double sigma = 1.0;            // LJ length [sigma]
+    Vec3d acceleration{0, 0, 0};   // this species' own uniform acceleration, added to gravity [sigma / tau^2]
+    std::array<float, 3> color{0.8f, 0.3f, 0.2f};  // linear RGB in [0, 1], for your renderer
+};
+
+// Everything a world is made from. Creation-time: box, species, backend, precision, threads.
+// Live (setters on World): gravity, species accelerations, restitution.
+struct WorldDef {
+    Vec3d boxSize{30, 60, 30};        // edge lengths [sigma]; walls at 0 and L on each axis
+    double wallRestitution = 0.5;     // e_w in [0, 1]: v_n' = -e_w v_n at a wall
+    double restitution = 0.5;         // ball-ball e in [0, 1] (Newton's law along the line of centres)
+    Vec3d gravity{0, -9.81, 0};       // uniform acceleration of every species [sigma / tau^2]
+    std::vector<ParticleSpecies> species{ParticleSpecies{}};  // at least one
+    double cutoff = 0.0;              // LJ cutoff r_c [sigma] (neighbour lists); 0: all pairs
+    // Integrator: "verlet" (default: symplectic, one force pass a step), or any of `corebox --help`'s
+    // methods ("rk4", "pefrl", ...).
+    std::string method = "verlet";
+    double substep = 1.0 / 240.0;     // the fixed step of advance() [tau]; also step()'s default
+    int maxSubsteps = 8;              // advance() takes at most this many substeps per call
+    BackendKind backend = BackendKind::Cpu;
+    Precision precision = Precision::Fp64;
+    int threads = 0;                  // CPU threads; 0: every hardware thread
+    int gpus = 1;                     // CUDA devices, from `device` on; 0: the measured best for the count
+    int device = 0;                   // first CUDA device ordinal
+    Exchange exchange = Exchange::Auto;  // how several GPUs share positions
+    bool recordContacts = true;       // contacts() lists the impacts; false saves a record per impact
+};
+
+// One particle to add.
+struct ParticleDef {
+    int species = 0;              // index into WorldDef::species
+    Vec3d position{0, 0, 0};      // centre [sigma]; must leave the hard core inside the box
+    Vec3d velocity{0, 0, 0};      // [sigma / tau]
+};
+
+// The outcome of adding or moving a particle. A request whose hard core would overlap another
+// particle or a wall is rejected, never silently shifted: `placed` is false and `reason` says why.
+struct PlacementResult {
+    bool placed = false;
+    ParticleId id = kNoParticle;         // the particle added or moved (kNoParticle when an add failed)
+    ParticleId blockedBy = kNoParticle;  // the particle it would overlap, if that was the reason
+    std::string reason;                  // empty when placed
+    explicit operator bool() const { return placed; }
+};
+
+enum class ContactKind { Pair, Wall };
+
+// One impact of the last step() or advance().
+struct Contact {
+    ContactKind kind = ContactKind::Pair;
+    ParticleId a = kNoParticle;   // the particle
+    ParticleId b = kNoParticle;   // the other particle (kind Pair); kNoParticle for a wall
+    int wallAxis = -1;            // kind Wall: 0 x, 1 y, 2 z
+    int wallSide = -1;            // kind Wall: 0 the wall at 0, 1 the wall at L
+    double time = 0;              // since the start of the step() or advance() call [tau]
+    Vec3d normal{0, 0, 0};        // unit, from b to a (a wall: into the box)
+    double impulse = 0;           // normal impulse on a; b receives its opposite [m sigma / tau]
+    double speed = 0;             // normal approach speed at contact [sigma / tau]
+};
+
+// What one step() or advance() did.
+struct StepInfo {
+    int substeps = 0;                 // steps taken
+    double simulatedTime = 0;         // [tau]
+    double droppedTime = 0;           // advance(): frame time beyond maxSubsteps, discarded [tau]
+    double alpha = 0;                 // advance(): accumulator / substep in [0, 1), to interpolate drawing
+    int64_t pairCollisions = 0;
+    int64_t wallCollisions = 0;
+    double dissipated = 0;            // kinetic energy lost in inelastic impacts and contacts [m sigma^2 / tau^2]
+    int roundCapHits = 0;             // steps whose impact rounds hit their cap (dense piles)
+    double seconds = 0;               // wall time of the call [s]
+};
+
+// The energy balance [m sigma^2 / tau^2]: kinetic + potential + dissipated - external stays constant
+// up to integration error (and rounding) whatever the world went through.
+struct EnergyBalance {
+    double kinetic = 0;
+    double potential = 0;     // pair potential plus -m g.x of every particle
+    double dissipated = 0;    // lost in inelastic impacts and contacts since the world was made
+    double external = 0;      // brought in by edits: particles added and removed, impulses, teleports,
+                              // velocities set, field changes
+    Vec3d momentum{0, 0, 0};  // total [m sigma / tau]
+    double conserved() const { return kinetic + potential + dissipated - external; }
+};
+
+// The state in GPU memory (backend Cuda): arrays of `count` float3 (fp32) or double3 (fp64) in slot
+// order (ids() gives the id of each slot), valid once work on `stream` queued before the call is done.
+struct DeviceState {
+    int device = -1;               // CUDA ordinal; -1 on the CPU backend
+    Precision precision = Precision::Fp64;
+    const void* position = nullptr;  // [sigma]
+    const void* velocity = nullptr;  // [sigma / tau]
+    const int32_t* species = nullptr;
+    int64_t count = 0;
+    void* stream = nullptr;        // the cudaStream_t the world's work is queued on
+};
+
+class COREBOX_API World {
+public:
+    // Throws InputError naming the field when the definition breaks a rule (a mass <= 0, a restitution
+    // outside [0, 1], an unknown method), DeviceError when the backend cannot be had.
+    explicit World(const WorldDef& def);
+    // A world from a scene file (DESIGN.md sec. 3: box, species, interaction, integrator, the initial
+    // particles with ids 0 .. N-1, its thermostat if it has one), on `def`'s backend, threads, device
+    // and recordContacts; the scene's precision, [devices] and dt (as substep) apply.
+    static World fromSceneFile(const std::string& path, const WorldDef& def = WorldDef{});
+    ~World();
+    World(World&&) noexcept;
+    World& operator=(World&&) noexcept;
+    World(const World&) = delete;
+    World& operator=(const World&) = delete;
+
+    // ---- species ----
+    int speciesCount() const;
+    const ParticleSpecies& species(int index) const;
+    int speciesIndex(const std::string& name) const;  // -1 when there is none
+    // Adds a species; returns its index. Applies from the next step.
+    int addSpecies(const ParticleSpecies& species);
+
+    // ---- particles (between steps) ----
+    PlacementResult addParticle(const ParticleDef& particle);
+    // Each checked against the world and the ones before it; the results in the same order.
+    std::vector<PlacementResult> addParticles(const std::vector<ParticleDef>& particles);
+    // Throws InputError for an id not in the world.
+    void removeParticle(ParticleId id);
+    bool contains(ParticleId id) const;
+    size_t particleCount() const;
+
+    // v += J / m at the start of the next step (exactly: momentum changes by J).
+    void applyImpulse(ParticleId id, Vec3d impulse);
+    void setVelocity(ParticleId id, Vec3d velocity);
+    // Teleports a particle; rejected (and reported) when its hard core would overlap another or a wall.
+    PlacementResult setPosition(ParticleId id, Vec3d position);
+    Vec3d position(ParticleId id);
+    Vec3d velocity(ParticleId id);
+    int speciesOf(ParticleId id) const;
+
+    // ---- fields and materials (live) ----
+    void setGravity(Vec3d gravity);
+    Vec3d gravity() const;
+    void setSpeciesAcceleration(int species, Vec3d acceleration);
+    void setRestitution(double ballBall, double wall);
+
+    // ---- stepping ----
+    StepInfo step();          // one step of WorldDef::substep
+    StepInfo step(double dt);  // one step of dt [tau] > 0
+    StepInfo advance(double frameTime);  // the game loop (see the design note)
+    double time() const;        // simulated [tau]
+    int64_t stepCount() const;
+
+    // ---- reading state (spans into the host mirror; see the design note) ----
+    Span<ParticleId> ids();          // the id of each slot
+    Span<Vec3d> positions();         // by slot [sigma]
+    Span<Vec3d> velocities();        // by slot [sigma / tau]
+    Span<int32_t> speciesIndices();  // by slot
+    DeviceState deviceState();       // backend Cuda: the arrays on the GPU; device -1 otherwise
+
+    // ---- contacts and queries ----
+    const std::vector<Contact>& contacts() const;  // impacts of the last step() or advance()
+    // Every particle whose centre lies within `radius` [sigma] of `centre`, by ascending id.
+    std::vector<ParticleId> queryRadius(Vec3d centre, double radius);
+
+    // ---- bookkeeping ----
+    EnergyBalance energy();  // a reduction over the particles (with LJ forces: a force pass)
+    uint64_t stateHash();    // FNV-1a over the exact bits of ids, positions, velocities and species
+    std::string backendName() const;  // "cpu", "cuda" and the device, for logs
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+    explicit World(std::unique_ptr<Impl> impl);
+};
+
+}  // namespace corebox

@@ -1,0 +1,217 @@
+#include "world_impl.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "errors.h"
+#include "world_scene.h"
+
+namespace corebox {
+
+namespace {
+
+std::string idText(ParticleId id) { return "particle " + std::to_string(id); }
+
+}  // namespace
+
+World::Impl::Impl(const WorldDef& definition, Scene worldScene) : def(definition), scene(std::move(worldScene)) {
+    for (const SpeciesDef& s : scene.species) {
+        species.push_back(particleSpeciesOf(s));
+        maxRadius = std::max(maxRadius, s.radius);
+    }
+    choice = backendChoiceOf(def, scene);
+    idleBackend = makeBackend(choice);  // a missing GPU is a DeviceError now, not at the first step
+}
+
+void World::Impl::ensureMirror() {
+    if (mirrorFresh) return;
+    const ParticleState state = sim->state();
+    for (size_t i = 0; i < state.size(); ++i) {
+        positions[i] = Vec3d{state.position[i].x, state.position[i].y, state.position[i].z};
+        velocities[i] = Vec3d{state.velocity[i].x, state.velocity[i].y, state.velocity[i].z};
+    }
+    mirrorFresh = true;
+    gridFresh = false;
+}
+
+void World::Impl::ensureGrid() {
+    ensureMirror();
+    if (gridFresh) return;
+    // Two of the largest radii: an overlap check then reaches one cell around the point.
+    grid.reset(std::max(2.0 * maxRadius, 1e-9));
+    for (uint32_t slot = 0; slot < uint32_t(positions.size()); ++slot) grid.insert(slot, positions[slot]);
+    gridFresh = true;
+}
+
+uint32_t World::Impl::slotOf(ParticleId id) const {
+    const auto it = slots.find(id);
+    if (it == slots.end()) throw InputError(idText(id) + " is not in the world (never added, or removed)");
+    return it->second;
+}
+
+PlacementResult World::Impl::checkPlacement(int s, const Vec3d& x, uint32_t self) const {
+    PlacementResult p;
+    if (s < 0 || size_t(s) >= species.size()) {
+        p.reason = "species " + std::to_string(s) + " does not exist (the world has " + std::to_string(species.size()) + ")";
+        return p;
+    }
+    const double r = species[size_t(s)].radius;
+    const double at[3] = {x.x, x.y, x.z};
+    const std::array<double, 3>& box = scene.box.size;
+    static const char* const axisName[3] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a) {
+        if (!std::isfinite(at[a])) {
+            p.reason = std::string("position ") + axisName[a] + " is not finite";
+            return p;
+        }
+        if (at[a] < r || at[a] > box[size_t(a)] - r) {
+            p.reason = std::string("the hard core (radius ") + std::to_string(r) + ") would cross a wall: " + axisName[a] + " = " +
+                       std::to_string(at[a]) + " is outside [" + std::to_string(r) + ", " + std::to_string(box[size_t(a)] - r) + "]";
+            return p;
+        }
+    }
+    ParticleId blocker = kNoParticle;
+    grid.forNear(x, r + maxRadius, [&](uint32_t slot) {
+        if (slot == self) return;
+        const Vec3d& y = positions[slot];
+        const double dx = x.x - y.x, dy = x.y - y.y, dz = x.z - y.z;
+        const double d = r + species[size_t(speciesIndex[slot])].radius;
+        if (dx * dx + dy * dy + dz * dz < d * d) blocker = std::min(blocker, ids[slot]);
+    });
+    if (blocker != kNoParticle) {
+        p.blockedBy = blocker;
+        p.reason = "the hard core would overlap " + idText(blocker);
+        return p;
+    }
+    p.placed = true;
+    return p;
+}
+
+void World::Impl::appendSlot(ParticleId id, const ParticleDef& p) {
+    const uint32_t slot = uint32_t(ids.size());
+    ids.push_back(id);
+    positions.push_back(p.position);
+    velocities.push_back(p.velocity);
+    speciesIndex.push_back(p.species);
+    slots[id] = slot;
+    if (gridFresh) grid.insert(slot, p.position);
+    edited = true;
+}
+
+void World::Impl::removeSlot(uint32_t slot) {
+    const uint32_t last = uint32_t(ids.size() - 1);
+    slots.erase(ids[slot]);
+    if (slot != last) {  // the last slot fills the hole: O(1), and the order depends only on the calls
+        ids[slot] = ids[last];
+        positions[slot] = positions[last];
+        velocities[slot] = velocities[last];
+        speciesIndex[slot] = speciesIndex[last];
+        slots[ids[slot]] = slot;
+    }
+    ids.pop_back();
+    positions.pop_back();
+    velocities.pop_back();
+    speciesIndex.pop_back();
+    gridFresh = false;
+    edited = true;
+}
+
+void World::Impl::flushEdits() {
+    if (!edited) return;
+    edited = false;
+    if (ids.empty()) {
+        dropSimulation();
+        return;
+    }
+    ParticleState state;
+    state.resize(ids.size());
+    for (size_t i = 0; i < ids.size(); ++i) {
+        state.position[i] = Vec3<double>{positions[i].x, positions[i].y, positions[i].z};
+        state.velocity[i] = Vec3<double>{velocities[i].x, velocities[i].y, velocities[i].z};
+        state.species[i] = speciesIndex[i];
+    }
+    if (sim) {
+        sim->replaceParticles(scene.species, state);
+        return;
+    }
+    Scene first = scene;
+    for (SpeciesDef& s : first.species) s.count = 0;
+    for (int32_t s : state.species) ++first.species[size_t(s)].count;
+    // gpus = 0 picks the device count for the particle count, which is known only now.
+    std::unique_ptr<Backend> backend;
+    if (idleBackend && def.gpus != 0) backend = std::move(idleBackend);
+    else {
+        idleBackend.reset();
+        backend = makeBackend(backendChoiceOf(def, first));
+    }
+    sim = std::make_unique<Simulation>(first, std::move(backend), state);
+    sim->backend().setContactLog(def.recordContacts);
+    const EnergySums e = sim->backend().energies();
+    simulationBase = e.kinetic + e.potential;
+}
+
+void World::Impl::dropSimulation() {
+    if (!sim) return;
+    // Emptying the world takes out the energy the particles had: work of -(E_kin + E_pot).
+    const EnergySums e = sim->backend().energies();
+    pastExternal = externalWork() - (e.kinetic + e.potential);
+    pastDissipated += sim->dissipatedEnergy();
+    sim.reset();
+}
+
+void World::Impl::applyLiveParameters() {
+    if (sim) sim->setStepParameters(stepParametersOf(scene));
+}
+
+double World::Impl::externalWork() const {
+    return pastExternal + (sim ? simulationBase + sim->parameterWork() + sim->thermostatEnergy() : 0.0);
+}
+
+double World::Impl::dissipated() const { return pastDissipated + (sim ? sim->dissipatedEnergy() : 0.0); }
+
+StepInfo World::Impl::stepOnce(double dt, double timeOffset, StepInfo info) {
+    if (!(dt > 0) || !std::isfinite(dt)) throw InputError("step: dt must be positive and finite, not " + std::to_string(dt));
+    flushEdits();
+    if (dt != scene.integrator.dt) {
+        scene.integrator.dt = dt;
+        applyLiveParameters();
+    }
+    if (sim) {
+        const StepReport r = sim->step();
+        info.pairCollisions += r.pairCollisions;
+        info.wallCollisions += r.wallCollisions;
+        info.dissipated += r.dissipated;
+        if (r.roundCapHit) ++info.roundCapHits;
+        if (def.recordContacts) {
+            for (const ContactRecord& c : sim->backend().contactLog()) {
+                Contact out;
+                out.a = ids[size_t(c.a)];
+                if (c.b >= 0) {
+                    out.kind = ContactKind::Pair;
+                    out.b = ids[size_t(c.b)];
+                } else {
+                    const int code = int(-1 - c.b);
+                    out.kind = ContactKind::Wall;
+                    out.wallAxis = code / 2;
+                    out.wallSide = code % 2;
+                }
+                out.time = timeOffset + c.time;
+                out.normal = Vec3d{c.normal.x, c.normal.y, c.normal.z};
+                out.impulse = c.impulse;
+                out.speed = c.speed;
+                contacts.push_back(out);
+            }
+        }
+        mirrorFresh = false;
+        gridFresh = false;
+    }
+    time += dt;
+    ++steps;
+    ++info.substeps;
+    info.simulatedTime += dt;
+    return info;
+}
+
+}  // namespace corebox

@@ -1,0 +1,82 @@
+// The state behind corebox::World (world.h): the scene it runs, the simulation, and the host mirror
+// that edits and reads go through.
+//
+// Design note.
+// - The mirror (slot order: ids, positions, velocities, species) is the one copy a user edits. It is
+//   downloaded from the backend at the first read or edit after a step (`mirrorFresh`), and uploaded
+//   in one piece at the next step when it was edited (`edited`): any number of edits between two steps
+//   costs one upload. Slots are compacted by swap-remove, so slot order depends only on the calls made
+//   (determinism) and ids map to slots through a hash map.
+// - The Simulation exists only while there are particles: the CUDA backend has no use for an empty
+//   state. It is made at the first step with particles and dropped when the last one is removed; the
+//   energy bookkeeping of dropped simulations carries over (`m_pastDissipated`, `m_pastExternal`).
+// - External work is the sum of what edits brought in: the first state's E_kin + E_pot, each
+//   replacement's difference (Simulation::replaceParticles), live edits of fields (parameterWork) and
+//   what a thermostat of a scene file gave. conserved() = K + U + D - external then stays at 0 up to
+//   integration error.
+// - The overlap checks of adds and teleports and the radius query use a hash grid over the mirror
+//   (slot_grid.h), rebuilt lazily after steps and removals.
+#pragma once
+
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "backend_factory.h"
+#include "corebox/world.h"
+#include "scene.h"
+#include "simulation.h"
+#include "slot_grid.h"
+
+namespace corebox {
+
+struct World::Impl {
+    Impl(const WorldDef& def, Scene scene);
+
+    // ---- mirror ----
+    void ensureMirror();     // download the state when a step made the mirror stale
+    void ensureGrid();       // the overlap grid over the current mirror
+    uint32_t slotOf(ParticleId id) const;  // throws InputError for an unknown id
+    // Why a core of species `species` centred at x does not fit: a wall or the particle it overlaps
+    // (skipping slot `self`); an empty reason when it fits.
+    PlacementResult checkPlacement(int species, const Vec3d& x, uint32_t self) const;
+    void appendSlot(ParticleId id, const ParticleDef& p);
+    void removeSlot(uint32_t slot);
+
+    // ---- simulation ----
+    void flushEdits();  // uploads the edited mirror (and species) to the simulation
+    void dropSimulation();
+    // Applies the live parameters of m_scene (fields, restitution, dt) to the running simulation.
+    void applyLiveParameters();
+    StepInfo stepOnce(double dt, double timeOffset, StepInfo info);
+    double externalWork() const;
+    double dissipated() const;
+
+    WorldDef def;        // the definition (backend, precision, threads, substep, maxSubsteps)
+    Scene scene;         // species, box, interaction and integrator as the world runs them
+    std::vector<ParticleSpecies> species;  // the public view of scene.species
+    BackendChoice choice;
+    std::unique_ptr<Backend> idleBackend;  // made up front (device errors at construction), used by the first simulation
+    std::unique_ptr<Simulation> sim;
+
+    std::vector<ParticleId> ids;
+    std::vector<Vec3d> positions, velocities;
+    std::vector<int32_t> speciesIndex;
+    std::unordered_map<ParticleId, uint32_t> slots;
+    ParticleId nextId = 0;
+    bool mirrorFresh = true;
+    bool edited = false;
+    SlotGrid grid;
+    bool gridFresh = false;
+    double maxRadius = 0;
+
+    std::vector<Contact> contacts;
+    double time = 0;
+    int64_t steps = 0;
+    double accumulator = 0;
+    double pastDissipated = 0;  // from simulations dropped when the world emptied
+    double pastExternal = 0;
+    double simulationBase = 0;  // E_kin + E_pot of the current simulation's first state
+};
+
+}  // namespace corebox
