@@ -43,6 +43,7 @@ void expectSameScene(const Scene& a, const Scene& b) {
         EXPECT_EQ(s.sigma, t.sigma);
         EXPECT_EQ(s.epsilon, t.epsilon);
         EXPECT_EQ(s.color, t.color);
+        EXPECT_EQ(s.acceleration, t.acceleration);
     }
     EXPECT_EQ(a.interaction.mixing, b.interaction.mixing);
     EXPECT_EQ(a.interaction.cutoff, b.interaction.cutoff);
@@ -209,6 +210,7 @@ TEST(SceneIoRoundTrip, EveryNonDefaultFieldSurvives) {
     b.name = "B";
     b.count = 0;
     b.mass = 1.0 / 3.0;  // needs all 17 digits
+    b.acceleration = {0.25, 9.81, -1.0 / 3.0};  // a species' own field, added to gravity
     scene.species = {a, b};
     scene.interaction.mixing = {{1.0, 0.1}, {0.1, 2.0}};
     scene.interaction.cutoff = 3.0;
