@@ -45,6 +45,8 @@ __global__ void resolveKernel(CollisionArgs<Real> a) {
     double loss = 0, impulse = 0;
     int impulseRow = kPairVirialRow;  // or the wall's
     bool atCentre = false;
+    ImpactDetail<Real> detail{};
+    ImpactDetail<Real>* logged = a.log ? &detail : nullptr;  // the log off costs nothing
     if (e.partner >= 0) {
         const int64_t j = e.partner;
         if (j > i && a.events[j].partner == i) {
@@ -52,7 +54,7 @@ __global__ void resolveKernel(CollisionArgs<Real> a) {
             Vec3<Real> xi = a.p.x[i], vi = a.p.v[i], xj = a.p.x[j], vj = a.p.v[j];
             kind = resolvePairEvent(xi, vi, a.contactAcceleration[i], a.table.mass[si], xj, vj, a.contactAcceleration[j],
                                     a.table.mass[sj], a.table.radius[si] + a.table.radius[sj], e.key, a.window.maxRewind,
-                                    a.restitution, a.elasticBelow, &loss, &impulse);
+                                    a.restitution, a.elasticBelow, &loss, &impulse, logged);
             a.p.x[i] = xi;
             a.p.v[i] = vi;
             a.p.x[j] = xj;
@@ -62,7 +64,9 @@ __global__ void resolveKernel(CollisionArgs<Real> a) {
         const int code = int(-1 - e.partner), axis = code / 2;
         Vec3<Real> x = a.p.x[i], v = a.p.v[i];
         kind = resolveWallEvent(x[axis], v[axis], a.contactAcceleration[i][axis], a.table.mass[si], a.table.radius[si],
-                                a.box[axis], code % 2, e.key, a.window.maxRewind, a.wallRestitution, a.elasticBelow, &loss, &impulse);
+                                a.box[axis], code % 2, e.key, a.window.maxRewind, a.wallRestitution, a.elasticBelow, &loss, &impulse,
+                                logged);
+        if (logged) logged->normal[axis] = code % 2 == 0 ? Real(1) : Real(-1);  // into the box
         impulseRow = code;
         atCentre = atWallCentre(x, a.table.radius[si], a.box, axis);
         a.p.x[i] = x;
@@ -73,6 +77,7 @@ __global__ void resolveKernel(CollisionArgs<Real> a) {
         a.impulses[size_t(impulseRow) * size_t(a.p.n) + size_t(i)] += impulse;  // only thread i writes row i
         if (atCentre) a.impulses[size_t(kWallCount + impulseRow) * size_t(a.p.n) + size_t(i)] += impulse;
         atomicAdd(&a.kindCounts[kind - 1], 1ull);
+        if (logged) a.log[atomicAdd(&a.counters[2], 1u)] = ImpactRecord<Real>{i, e.partner, a.logRound, detail};
     }
 }
 

@@ -86,12 +86,12 @@ __global__ void applySweepKernel(ContactArgs<Real> a) {
 }
 
 template <class Real>
-__global__ void liftWorkKernel(ParticleArrays<Real> p, SpeciesTable<Real> table, Vec3<Real> gravity, const Vec3<Real>* xListed,
-                               double* row) {
+__global__ void liftWorkKernel(ParticleArrays<Real> p, SpeciesTable<Real> table, const Vec3<Real>* xListed, double* row) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= p.n) return;
-    const double m = double(table.mass[p.species[i]]);
-    row[i] = -m * dot(vec3Cast<double>(gravity), vec3Cast<double>(p.x[i]) - vec3Cast<double>(xListed[i]));
+    const int s = p.species[i];
+    const double m = double(table.mass[s]);
+    row[i] = -m * dot(vec3Cast<double>(table.field[s]), vec3Cast<double>(p.x[i]) - vec3Cast<double>(xListed[i]));
 }
 
 }  // namespace
@@ -135,10 +135,10 @@ void launchRelaxContacts(const ContactArgs<Real>& a, int sweeps, cudaStream_t st
 }
 
 template <class Real>
-void launchLiftWorkRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, Vec3<Real> gravity, const Vec3<Real>* xListed,
-                       double* row, cudaStream_t stream) {
+void launchLiftWorkRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, const Vec3<Real>* xListed, double* row,
+                       cudaStream_t stream) {
     if (p.n == 0) return;
-    liftWorkKernel<Real><<<blocksFor(p.n), kBlock, 0, stream>>>(p, table, gravity, xListed, row);
+    liftWorkKernel<Real><<<blocksFor(p.n), kBlock, 0, stream>>>(p, table, xListed, row);
     checkLaunch("lift work kernel");
 }
 
@@ -146,8 +146,7 @@ void launchLiftWorkRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, 
     template void launchCountContacts<Real>(const ContactArgs<Real>&, cudaStream_t);                               \
     template void launchFillContacts<Real>(const ContactArgs<Real>&, cudaStream_t);                                \
     template void launchRelaxContacts<Real>(const ContactArgs<Real>&, int, cudaStream_t);                          \
-    template void launchLiftWorkRow<Real>(const ParticleArrays<Real>&, SpeciesTable<Real>, Vec3<Real>, const Vec3<Real>*, double*, \
-                                          cudaStream_t);
+    template void launchLiftWorkRow<Real>(const ParticleArrays<Real>&, SpeciesTable<Real>, const Vec3<Real>*, double*, cudaStream_t);
 COREBOX_INSTANTIATE(float)
 COREBOX_INSTANTIATE(double)
 #undef COREBOX_INSTANTIATE

@@ -120,7 +120,7 @@ __global__ void __launch_bounds__(kBlock) forceKernel(ForceArgs<Real> a, int64_t
             if (kEnergy) partialEnergy[slot] = energy[r];
         } else {
             const int64_t out = a.rowIndex ? int64_t(a.rowIndex[i]) : i - a.begin;
-            a.acceleration[out] = a.table.invMass[si[r]] * force[r] + a.gravity;
+            a.acceleration[out] = a.table.invMass[si[r]] * force[r] + a.table.field[si[r]];
             if (kEnergy) a.pairEnergy[out] = energy[r];
         }
     }
@@ -140,16 +140,19 @@ __global__ void combineChunksKernel(ForceArgs<Real> a, int chunks, const Vec3<Re
     }
     const int64_t i = a.rowIndex ? int64_t(a.rowIndex[a.begin + row]) : a.begin + row;
     const int64_t out = a.rowIndex ? i : row;
-    a.acceleration[out] = a.table.invMass[a.species[i]] * force + a.gravity;
+    const int si = a.species[i];
+    a.acceleration[out] = a.table.invMass[si] * force + a.table.field[si];
     if (partialEnergy) a.pairEnergy[out] = energy;
 }
 
+// Pure hard spheres: each row's acceleration is its species' uniform field, no pair loop.
 template <class Real>
-__global__ void gravityOnlyKernel(ForceArgs<Real> a) {
+__global__ void fieldOnlyKernel(ForceArgs<Real> a) {
     const int64_t i = a.begin + int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.end) return;
-    const int64_t out = a.rowIndex ? int64_t(a.rowIndex[i]) : i - a.begin;
-    a.acceleration[out] = a.gravity;
+    const int64_t p = a.rowIndex ? int64_t(a.rowIndex[i]) : i;
+    const int64_t out = a.rowIndex ? p : i - a.begin;
+    a.acceleration[out] = a.table.field[a.species[p]];
     if (a.pairEnergy) a.pairEnergy[out] = 0;
 }
 
@@ -209,8 +212,8 @@ void launchForces(const ForceArgs<Real>& a, cudaStream_t stream) {
     const int64_t rows = a.end - a.begin;
     if (rows <= 0) return;
     if (!a.anyPairForce) {
-        gravityOnlyKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(a);
-        checkLaunch("gravity kernel");
+        fieldOnlyKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(a);
+        checkLaunch("field kernel");
         return;
     }
     if (a.neighbours && a.peers.count == 0) {

@@ -32,6 +32,7 @@ struct SpeciesTable {
     const Real* mass;
     const Real* invMass;
     const Real* radius;
+    const Vec3<Real>* field;  // per species: the acceleration of the uniform fields (gravity plus the species' own)
     int count;  // S
 };
 
@@ -55,7 +56,6 @@ struct ForceArgs {
     int64_t n;
     int64_t begin, end;  // rows computed: [begin, end) (the device's slice of the partition)
     SpeciesTable<Real> table;
-    Vec3<Real> gravity;
     bool anyPairForce;
     bool hasCutoff;
     Vec3<Real>* acceleration;  // out: row i at acceleration[i - begin]
@@ -190,6 +190,16 @@ template <class Real>
 void launchBuildCellList(const CellListArgs<Real>& args, cudaStream_t stream);
 
 // ---- collisions (collision_kernels.cu) ----
+// One impact of the contact log (backend.h ContactRecord, before the host converts it): the particle
+// that resolved it, the round, its event's partner code and how it went.
+template <class Real>
+struct ImpactRecord {
+    int64_t particle;
+    int64_t partner;  // particle index, or wall code -1 - (2 axis + side)
+    int32_t round;
+    ImpactDetail<Real> detail;
+};
+
 template <class Real>
 struct CollisionArgs {
     ParticleArrays<Real> p;
@@ -201,12 +211,16 @@ struct CollisionArgs {
     Vec3<Real>* contactAcceleration;
     char* hasContactAcceleration;
     int32_t* needList;         // particles needing an acceleration this round
-    unsigned int* counters;    // [0] particles listed in needList, [1] particles with an event
+    unsigned int* counters;    // [0] particles listed in needList, [1] particles with an event, [2] log records
     unsigned long long* kindCounts;  // pair, wall
     double* loss;              // per particle
     double* impulses;          // kImpulseRows x n (impulse_sums.h), per particle: walls, wall centres, pair virial
     Real restitution, wallRestitution, elasticBelow;
     ImpactWindow<Real> window;  // which overlaps are impacts of this step
+    // The contact log, when set: each resolved impact appended at log[counters[2]++] (in no particular
+    // order: the host sorts), room for every particle with an event this round left by the caller.
+    ImpactRecord<Real>* log;
+    int32_t logRound;  // the applyEvents call of this step
 };
 // Each particle's earliest event (all neighbours when active, else only active ones); counts the
 // particles with an event into counters[1], and lists those that still need a contact acceleration
@@ -214,7 +228,8 @@ struct CollisionArgs {
 // over the listed rows, ForceArgs::rowIndex).
 template <class Real>
 void launchFindEvents(const CollisionArgs<Real>& args, cudaStream_t stream);
-// Resolves the matching of mutual-earliest events and adds to the kind counts and losses.
+// Resolves the matching of mutual-earliest events and adds to the kind counts and losses (a pair by
+// its lower index, as the CPU), and to the contact log when it is set.
 template <class Real>
 void launchResolve(const CollisionArgs<Real>& args, cudaStream_t stream);
 // active[i] = particle i had an event this round.
@@ -251,10 +266,11 @@ void launchFillContacts(const ContactArgs<Real>& args, cudaStream_t stream);
 // residual holds the maxima of the last sweep.
 template <class Real>
 void launchRelaxContacts(const ContactArgs<Real>& args, int sweeps, cudaStream_t stream);
-// row[i] = -m_i g . (x_i - xListed_i): the work against gravity of particle i's contact moves.
+// row[i] = -m_i g_i . (x_i - xListed_i): the work against the uniform field of particle i's species
+// (SpeciesTable::field) of its contact moves.
 template <class Real>
-void launchLiftWorkRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, Vec3<Real> gravity, const Vec3<Real>* xListed,
-                       double* row, cudaStream_t stream);
+void launchLiftWorkRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, const Vec3<Real>* xListed, double* row,
+                       cudaStream_t stream);
 
 // ---- pressure (pressure_kernels.cu) ----
 // row[i] = sum_{j != i} r_ij . F_ij / 2 over all pairs: summed over i, the pair-force virial.
@@ -271,7 +287,6 @@ template <class Real>
 struct EnergyArgs {
     ParticleArrays<Real> p;
     SpeciesTable<Real> table;
-    Vec3<Real> gravity;
     const double* pairEnergy;  // per particle (may be null)
     double* rows;              // out: (S + 4) x n: kinetic per species, potential, px, py, pz
 };

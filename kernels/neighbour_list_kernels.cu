@@ -105,7 +105,7 @@ __global__ void listForceKernel(ForceArgs<Real> a) {
         force += f * d;
         if (kEnergy) energy += double(u);
     }
-    a.acceleration[out] = a.table.invMass[si] * force + a.gravity;
+    a.acceleration[out] = a.table.invMass[si] * force + a.table.field[si];
     if (kEnergy) a.pairEnergy[out] = energy;
 }
 

@@ -42,7 +42,7 @@ __global__ void energyRowsKernel(EnergyArgs<Real> a) {
     const int species = a.table.count;
     for (int k = 0; k < species; ++k) a.rows[size_t(k) * size_t(n) + size_t(i)] = k == s ? kineticEnergyOf(m, v) : 0.0;
     const double pair = a.pairEnergy ? 0.5 * a.pairEnergy[i] : 0.0;  // each pair counted from both sides
-    a.rows[size_t(species) * size_t(n) + size_t(i)] = pair + gravityPotentialOf(m, vec3Cast<double>(a.gravity), x);
+    a.rows[size_t(species) * size_t(n) + size_t(i)] = pair + gravityPotentialOf(m, vec3Cast<double>(a.table.field[s]), x);
     a.rows[size_t(species + 1) * size_t(n) + size_t(i)] = m * v.x;
     a.rows[size_t(species + 2) * size_t(n) + size_t(i)] = m * v.y;
     a.rows[size_t(species + 3) * size_t(n) + size_t(i)] = m * v.z;

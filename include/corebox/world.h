@@ -159,7 +159,8 @@ struct EnergyBalance {
 };
 
 // The state in GPU memory (backend Cuda): arrays of `count` float3 (fp32) or double3 (fp64) in slot
-// order (ids() gives the id of each slot), valid once work on `stream` queued before the call is done.
+// order (ids() gives the id of each slot), valid once work on `stream` queued before the call is done,
+// and until the next call that steps or edits the world (a step may swap or reallocate the arrays).
 struct DeviceState {
     int device = -1;               // CUDA ordinal; -1 on the CPU backend
     Precision precision = Precision::Fp64;

@@ -68,7 +68,9 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
     m_exchange = std::make_unique<PeerExchange>(m_partition, exchange);
     cudaCheck(cudaSetDevice(home().device), "cudaSetDevice");
     for (cudaEvent_t& e : m_phase) cudaCheck(cudaEventCreate(&e), "cudaEventCreate");
-    m_counters.resize(2);
+    m_counters.resize(3);
+    // findEvents reads all three back, the log's count even when no step has logged.
+    cudaCheck(cudaMemset(m_counters.data(), 0, 3 * sizeof(unsigned int)), "memset");
     m_kindCounts.resize(3);
     m_healthCounts.resize(3);
     m_healthExamples.resize(5);
@@ -96,16 +98,19 @@ void CudaDevice<Real>::setModel(const DeviceModel& model) {
     const size_t s = model.mass.size();
     m_speciesCount = int(s);
     std::vector<Real> mass(s), invMass(s), radius(s);
+    std::vector<Vec3<Real>> field(s);
     for (size_t k = 0; k < s; ++k) {
         mass[k] = Real(model.mass[k]);
         invMass[k] = Real(1.0 / model.mass[k]);
         radius[k] = Real(model.radius[k]);
+        field[k] = vec3Cast<Real>(model.acceleration[k]);
     }
     onEachGpu([&](int, Replica<Real>& r) {
         r.pairs.upload(pairs.data(), pairs.size());
         r.mass.upload(mass.data(), s);
         r.invMass.upload(invMass.data(), s);
         r.radius.upload(radius.data(), s);
+        r.field.upload(field.data(), s);
     });
     m_gravity = vec3Cast<Real>(model.gravity);
     m_box = vec3Cast<Real>(model.box);
@@ -229,7 +234,7 @@ EnergySums CudaDevice<Real>::energies() {
     gpu::launchForces(f, stream());
     const int s = m_speciesCount;
     m_rows.resize(size_t(s + 4) * size_t(m_n));
-    gpu::launchEnergyRows(gpu::EnergyArgs<Real>{arrays(), table(), m_gravity, m_pairEnergy.data(), m_rows.data()}, stream());
+    gpu::launchEnergyRows(gpu::EnergyArgs<Real>{arrays(), table(), m_pairEnergy.data(), m_rows.data()}, stream());
     const std::vector<double> sums = sumRows(s + 4);
     EnergySums e;
     e.kineticPerSpecies.assign(sums.begin(), sums.begin() + s);

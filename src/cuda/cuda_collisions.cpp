@@ -2,12 +2,14 @@
 // event (kernels/collision_kernels.cu), end-of-step accelerations of the particles about to be
 // resolved, and the resolution of the mutual-earliest matching. With several GPUs all of it runs on
 // the home GPU on the gathered state (design note in cuda_device.h). One host read-back per round (the
-// counts of findEvents) and one for the tally of the step (none when nothing was resolved);
-// everything else stays on the stream. Impulses for the pressure observables
-// (impulse_sums.h) go into per-particle rows, summed in a fixed order when the tally is read.
+// counts of findEvents), one for the tally of the step (none when nothing was resolved) and, when the
+// contact log is on, one when it is read; everything else stays on the stream. Impulses for the
+// pressure observables (impulse_sums.h) go into per-particle rows, summed in a fixed order when the
+// tally is read.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #include "cuda_device.h"
 
@@ -42,6 +44,8 @@ gpu::CollisionArgs<Real> CudaDevice<Real>::collisionArgs() {
     a.elasticBelow = Real(m_model.elasticBelowSpeed);
     a.window = m_window;
     a.grid = m_cellList;
+    a.log = m_logging ? m_log.data() : nullptr;
+    a.logRound = m_logRound;
     return a;
 }
 
@@ -69,6 +73,11 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     cudaCheck(cudaMemsetAsync(m_hasContactAcceleration.data(), 0, n, s), "memset");
     cudaCheck(cudaMemsetAsync(m_impactRows.data(), 0, size_t(kImpulseRows + 1) * n * sizeof(double), s), "memset");
     cudaCheck(cudaMemsetAsync(m_kindCounts.data(), 0, 3 * sizeof(unsigned long long), s), "memset");
+    m_logging = m_logContacts;
+    m_logBound = 0;
+    m_logRound = 0;
+    m_stepDt = window.maxRewind / 1.1;  // collision_rounds.cpp: the window is 1.1 dt
+    if (m_logging) cudaCheck(cudaMemsetAsync(m_counters.data() + 2, 0, sizeof(unsigned int), s), "memset");
 }
 
 template <class Real>
@@ -82,15 +91,22 @@ int64_t CudaDevice<Real>::findEvents(EventScope scope) {
     cudaCheck(cudaMemsetAsync(m_counters.data(), 0, 2 * sizeof(unsigned int), s), "memset");
     gpu::launchFindEvents(a, s);
     auto* counts = reinterpret_cast<unsigned int*>(m_hostWords.resize(kHostWords));
-    cudaCheck(cudaMemcpyAsync(counts, m_counters.data(), 2 * sizeof(unsigned int), cudaMemcpyDeviceToHost, s), "events");
+    // The log's record count rides along (stale but unread when the log is off).
+    cudaCheck(cudaMemcpyAsync(counts, m_counters.data(), 3 * sizeof(unsigned int), cudaMemcpyDeviceToHost, s), "events");
     sync();
     m_needCount = counts[0];
+    m_eventCount = counts[1];
+    if (m_logging) m_logBound = counts[2];
     return int64_t(counts[1]);
 }
 
 template <class Real>
 void CudaDevice<Real>::applyEvents() {
     cudaStream_t s = stream();
+    if (m_logging) {  // a record per particle with an event, at most
+        reserveLog(m_logBound + m_eventCount);
+        m_logBound += m_eventCount;
+    }
     const gpu::CollisionArgs<Real> a = collisionArgs();
     if (m_needCount > 0) {
         // End-of-step accelerations of the listed particles: a force pass over those rows only.
@@ -110,6 +126,7 @@ void CudaDevice<Real>::applyEvents() {
     }
     gpu::launchResolve(a, s);
     gpu::launchUpdateActive(a, s);
+    ++m_logRound;
     m_eventsApplied = true;
     homeChanged();
     m_cellsMatchPositions = false;
@@ -134,6 +151,48 @@ CollisionTally CudaDevice<Real>::collisionTally() {
         t.impulses = impulseSumsOf(sums);
     }
     return t;
+}
+
+template <class Real>
+void CudaDevice<Real>::reserveLog(size_t records) {
+    if (m_log.size() >= records) return;
+    // Geometric growth: a dense step's rounds add records a few at a time.
+    DeviceBuffer<gpu::ImpactRecord<Real>> grown(std::max(records, 2 * m_log.size()));
+    const size_t bytes = std::min(m_logBound, m_log.size()) * sizeof(gpu::ImpactRecord<Real>);
+    if (bytes > 0) cudaCheck(cudaMemcpyAsync(grown.data(), m_log.data(), bytes, cudaMemcpyDeviceToDevice, stream()), "contact log");
+    sync();  // the old buffer is freed next
+    m_log = std::move(grown);
+}
+
+template <class Real>
+std::vector<ContactRecord> CudaDevice<Real>::contactLog() const {
+    if (!m_logging || m_logRound == 0) return {};
+    unsigned int count = 0;
+    cudaCheck(cudaMemcpyAsync(&count, m_counters.data() + 2, sizeof(count), cudaMemcpyDeviceToHost, stream()), "contact log");
+    sync();
+    std::vector<gpu::ImpactRecord<Real>> records(count);
+    const size_t bytes = records.size() * sizeof(gpu::ImpactRecord<Real>);
+    if (bytes > 0) {
+        cudaCheck(cudaMemcpyAsync(records.data(), m_log.data(), bytes, cudaMemcpyDeviceToHost, stream()), "contact log");
+        sync();
+    }
+    // The CPU's order: by round, then by the resolving particle (one impact each per round).
+    std::sort(records.begin(), records.end(), [](const gpu::ImpactRecord<Real>& l, const gpu::ImpactRecord<Real>& r) {
+        return l.round != r.round ? l.round < r.round : l.particle < r.particle;
+    });
+    std::vector<ContactRecord> out(records.size());
+    for (size_t k = 0; k < records.size(); ++k) {
+        const gpu::ImpactRecord<Real>& r = records[k];
+        ContactRecord& c = out[k];
+        c.a = r.particle;
+        c.b = r.partner;
+        c.round = r.round;
+        c.time = std::clamp(m_stepDt - double(r.detail.rewind), 0.0, m_stepDt);
+        c.normal = vec3Cast<double>(r.detail.normal);
+        c.impulse = double(r.detail.impulse);
+        c.speed = double(r.detail.speed);
+    }
+    return out;
 }
 
 template <class Real>
@@ -200,7 +259,7 @@ ContactResidual<double> CudaDevice<Real>::relaxContacts(int sweeps) {
 template <class Real>
 double CudaDevice<Real>::contactLiftWork() {
     m_rows.resize(size_t(m_n));
-    gpu::launchLiftWorkRow(arrays(), table(), m_gravity, m_xListed.data(), m_rows.data(), stream());
+    gpu::launchLiftWorkRow(arrays(), table(), m_xListed.data(), m_rows.data(), stream());
     return sumRows(1)[0];
 }
 

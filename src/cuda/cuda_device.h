@@ -41,6 +41,7 @@ struct Replica {
     DeviceBuffer<PairCoefficients<Real>> pairs;
     DeviceBuffer<ButcherTableau> tableau;
     DeviceBuffer<Real> mass, invMass, radius;
+    DeviceBuffer<Vec3<Real>> field;                 // per species: gravity plus the species' own acceleration
     DeviceBuffer<int32_t> species;                  // full length
     DeviceBuffer<Vec3<Real>> x, v, xStage, vStage;  // full length
     DeviceBuffer<Vec3<Real>> acceleration, kx, kv;  // slice (kx, kv: stage-major, stages x slice rows)
@@ -61,6 +62,7 @@ public:
     std::string deviceName() const override;  // "2 x NVIDIA H200 (...), dta exchange" with several GPUs
     Precision precision() const override { return std::is_same<Real, float>::value ? Precision::Fp32 : Precision::Fp64; }
     int interopDevice() const override { return home().device; }
+    DeviceStateView deviceState() override;  // cuda_replicas.cpp
 
     // ---- model and state (cuda_backend.cpp) ----
     void setModel(const DeviceModel& model) override;
@@ -90,6 +92,8 @@ public:
     int64_t findEvents(EventScope scope) override;
     void applyEvents() override;
     CollisionTally collisionTally() override;
+    void setContactLog(bool on) override { m_logContacts = on; }
+    std::vector<ContactRecord> contactLog() const override;
     int64_t listContacts(const RestingContact<double>& resting) override;
     ContactResidual<double> relaxContacts(int sweeps) override;
     double contactLiftWork() override;
@@ -134,7 +138,7 @@ private:
 
     gpu::ParticleArrays<Real> arrays() { return {home().x.data(), home().v.data(), home().species.data(), m_n}; }
     gpu::SpeciesTable<Real> tableOf(const Replica<Real>& r) const {
-        return {r.pairs.data(), r.mass.data(), r.invMass.data(), r.radius.data(), m_speciesCount};
+        return {r.pairs.data(), r.mass.data(), r.invMass.data(), r.radius.data(), r.field.data(), m_speciesCount};
     }
     gpu::SpeciesTable<Real> table() const { return tableOf(home()); }
     // Force pass of GPU k's rows from the positions `x` (that GPU's copy), into `out` (slice rows).
@@ -171,6 +175,8 @@ private:
     ImpulseSums sumImpulseRows(const DeviceBuffer<double>& rows);
     static ImpulseSums impulseSumsOf(const std::vector<double>& rowSums);  // kImpulseRows sums, in order
     gpu::CollisionArgs<Real> collisionArgs();
+    // Room for `records` contact log records, keeping those written so far (at most m_logBound).
+    void reserveLog(size_t records);
     gpu::ContactArgs<Real> contactArgs();
 
     DevicePartition m_partition;
@@ -181,7 +187,8 @@ private:
     DeviceModel m_model;
     ButcherTableau m_tableau{};
     int m_speciesCount = 0;
-    Vec3<Real> m_gravity{0, 0, 0}, m_box{1, 1, 1};
+    Vec3<Real> m_gravity{0, 0, 0};  // the global field: "up" of the contact phase (per-species fields: Replica::field)
+    Vec3<Real> m_box{1, 1, 1};
     int64_t m_n = 0;
     std::vector<int32_t> m_hostSpecies;
 
@@ -218,8 +225,19 @@ private:
     DeviceBuffer<unsigned char> m_contactScanScratch;
     DeviceBuffer<CollisionEvent> m_events;
     DeviceBuffer<char> m_active, m_hasContactAcceleration;
-    DeviceBuffer<unsigned int> m_counters;  // [0] particles needing a contact acceleration, [1] particles with an event
-    unsigned int m_needCount = 0;           // counters[0] of the last findEvents
+    // [0] particles needing a contact acceleration, [1] particles with an event, [2] contact log records
+    DeviceBuffer<unsigned int> m_counters;
+    unsigned int m_needCount = 0;   // counters[0] of the last findEvents
+    unsigned int m_eventCount = 0;  // counters[1] of the last findEvents: the next round resolves at most that many
+    // The contact log (backend.h): records appended on the device by the resolution, in no order, and
+    // sorted by (round, particle) when read: no read-back per round. Growing the buffer keeps what is
+    // written, which the host bounds by counters[2] as findEvents reads it plus the events since.
+    bool m_logContacts = false;  // asked for (setContactLog); m_logging: for this step, from beginCollisions
+    bool m_logging = false;
+    DeviceBuffer<gpu::ImpactRecord<Real>> m_log;
+    size_t m_logBound = 0;       // records written this step, at most
+    int32_t m_logRound = 0;      // applyEvents calls this step
+    double m_stepDt = 0;         // the step the impacts' times are within [tau]
     DeviceBuffer<unsigned long long> m_kindCounts, m_healthCounts;
     DeviceBuffer<long long> m_healthExamples;
     // Read-back mailboxes in page-locked memory: words (event counts, collision kinds, residual bits,

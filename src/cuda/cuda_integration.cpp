@@ -12,7 +12,7 @@ template <class Real>
 gpu::ForceArgs<Real> CudaDevice<Real>::forceArgs(int k, const Vec3<Real>* x, Vec3<Real>* out) {
     Replica<Real>& r = *m_replicas[size_t(k)];
     const DeviceSlice& s = slice(k);
-    gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     s.begin, s.end, tableOf(r), m_gravity, m_model.anyPairForce, m_model.hasCutoff,
+    gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     s.begin, s.end, tableOf(r), m_model.anyPairForce, m_model.hasCutoff,
                            out, nullptr,          r.forceScratch.data(), r.forceScratch.size(), {},                    nullptr,
                            nullptr, nullptr, 0, nullptr, nullptr, nullptr};
     f.peers.count = 0;
@@ -22,7 +22,7 @@ gpu::ForceArgs<Real> CudaDevice<Real>::forceArgs(int k, const Vec3<Real>* x, Vec
 template <class Real>
 gpu::ForceArgs<Real> CudaDevice<Real>::homeForceArgs(const Vec3<Real>* x, Vec3<Real>* out) {
     Replica<Real>& r = home();
-    gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     0, m_n, table(), m_gravity, m_model.anyPairForce, m_model.hasCutoff,
+    gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     0, m_n, table(), m_model.anyPairForce, m_model.hasCutoff,
                            out, nullptr,          m_homeForceScratch.data(), m_homeForceScratch.size(), {}, nullptr,
                            nullptr, nullptr, 0, nullptr, nullptr, nullptr};
     f.peers.count = 0;
@@ -89,7 +89,7 @@ bool CudaDevice<Real>::refreshAccelerations() {
     m_refreshable = false;
     ++m_refreshes;
     if (!m_model.anyPairForce) {
-        m_accelerationMatchesX = true;  // gravity alone does not depend on X
+        m_accelerationMatchesX = true;  // uniform fields alone do not depend on X
         return true;
     }
     Replica<Real>& r = home();

@@ -1,6 +1,6 @@
 // The CUDA backend's state movement between GPUs (design note in cuda_device.h): the gather of every
 // slice to the home GPU before whole-state work, the scatter of what the home GPU changed back to
-// the slices' owners, and the downloads that read the gathered state.
+// the slices' owners, and the downloads and device views that read the gathered state.
 #include "cuda_device.h"
 
 namespace corebox {
@@ -40,6 +40,20 @@ template <class Real>
 ParticleState CudaDevice<Real>::state() const {
     gatherToHome();
     return download(home().x, home().v);
+}
+
+template <class Real>
+DeviceStateView CudaDevice<Real>::deviceState() {
+    gatherToHome();  // the home GPU's full-length arrays then hold every slice
+    DeviceStateView view;
+    view.device = home().device;
+    view.precision = precision();
+    view.position = home().x.data();
+    view.velocity = home().v.data();
+    view.species = home().species.data();
+    view.count = m_n;
+    view.stream = stream();
+    return view;
 }
 
 template <class Real>

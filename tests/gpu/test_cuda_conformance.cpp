@@ -230,6 +230,43 @@ TEST_P(CudaConformance, CollisionsGiveTheSameCountsAndEnergies) {
     EXPECT_LT(maxRelativeDifference(cpu.state, cuda.state(), 15.0), 1e-9);
 }
 
+TEST_P(CudaConformance, ContactLogAndSpeciesFieldsMatchTheCpu) {
+    // The library's contacts come from the contact log: the same impacts in the same order (round,
+    // particle) on every backend, with the same normals, impulses and times; and each species' own
+    // field (added to gravity) acts the same.
+    Scene scene = hardSphereMix(Precision::Fp64);
+    scene.species[1].acceleration = {0.3, 0.0, 0.8};
+    Simulation cpu(scene, backendFor("cpu", Precision::Fp64), makeInitialState(scene));
+    Simulation cuda(scene, backendFor("cuda", Precision::Fp64), makeInitialState(scene));
+    cpu.backend().setContactLog(true);
+    cuda.backend().setContactLog(true);
+    size_t records = 0;
+    for (int step = 0; step < 20; ++step) {
+        const StepReport a = cpu.step(), b = cuda.step();
+        const std::vector<ContactRecord> x = cpu.backend().contactLog(), y = cuda.backend().contactLog();
+        ASSERT_EQ(int64_t(x.size()), a.pairCollisions + a.wallCollisions) << "step " << step;
+        ASSERT_EQ(x.size(), y.size()) << "step " << step;
+        ASSERT_EQ(b.pairCollisions + b.wallCollisions, int64_t(y.size()));
+        for (size_t k = 0; k < x.size(); ++k) {
+            ASSERT_EQ(x[k].a, y[k].a) << "step " << step << " record " << k;
+            ASSERT_EQ(x[k].b, y[k].b);
+            ASSERT_EQ(x[k].round, y[k].round);
+            EXPECT_NEAR(x[k].time, y[k].time, 1e-9);
+            EXPECT_NEAR(x[k].impulse, y[k].impulse, 1e-9 * (1 + std::fabs(x[k].impulse)));
+            EXPECT_NEAR(x[k].speed, y[k].speed, 1e-9 * (1 + x[k].speed));
+            for (int c = 0; c < 3; ++c) EXPECT_NEAR(x[k].normal[c], y[k].normal[c], 1e-9);
+        }
+        records += x.size();
+    }
+    EXPECT_GT(records, 100u);
+    EXPECT_LT(maxRelativeDifference(cpu.state(), cuda.state(), 15.0), 1e-9);
+    EXPECT_NEAR(cpu.observe().potential, cuda.observe().potential, 1e-9 * std::fabs(cpu.observe().potential));
+    // Off again: nothing recorded.
+    cuda.backend().setContactLog(false);
+    cuda.step();
+    EXPECT_TRUE(cuda.backend().contactLog().empty());
+}
+
 TEST_P(CudaConformance, SeveralGpusGiveTheOneGpuCollisionsAndExchangesTheSameBytes) {
     // With P GPUs the collision stage runs on the gathered state: the one-GPU counts and losses. The
     // exchanges move the same bytes, so for one P every method gives the same state bit for bit
