@@ -211,6 +211,8 @@ public:
     Vec3d velocity(ParticleId id);
     int speciesOf(ParticleId id) const;
 
+    Vec3d boxSize() const;  // edge lengths [sigma]; walls at 0 and L on each axis
+
     // ---- fields and materials (live) ----
     void setGravity(Vec3d gravity);
     Vec3d gravity() const;

@@ -171,6 +171,11 @@ Vec3d World::velocity(ParticleId id) {
 
 int World::speciesOf(ParticleId id) const { return m_impl->speciesIndex[m_impl->slotOf(id)]; }
 
+Vec3d World::boxSize() const {
+    const std::array<double, 3>& l = m_impl->scene.box.size;
+    return Vec3d{l[0], l[1], l[2]};
+}
+
 // ---- fields and materials ----
 
 void World::setGravity(Vec3d gravity) {

@@ -1,0 +1,940 @@
+// sandbox: corebox as a game programmer uses it. A window (or a headless EGL context) and the project's
+// OpenGL renderer draw a corebox::World of balls falling in a 30 x 60 x 30 box; the mouse spawns and
+// removes balls, SPACE fires a heavy ball, hard impacts flash, and the frame time is on screen.
+//
+//   sandbox [--balls 2000] [--backend cpu|cuda] [--precision fp32|fp64] [--frames F] [--headless]
+//           [--scripted | --script FILE] [--screenshot FILE.png] [--stats FILE.json]   (--help: all)
+//
+// What it shows of the library (include/corebox/world.h):
+// - a World from WorldDef's defaults, a second species added with addSpecies (mass 20, radius 1),
+//   balls added with addParticles and each PlacementResult checked (overlaps are refused, never
+//   shifted), removeParticle after queryRadius, applyImpulse;
+// - the game loop: world.advance(1/60) once per rendered frame, spent in substeps of 1/240;
+// - drawing from the public spans positions(), speciesIndices(), ids(): nothing of the backend;
+// - contacts(): impacts above an impulse threshold flash the balls they touch.
+// Simulation code sees <corebox/corebox.h> only; the rest is the renderer (src/render) and the
+// window and headless context (src/platform), which the corebox tree builds but does not install.
+#include <corebox/corebox.h>
+
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <glm/glm.hpp>
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "egl_headless_context.h"
+#include "glfw_window.h"
+#include "image_io.h"
+#include "offscreen_target.h"
+#include "orbit_camera.h"
+#include "particle_renderer.h"
+#include "render_style.h"
+#include "sandbox_script.h"
+#include "sandbox_stats.h"
+
+namespace {
+
+using corebox::ParticleId;
+using corebox::Vec3d;
+using Clock = std::chrono::steady_clock;
+
+// Fixed step: every rendered frame advances the world by exactly kFramePeriod of simulated time
+// (world.advance(1/60): 4 substeps of WorldDef::substep = 1/240), whatever the wall time of the frame.
+// A machine that cannot keep 60 frames/s shows the simulation in slow motion instead of taking longer
+// steps or dropping time, so a session is the same on every machine and every scripted run repeats.
+constexpr double kFramePeriod = 1.0 / 60.0;
+constexpr double kFlashSeconds = 0.2;    // simulated time a flash lasts
+constexpr int kFlashLevels = 4;          // palette steps of a flash fading back to the species colour
+constexpr double kFireSpeed = 40.0;      // heavy ball's launch speed [sigma / tau]
+constexpr double kRemoveRadius = 2.0;    // right click removes the balls within this of the picked point
+constexpr int kSkippedFrames = 10;       // --stats leaves out the first frames (start-up, first uploads)
+constexpr double kBallRadius = 0.5;      // species 0: WorldDef's default ball
+constexpr double kLatticeSpacing = 1.2;  // start lattice: a diameter and a gap
+constexpr int64_t kMaxBalls = 2000000;
+
+volatile std::sig_atomic_t g_interrupted = 0;
+void onSignal(int) { g_interrupted = 1; }
+
+double msSince(Clock::time_point t) { return 1e3 * std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// ---- vectors ---------------------------------------------------------------------------------------
+
+Vec3d operator+(Vec3d a, Vec3d b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+Vec3d operator-(Vec3d a, Vec3d b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+Vec3d operator*(double s, Vec3d a) { return {s * a.x, s * a.y, s * a.z}; }
+double dot(Vec3d a, Vec3d b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+double length(Vec3d a) { return std::sqrt(dot(a, a)); }
+Vec3d normalised(Vec3d a) { return (1.0 / length(a)) * a; }
+
+// ---- options ---------------------------------------------------------------------------------------
+
+struct UsageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+struct Options {
+    corebox::BackendKind backend = corebox::BackendKind::Cpu;
+    corebox::Precision precision = corebox::Precision::Fp64;
+    int64_t balls = 2000;
+    int64_t frames = 0;  // 0: until the window closes (headless: 300)
+    int threads = 0;
+    bool headless = false;
+    bool softwareGl = false;
+    bool vsync = true;
+    bool scripted = false;
+    std::string scriptPath, screenshotPath, statsPath;
+    int width = 1280, height = 720;
+    double flashImpulse = 5.0;
+    std::string commandLine;
+};
+
+const char* const kUsage =
+    "usage: sandbox [options]\n"
+    "  --balls N              balls on the start lattice (default 2000)\n"
+    "  --backend cpu|cuda     where the World runs (default cpu)\n"
+    "  --precision fp32|fp64  the World's precision (default fp64)\n"
+    "  --threads N            CPU threads (default 0: every hardware thread)\n"
+    "  --frames F             exit after F frames (default: until the window closes; headless 300)\n"
+    "  --headless             no window: an EGL context rendering offscreen (same loop)\n"
+    "  --software-gl          headless on Mesa's software renderer even where a GPU is present\n"
+    "  --size WxH             window or frame size in pixels (default 1280x720)\n"
+    "  --no-vsync             do not wait for the display between frames\n"
+    "  --scripted             play the built-in session: spawn clicks, a shot at frame 30, removals\n"
+    "  --script FILE          play FILE: lines 'FRAME click|hold|remove|fire|orbit|zoom|screenshot|quit ...'\n"
+    "  --screenshot FILE.png  save the last frame\n"
+    "  --stats FILE.json      frame-time statistics (after the first 10 frames) and the run's setup\n"
+    "  --flash-impulse J      impacts above this impulse flash their balls (default 5)\n"
+    "  --help                 this text\n"
+    "mouse: left click or hold spawns balls, right click removes balls; SPACE fires a heavy ball;\n"
+    "arrows orbit the camera, PageUp/PageDown zoom; ESC quits.\n";
+
+std::string shellQuoted(const std::string& s) {
+    if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_./=:,+@") ==
+                          std::string::npos)
+        return s;
+    std::string out = "'";
+    for (const char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+}
+
+int64_t parseInteger(const std::string& flag, const std::string& text, int64_t lowest) {
+    size_t used = 0;
+    long long v = 0;
+    try {
+        v = std::stoll(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used == 0 || used != text.size() || v < lowest)
+        throw UsageError(flag + ": '" + text + "' is not a whole number >= " + std::to_string(lowest));
+    return v;
+}
+
+Options parseOptions(int argc, char** argv) {
+    Options o;
+    o.commandLine = shellQuoted(argv[0]);
+    for (int i = 1; i < argc; ++i) o.commandLine += " " + shellQuoted(argv[i]);
+    bool framesGiven = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string flag = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) throw UsageError(flag + " needs a value");
+            return argv[++i];
+        };
+        if (flag == "--help" || flag == "-h") {
+            std::fputs(kUsage, stdout);
+            std::exit(0);
+        } else if (flag == "--balls") {
+            o.balls = parseInteger(flag, value(), 0);
+            // The floor widens with the count (worldDef); beyond this the start lattice alone takes minutes.
+            if (o.balls > kMaxBalls) throw UsageError("--balls " + std::to_string(o.balls) + ": at most " + std::to_string(kMaxBalls));
+        } else if (flag == "--backend") {
+            const std::string v = value();
+            if (v == "cpu")
+                o.backend = corebox::BackendKind::Cpu;
+            else if (v == "cuda")
+                o.backend = corebox::BackendKind::Cuda;
+            else
+                throw UsageError("--backend: '" + v + "' is not cpu or cuda");
+        } else if (flag == "--precision") {
+            const std::string v = value();
+            if (v == "fp32")
+                o.precision = corebox::Precision::Fp32;
+            else if (v == "fp64")
+                o.precision = corebox::Precision::Fp64;
+            else
+                throw UsageError("--precision: '" + v + "' is not fp32 or fp64");
+        } else if (flag == "--threads") {
+            o.threads = int(parseInteger(flag, value(), 0));
+        } else if (flag == "--frames") {
+            o.frames = parseInteger(flag, value(), 1);
+            framesGiven = true;
+        } else if (flag == "--headless") {
+            o.headless = true;
+        } else if (flag == "--software-gl") {
+            o.softwareGl = true;
+        } else if (flag == "--no-vsync") {
+            o.vsync = false;
+        } else if (flag == "--size") {
+            const std::string v = value();
+            const size_t x = v.find('x');
+            if (x == std::string::npos) throw UsageError("--size: '" + v + "' is not WIDTHxHEIGHT");
+            o.width = int(parseInteger("--size width", v.substr(0, x), 16));
+            o.height = int(parseInteger("--size height", v.substr(x + 1), 16));
+            if (o.width > 8192 || o.height > 8192) throw UsageError("--size: at most 8192x8192");
+        } else if (flag == "--scripted") {
+            o.scripted = true;
+        } else if (flag == "--script") {
+            o.scriptPath = value();
+        } else if (flag == "--screenshot") {
+            o.screenshotPath = value();
+        } else if (flag == "--stats") {
+            o.statsPath = value();
+        } else if (flag == "--flash-impulse") {
+            const std::string v = value();
+            char* end = nullptr;
+            o.flashImpulse = std::strtod(v.c_str(), &end);
+            if (end == v.c_str() || *end != '\0' || !(o.flashImpulse >= 0) || !std::isfinite(o.flashImpulse))
+                throw UsageError("--flash-impulse: '" + v + "' is not a number >= 0");
+        } else {
+            throw UsageError("unknown option '" + flag + "'");
+        }
+    }
+    if (o.scripted && !o.scriptPath.empty()) throw UsageError("--scripted and --script: choose one");
+    if (o.softwareGl && !o.headless) throw UsageError("--software-gl is for --headless runs");
+    if (o.headless && !framesGiven) o.frames = 300;
+    return o;
+}
+
+// ---- between the World's frame and the renderer's --------------------------------------------------
+
+// The World stands on y (gravity -y) while the renderer's orbit camera turns about z. Drawing rotates
+// the world by 90 degrees about x (and shifts it back into the positive octant): the world's y becomes
+// the screen's up, and nothing is mirrored. Picking maps back.
+struct ViewMap {
+    Vec3d box;
+    glm::vec3 toRender(const Vec3d& p) const { return {float(p.x), float(box.z - p.z), float(p.y)}; }
+    Vec3d toWorld(const glm::vec3& r) const { return {r.x, r.z, box.z - r.y}; }
+    Vec3d directionToWorld(const glm::vec3& d) const { return {d.x, d.z, -d.y}; }
+    std::array<float, 3> renderBox() const { return {float(box.x), float(box.z), float(box.y)}; }
+};
+
+// A ray from the camera through a point of the screen, in world coordinates, and the camera's forward.
+struct Ray {
+    Vec3d origin, direction, forward;
+};
+
+Ray cursorRay(const corebox::OrbitCamera& camera, const ViewMap& map, double u, double v, float aspect) {
+    const glm::mat4 inverse = glm::inverse(camera.projection(aspect) * camera.view());
+    const glm::vec2 ndc(float(2.0 * u - 1.0), float(1.0 - 2.0 * v));
+    const glm::vec4 nearPoint = inverse * glm::vec4(ndc, -1.0f, 1.0f);
+    const glm::vec4 farPoint = inverse * glm::vec4(ndc, 1.0f, 1.0f);
+    const glm::vec3 a = glm::vec3(nearPoint) / nearPoint.w, b = glm::vec3(farPoint) / farPoint.w;
+    Ray ray;
+    ray.origin = map.toWorld(camera.eye());
+    ray.direction = normalised(map.directionToWorld(b - a));
+    ray.forward = normalised(map.directionToWorld(camera.target - camera.eye()));
+    return ray;
+}
+
+// ---- the game: a World, its heavy balls, its flashes -----------------------------------------------
+
+class Sandbox {
+public:
+    explicit Sandbox(const Options& options)
+        : m_world(worldDef(options)), m_box(m_world.boxSize()), m_flashImpulse(options.flashImpulse) {
+        corebox::ParticleSpecies heavy;
+        heavy.name = "heavy";
+        heavy.mass = 20.0;
+        heavy.radius = 1.0;
+        heavy.color = {0.25f, 0.5f, 0.95f};
+        m_heavy = m_world.addSpecies(heavy);
+        for (int s = 0; s < m_world.speciesCount(); ++s) m_radius.push_back(m_world.species(s).radius);
+        placeLattice(options.balls);
+    }
+
+    corebox::World& world() { return m_world; }
+    const Vec3d& box() const { return m_box; }
+
+    struct Outcome {
+        int64_t done = 0, refused = 0;
+        std::optional<Vec3d> at;
+    };
+
+    // A left click: a 2 x 2 x 2 cube of balls at rest around the point where the cursor's ray meets the
+    // vertical plane through the box centre that faces the camera. A held button repeats it as a stream:
+    // each cube thrown down and scattered a little sideways, so that it mostly misses the one before.
+    // Overlapping placements are refused by the World; they are only counted.
+    Outcome spawn(const Ray& ray, bool repeat) {
+        Outcome out;
+        out.at = pickPlane(ray);
+        if (!out.at) return out;
+        Vec3d velocity{0, 0, 0};
+        if (repeat) {
+            const double m = 2 * kBallRadius + 0.1;
+            out.at = Vec3d{std::clamp(out.at->x + 2.0 * random(), m, m_box.x - m), out.at->y,
+                           std::clamp(out.at->z + 2.0 * random(), m, m_box.z - m)};
+            velocity = {0, -6, 0};
+        }
+        std::vector<corebox::ParticleDef> cube;
+        const double h = 0.55;  // half the spacing of 1.1: neighbours do not touch
+        for (int k = 0; k < 8; ++k) {
+            const Vec3d offset{k & 1 ? h : -h, k & 2 ? h : -h, k & 4 ? h : -h};
+            cube.push_back(corebox::ParticleDef{0, *out.at + offset, velocity});
+        }
+        for (const corebox::PlacementResult& p : m_world.addParticles(cube)) ++(p ? out.done : out.refused);
+        spawned += out.done;
+        spawnRefused += out.refused;
+        return out;
+    }
+
+    // A right click: the balls within kRemoveRadius of the first ball under the cursor (or, when the
+    // ray hits none, of the point on the pick plane).
+    Outcome remove(const Ray& ray) {
+        Outcome out;
+        out.at = firstBallHit(ray);
+        if (!out.at) out.at = pickPlane(ray);
+        if (!out.at) return out;
+        for (const ParticleId id : m_world.queryRadius(*out.at, kRemoveRadius)) {
+            m_world.removeParticle(id);
+            m_flashUntil.erase(id);
+            ++out.done;
+        }
+        removed += out.done;
+        return out;
+    }
+
+    // SPACE: a heavy ball on the line from the camera to the box centre, placed where that line enters
+    // the box (or, when balls are in the way, the first free place further along), then sent toward the
+    // centre with an impulse.
+    Outcome fire(const Vec3d& eye) {
+        Outcome out;
+        const Vec3d centre = 0.5 * m_box;
+        const Vec3d dir = normalised(centre - eye);
+        const double margin = m_radius[size_t(m_heavy)] + 0.01;
+        // Where the ray enters the box shrunk by the heavy radius (slabs), and where it reaches the centre.
+        double enter = 0.0;
+        const double e[3] = {eye.x, eye.y, eye.z}, d[3] = {dir.x, dir.y, dir.z}, l[3] = {m_box.x, m_box.y, m_box.z};
+        for (int a = 0; a < 3; ++a) {
+            if (std::abs(d[a]) < 1e-12) continue;
+            const double t0 = (margin - e[a]) / d[a], t1 = (l[a] - margin - e[a]) / d[a];
+            enter = std::max(enter, std::min(t0, t1));
+        }
+        const double reach = length(centre - eye);
+        for (double t = enter; t <= reach; t += 0.25) {
+            const corebox::PlacementResult p = m_world.addParticle({m_heavy, eye + t * dir, {0, 0, 0}});
+            if (!p) continue;
+            m_world.applyImpulse(p.id, (m_world.species(m_heavy).mass * kFireSpeed) * dir);
+            out.at = eye + t * dir;
+            out.done = 1;
+            ++fired;
+            return out;
+        }
+        out.refused = 1;
+        ++fireRefused;
+        return out;
+    }
+
+    // One rendered frame of simulation, and the flashes of its hard impacts.
+    corebox::StepInfo advanceFrame() {
+        const corebox::StepInfo info = m_world.advance(kFramePeriod);
+        const double now = m_world.time();
+        for (const corebox::Contact& c : m_world.contacts()) {
+            if (std::abs(c.impulse) < m_flashImpulse) continue;
+            m_flashUntil[c.a] = now + kFlashSeconds;
+            if (c.kind == corebox::ContactKind::Pair) m_flashUntil[c.b] = now + kFlashSeconds;
+            ++flashes;
+        }
+        for (auto it = m_flashUntil.begin(); it != m_flashUntil.end();) {
+            it = it->second <= now ? m_flashUntil.erase(it) : std::next(it);
+        }
+        return info;
+    }
+
+    // The renderer's particle view from the World's public spans: centre, radius and a colour key per
+    // ball. The key is the species' palette entry, or one of kFlashLevels entries fading from white.
+    void buildInstances(const ViewMap& map, std::vector<corebox::ParticleInstance>& out) {
+        const corebox::Span<Vec3d> x = m_world.positions();
+        const corebox::Span<int32_t> species = m_world.speciesIndices();
+        const corebox::Span<ParticleId> ids = m_world.ids();
+        const double now = m_world.time();
+        const int nSpecies = int(m_radius.size());
+        out.resize(x.size);
+        for (size_t k = 0; k < x.size; ++k) {
+            const int s = species[k];
+            float key = float(s);
+            const auto flash = m_flashUntil.find(ids[k]);
+            if (flash != m_flashUntil.end()) {
+                const double left = (flash->second - now) / kFlashSeconds;  // 1 at the impact, 0 at the end
+                const int level = std::clamp(int((1.0 - left) * kFlashLevels), 0, kFlashLevels - 1);
+                key = float(nSpecies + s * kFlashLevels + level);
+            }
+            const glm::vec3 r = map.toRender(x[k]);
+            out[k] = corebox::ParticleInstance{r.x, r.y, r.z, float(m_radius[size_t(s)]), key};
+        }
+    }
+
+    // Species colours, then each species' flash levels; the legend lists the species with their counts,
+    // then the HUD's lines (text with an invisible swatch: the renderer's legend is its text overlay).
+    corebox::RenderStyle style(const std::vector<std::string>& hudLines) {
+        corebox::RenderStyle style;
+        style.mode = corebox::ColorMode::Species;
+        const int nSpecies = int(m_radius.size());
+        std::vector<int64_t> counts(size_t(nSpecies), 0);
+        for (const int32_t s : m_world.speciesIndices()) ++counts[size_t(s)];
+        for (int s = 0; s < nSpecies; ++s) {
+            const corebox::ParticleSpecies& sp = m_world.species(s);
+            style.palette.push_back(sp.color);
+            style.speciesLegend.push_back({sp.name + "  " + std::to_string(counts[size_t(s)]), sp.color});
+        }
+        for (int s = 0; s < nSpecies; ++s) {
+            const std::array<float, 3> c = m_world.species(s).color;
+            for (int level = 0; level < kFlashLevels; ++level) {
+                const float white = 1.0f - float(level) / float(kFlashLevels);
+                style.palette.push_back(
+                    {c[0] + white * (1.0f - c[0]), c[1] + white * (1.0f - c[1]), c[2] + white * (1.0f - c[2])});
+            }
+        }
+        for (const std::string& line : hudLines) style.speciesLegend.push_back({line, style.background});
+        return style;
+    }
+
+    int64_t spawned = 0, spawnRefused = 0, removed = 0, fired = 0, fireRefused = 0, flashes = 0;
+    int64_t ballsAtStart = 0;
+
+private:
+    static corebox::WorldDef worldDef(const Options& o) {
+        corebox::WorldDef def;  // box 30 x 60 x 30, g = -9.81 y, restitution 0.5, substep 1/240
+        // More balls than the default box's upper half holds on the start lattice: a wider floor (the
+        // height stays 60), so that 10^5 balls start in the upper half of a 92 x 60 x 92 box.
+        const double layers = std::floor(0.5 * def.boxSize.y / kLatticeSpacing);
+        const double across = std::ceil(std::sqrt(double(o.balls) / layers));
+        def.boxSize.x = def.boxSize.z = std::max(def.boxSize.x, across * kLatticeSpacing + 2 * (kBallRadius + 0.1));
+        def.backend = o.backend;
+        def.precision = o.precision;
+        def.threads = o.threads;
+        return def;
+    }
+
+    // The start: a square lattice filled layer by layer from the top of the box down, each ball nudged
+    // a little sideways (a perfect lattice would land in perfect columns).
+    void placeLattice(int64_t n) {
+        const double margin = kBallRadius + 0.1;
+        const int nx = int((m_box.x - 2 * margin) / kLatticeSpacing) + 1;
+        const int nz = int((m_box.z - 2 * margin) / kLatticeSpacing) + 1;
+        const int layers = int((m_box.y - 2 * margin) / kLatticeSpacing) + 1;
+        const int64_t capacity = int64_t(nx) * nz * layers;
+        if (n > capacity)
+            throw UsageError("--balls " + std::to_string(n) + ": at most " + std::to_string(capacity) +
+                             " fit on the start lattice");
+        const double x0 = 0.5 * (m_box.x - (nx - 1) * kLatticeSpacing),
+                     z0 = 0.5 * (m_box.z - (nz - 1) * kLatticeSpacing);
+        auto jitter = [this]() { return 0.16 * random(); };  // +-0.08
+        std::vector<corebox::ParticleDef> defs;
+        defs.reserve(size_t(n));
+        for (int64_t k = 0; k < n; ++k) {
+            const int64_t layer = k / (int64_t(nx) * nz), inLayer = k % (int64_t(nx) * nz);
+            const double x = x0 + double(inLayer % nx) * kLatticeSpacing + jitter();
+            const double z = z0 + double(inLayer / nx) * kLatticeSpacing + jitter();
+            const double y = m_box.y - margin - double(layer) * kLatticeSpacing;
+            defs.push_back(corebox::ParticleDef{0, {x, y, z}, {0, 0, 0}});
+        }
+        const std::vector<corebox::PlacementResult> placed = m_world.addParticles(defs);
+        for (size_t k = 0; k < placed.size(); ++k) {
+            if (!placed[k])
+                throw corebox::InputError("start lattice: ball " + std::to_string(k) + " refused: " + placed[k].reason);
+        }
+        ballsAtStart = int64_t(placed.size());
+    }
+
+    // In [-0.5, 0.5): xorshift, the same sequence on every machine (std:: distributions are not).
+    double random() {
+        m_seed ^= m_seed << 13;
+        m_seed ^= m_seed >> 7;
+        m_seed ^= m_seed << 17;
+        return double(m_seed >> 11) / double(1ull << 53) - 0.5;
+    }
+
+    std::optional<Vec3d> pickPlane(const Ray& ray) const {
+        Vec3d normal{ray.forward.x, 0.0, ray.forward.z};  // a vertical plane facing the camera
+        if (length(normal) < 1e-6) normal = ray.forward;  // looking straight down: a horizontal one
+        normal = normalised(normal);
+        const Vec3d centre = 0.5 * m_box;
+        const double denom = dot(ray.direction, normal);
+        if (std::abs(denom) < 1e-9) return std::nullopt;
+        const double t = dot(centre - ray.origin, normal) / denom;
+        if (t < 0) return std::nullopt;
+        const Vec3d p = ray.origin + t * ray.direction;
+        const double m = 2 * kBallRadius + 0.1;  // the spawned cube stays inside
+        return Vec3d{std::clamp(p.x, m, m_box.x - m), std::clamp(p.y, m, m_box.y - m), std::clamp(p.z, m, m_box.z - m)};
+    }
+
+    std::optional<Vec3d> firstBallHit(const Ray& ray) {
+        const corebox::Span<Vec3d> x = m_world.positions();
+        const corebox::Span<int32_t> species = m_world.speciesIndices();
+        double best = INFINITY;
+        std::optional<Vec3d> hit;
+        for (size_t k = 0; k < x.size; ++k) {
+            const Vec3d oc = ray.origin - x[k];
+            const double r = m_radius[size_t(species[k])];
+            const double b = dot(oc, ray.direction), c = dot(oc, oc) - r * r;
+            const double disc = b * b - c;
+            if (disc < 0) continue;
+            const double t = -b - std::sqrt(disc);
+            if (t > 0 && t < best) {
+                best = t;
+                hit = x[k];
+            }
+        }
+        return hit;
+    }
+
+    corebox::World m_world;
+    Vec3d m_box;
+    double m_flashImpulse;
+    int m_heavy = 1;
+    std::vector<double> m_radius;                         // by species
+    std::unordered_map<ParticleId, double> m_flashUntil;  // simulated time each flash ends
+    uint64_t m_seed = 0x9E3779B97F4A7C15ull;
+};
+
+// ---- where frames go: a GLFW window, or an offscreen target on an EGL context ----------------------
+
+class Frontend {
+public:
+    virtual ~Frontend() = default;
+    virtual void drawableSize(int* width, int* height) = 0;
+    // The frame's user input as commands (the script's vocabulary); `closed` when the window closed.
+    virtual std::vector<sandbox::Command> poll(bool* closed) = 0;
+    virtual void bindTarget() = 0;
+    virtual corebox::Image readFrame(int width, int height) = 0;
+    virtual void present() {}
+    virtual void setTitle(const std::string&) {}
+};
+
+class WindowFrontend : public Frontend {
+public:
+    explicit WindowFrontend(const Options& o) : m_window(o.width, o.height, "corebox sandbox") {
+        m_window.setVsync(o.vsync);
+    }
+
+    void drawableSize(int* width, int* height) override { m_window.framebufferSize(width, height); }
+
+    std::vector<sandbox::Command> poll(bool* closed) override {
+        glfwPollEvents();
+        GLFWwindow* w = m_window.handle();
+        *closed = m_window.shouldClose();
+        std::vector<sandbox::Command> out;
+        double cx = 0, cy = 0;
+        int ww = 1, wh = 1;
+        glfwGetCursorPos(w, &cx, &cy);
+        glfwGetWindowSize(w, &ww, &wh);
+        const double u = cx / std::max(ww, 1), v = cy / std::max(wh, 1);
+        const bool inside = u >= 0 && u <= 1 && v >= 0 && v <= 1;
+        auto command = [&](sandbox::CommandKind kind, double a = 0, double b = 0) {
+            sandbox::Command c;
+            c.kind = kind;
+            c.u = a;
+            c.v = b;
+            out.push_back(c);
+        };
+        const bool left = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+        const bool right = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+        const bool space = glfwGetKey(w, GLFW_KEY_SPACE) == GLFW_PRESS;
+        m_leftHeldFrames = left ? m_leftHeldFrames + 1 : 0;
+        if (left && inside && (m_leftHeldFrames - 1) % sandbox::kSpawnEveryFrames == 0) {
+            command(sandbox::CommandKind::Spawn, u, v);
+            out.back().repeat = m_leftHeldFrames > 1;
+        }
+        if (right && !m_right && inside) command(sandbox::CommandKind::Remove, u, v);
+        if (space && !m_space) command(sandbox::CommandKind::Fire);
+        m_right = right;
+        m_space = space;
+        const double turn = 0.03;
+        if (glfwGetKey(w, GLFW_KEY_LEFT) == GLFW_PRESS) command(sandbox::CommandKind::Orbit, -turn, 0);
+        if (glfwGetKey(w, GLFW_KEY_RIGHT) == GLFW_PRESS) command(sandbox::CommandKind::Orbit, turn, 0);
+        if (glfwGetKey(w, GLFW_KEY_UP) == GLFW_PRESS) command(sandbox::CommandKind::Orbit, 0, turn);
+        if (glfwGetKey(w, GLFW_KEY_DOWN) == GLFW_PRESS) command(sandbox::CommandKind::Orbit, 0, -turn);
+        if (glfwGetKey(w, GLFW_KEY_PAGE_UP) == GLFW_PRESS) command(sandbox::CommandKind::Zoom, 0.98);
+        if (glfwGetKey(w, GLFW_KEY_PAGE_DOWN) == GLFW_PRESS) command(sandbox::CommandKind::Zoom, 1.02);
+        if (glfwGetKey(w, GLFW_KEY_ESCAPE) == GLFW_PRESS) command(sandbox::CommandKind::Quit);
+        return out;
+    }
+
+    void bindTarget() override {
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        glEnable(GL_MULTISAMPLE);
+    }
+
+    corebox::Image readFrame(int width, int height) override {
+        corebox::Image img{width, height, std::vector<uint8_t>(size_t(width) * size_t(height) * 4)};
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+        glReadBuffer(GL_BACK);
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
+        corebox::flipRows(img.rgba, width, height);
+        return img;
+    }
+
+    void present() override { glfwSwapBuffers(m_window.handle()); }
+    void setTitle(const std::string& title) override { m_window.setTitle(title); }
+
+private:
+    corebox::GlfwWindow m_window;
+    int64_t m_leftHeldFrames = 0;
+    bool m_right = false, m_space = false;
+};
+
+class HeadlessFrontend : public Frontend {
+public:
+    explicit HeadlessFrontend(const Options& o)
+        : m_context(corebox::HeadlessContextOptions{-1, o.softwareGl}), m_target(o.width, o.height) {}
+
+    void drawableSize(int* width, int* height) override {
+        *width = m_target.width();
+        *height = m_target.height();
+    }
+    std::vector<sandbox::Command> poll(bool* closed) override {
+        *closed = false;
+        return {};
+    }
+    void bindTarget() override { m_target.bind(); }
+    corebox::Image readFrame(int width, int height) override {
+        corebox::Image img{width, height, {}};
+        m_target.readPixels(img.rgba);
+        return img;
+    }
+    const std::string& description() const { return m_context.description(); }
+
+private:
+    corebox::EglHeadlessContext m_context;  // first: the target's GL objects need it
+    corebox::OffscreenTarget m_target;
+};
+
+// ---- the session -------------------------------------------------------------------------------------
+
+std::string format(const char* fmt, double a, double b = 0, double c = 0, double d = 0) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, fmt, a, b, c, d);
+    return buf;
+}
+
+std::string hex(uint64_t v) {
+    char buf[24];
+    std::snprintf(buf, sizeof buf, "0x%016llx", (unsigned long long)v);
+    return buf;
+}
+
+const char* precisionName(corebox::Precision p) { return p == corebox::Precision::Fp32 ? "fp32" : "fp64"; }
+const char* backendName(corebox::BackendKind b) { return b == corebox::BackendKind::Cuda ? "cuda" : "cpu"; }
+
+// What the World reported over the run (the sum of every advance()'s StepInfo).
+struct StepTotals {
+    int64_t substeps = 0, pairCollisions = 0, wallCollisions = 0, roundCapHits = 0;
+    double droppedTime = 0;
+    void add(const corebox::StepInfo& i) {
+        substeps += i.substeps;
+        pairCollisions += i.pairCollisions;
+        wallCollisions += i.wallCollisions;
+        roundCapHits += i.roundCapHits;
+        droppedTime += i.droppedTime;
+    }
+};
+
+void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::FrameSample>& samples,
+                const StepTotals& steps, double wallSeconds, const std::string& glRenderer) {
+    std::vector<double> sim, render, frame;
+    for (size_t k = kSkippedFrames; k < samples.size(); ++k) {
+        sim.push_back(samples[k].simMs);
+        render.push_back(samples[k].renderMs);
+        frame.push_back(samples[k].frameMs);
+    }
+    const sandbox::Summary frameSummary = sandbox::summarise(frame);
+    // A GPU: the World's CUDA device, or the GL renderer when it is hardware (not Mesa's llvmpipe).
+    std::string gpu;
+    if (o.backend == corebox::BackendKind::Cuda)
+        gpu = game.world().backendName();
+    else if (glRenderer.find("llvmpipe") == std::string::npos && glRenderer.find("softpipe") == std::string::npos)
+        gpu = glRenderer;
+    sandbox::JsonObject json;
+    json.add("program", "sandbox")
+        .add("command_line", o.commandLine)
+        .add("backend", backendName(o.backend))
+        .add("backend_name", game.world().backendName())
+        .add("precision", precisionName(o.precision))
+        .add("cpu", sandbox::hostCpuName());
+    if (gpu.empty())
+        json.addNull("gpu");
+    else
+        json.add("gpu", gpu);
+    json.add("gl_renderer", glRenderer)
+        .add("headless", o.headless)
+        .add("width", int64_t(o.width))
+        .add("height", int64_t(o.height))
+        .add("frames", int64_t(samples.size()))
+        .add("skipped_frames", int64_t(std::min<size_t>(kSkippedFrames, samples.size())))
+        .add("frames_measured", int64_t(frame.size()))
+        .add("n_start", game.ballsAtStart)
+        .add("n_end", int64_t(game.world().particleCount()))
+        .add("spawned", game.spawned)
+        .add("spawn_refused", game.spawnRefused)
+        .add("removed", game.removed)
+        .add("fired", game.fired)
+        .add("fire_refused", game.fireRefused)
+        .add("flashes", game.flashes)
+        .add("frame_period_s", kFramePeriod)
+        .add("substeps", steps.substeps)
+        .add("pair_collisions", steps.pairCollisions)
+        .add("wall_collisions", steps.wallCollisions)
+        .add("round_cap_hits", steps.roundCapHits)
+        .add("simulated_time", game.world().time())
+        .add("state_hash", hex(game.world().stateHash()))  // same inputs, backend and threads: same hash
+        .add("dropped_time", steps.droppedTime)
+        .add("wall_s", wallSeconds)
+        .add("sim_ms", sandbox::summarise(sim))
+        .add("render_ms", sandbox::summarise(render))
+        .add("frame_ms", frameSummary)
+        .add("fps_mean", frameSummary.mean > 0 ? 1e3 / frameSummary.mean : 0.0);
+    std::ofstream out(o.statsPath);
+    out << json.text(true) << "\n";
+    out.close();
+    if (!out) throw UsageError("--stats: cannot write '" + o.statsPath + "'");
+}
+
+int run(const Options& o) {
+    const sandbox::Script script = o.scripted             ? sandbox::builtInScript()
+                                   : o.scriptPath.empty() ? sandbox::Script{}
+                                                          : sandbox::loadScript(o.scriptPath);
+    Sandbox game(o);
+    const ViewMap map{game.box()};
+
+    std::unique_ptr<Frontend> frontend;
+    std::string contextDescription;
+    if (o.headless) {
+        auto headless = std::make_unique<HeadlessFrontend>(o);
+        contextDescription = headless->description();
+        frontend = std::move(headless);
+    } else {
+        if (!corebox::GlfwWindow::displayAvailable())
+            throw corebox::PlatformError("no display (DISPLAY and WAYLAND_DISPLAY are unset): run with --headless");
+        frontend = std::make_unique<WindowFrontend>(o);
+    }
+    const std::string glRenderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    std::fprintf(stderr, "[sandbox] corebox %s, World on %s (%s), %lld balls; drawing with %s%s\n", corebox::version(),
+                 game.world().backendName().c_str(), precisionName(o.precision), (long long)game.ballsAtStart,
+                 glRenderer.c_str(), o.headless ? " (headless)" : "");
+    if (!contextDescription.empty())
+        std::fprintf(stderr, "[sandbox] headless context: %s\n", contextDescription.c_str());
+
+    corebox::ParticleRenderer renderer;
+    std::vector<corebox::ParticleInstance> instances;
+    corebox::OrbitCamera camera;
+    int width = 0, height = 0;
+    frontend->drawableSize(&width, &height);
+    const std::array<float, 3> renderBox = map.renderBox();
+    camera.frameBox({renderBox[0], renderBox[1], renderBox[2]}, float(width) / float(std::max(height, 1)));
+
+    std::vector<sandbox::FrameSample> samples;
+    sandbox::Window second;
+    sandbox::Window shown;  // the last second's figures, on the HUD and in the title
+    StepTotals steps;
+    const Clock::time_point start = Clock::now();
+    Clock::time_point lastReport = start;
+    for (int64_t frame = 0;; ++frame) {
+        const Clock::time_point frameStart = Clock::now();
+        bool closed = false;
+        std::vector<sandbox::Command> commands = frontend->poll(&closed);
+        const auto scripted = script.equal_range(frame);
+        for (auto it = scripted.first; it != scripted.second; ++it) commands.push_back(it->second);
+        frontend->drawableSize(&width, &height);
+        if (width <= 0 || height <= 0) {  // minimised: no frame to draw, no time to advance
+            if (closed || g_interrupted) break;
+            glfwWaitEventsTimeout(0.1);
+            --frame;
+            continue;
+        }
+        const float aspect = float(width) / float(height);
+
+        // Input: the user's and the script's, through the same calls.
+        bool quit = closed || g_interrupted;
+        std::vector<std::string> screenshots;
+        for (const sandbox::Command& c : commands) {
+            const bool log = !c.origin.empty();
+            switch (c.kind) {
+                case sandbox::CommandKind::Spawn: {
+                    const Sandbox::Outcome r = game.spawn(cursorRay(camera, map, c.u, c.v, aspect), c.repeat);
+                    if (log && r.at)
+                        std::fprintf(stderr,
+                                     "[sandbox] frame %lld (%s): click %.2f %.2f -> %lld spawned, %lld refused at "
+                                     "(%.1f, %.1f, %.1f)\n",
+                                     (long long)frame, c.origin.c_str(), c.u, c.v, (long long)r.done,
+                                     (long long)r.refused, r.at->x, r.at->y, r.at->z);
+                    break;
+                }
+                case sandbox::CommandKind::Remove: {
+                    const Sandbox::Outcome r = game.remove(cursorRay(camera, map, c.u, c.v, aspect));
+                    if (log && r.at)
+                        std::fprintf(
+                            stderr,
+                            "[sandbox] frame %lld (%s): remove %.2f %.2f -> %lld removed near (%.1f, %.1f, %.1f)\n",
+                            (long long)frame, c.origin.c_str(), c.u, c.v, (long long)r.done, r.at->x, r.at->y, r.at->z);
+                    break;
+                }
+                case sandbox::CommandKind::Fire: {
+                    const Sandbox::Outcome r = game.fire(map.toWorld(camera.eye()));
+                    if (log && r.at)
+                        std::fprintf(stderr, "[sandbox] frame %lld (%s): fire -> heavy ball from (%.1f, %.1f, %.1f)\n",
+                                     (long long)frame, c.origin.c_str(), r.at->x, r.at->y, r.at->z);
+                    if (log && !r.at)
+                        std::fprintf(stderr, "[sandbox] frame %lld (%s): fire -> no free place on the line\n",
+                                     (long long)frame, c.origin.c_str());
+                    break;
+                }
+                case sandbox::CommandKind::Orbit:
+                    camera.orbit(float(c.u), float(c.v));
+                    break;
+                case sandbox::CommandKind::Zoom:
+                    camera.zoom(float(c.u));
+                    break;
+                case sandbox::CommandKind::Screenshot:
+                    screenshots.push_back(c.path);
+                    break;
+                case sandbox::CommandKind::Quit:
+                    quit = true;
+                    break;
+            }
+        }
+
+        // Simulation: one fixed frame period, then the state the renderer reads (a download on CUDA).
+        Clock::time_point t = Clock::now();
+        const corebox::StepInfo info = game.advanceFrame();
+        game.world().positions();
+        sandbox::FrameSample sample;
+        sample.simMs = msSince(t);
+        steps.add(info);
+
+        // Drawing: the particle view from the World's spans, the box, the legend and the HUD lines.
+        t = Clock::now();
+        game.buildInstances(map, instances);
+        renderer.upload(instances.data(), instances.size());
+        frontend->bindTarget();
+        const std::vector<std::string> hud{
+            shown.frames == 0
+                ? std::string("measuring...")
+                : format("sim %.2f ms   render %.2f ms   frame %.2f ms   %.1f fps", shown.mean(shown.simMs),
+                         shown.mean(shown.renderMs), shown.mean(shown.frameMs), shown.fps()),
+            std::string(backendName(o.backend)) + " " + precisionName(o.precision) + "   " +
+                format("t %.2f   %.0f substeps of 1/240 this frame", game.world().time(), double(info.substeps)),
+            format("spawned %.0f (%.0f refused)   removed %.0f   fired %.0f", double(game.spawned),
+                   double(game.spawnRefused), double(game.removed), double(game.fired)),
+            "left click: spawn   right click: remove   space: fire   arrows: orbit"};
+        renderer.render(camera, renderBox, game.style(hud), width, height);
+        glFinish();  // the frame's GL work is in its render time, not in the next frame's
+        sample.renderMs = msSince(t);
+
+        const bool last = quit || (o.frames > 0 && frame + 1 >= o.frames);
+        if (last && !o.screenshotPath.empty()) screenshots.push_back(o.screenshotPath);
+        double screenshotMs = 0;
+        if (!screenshots.empty()) {
+            t = Clock::now();
+            const corebox::Image image = frontend->readFrame(width, height);
+            for (const std::string& path : screenshots) {
+                corebox::writePng(path, image);
+                std::fprintf(stderr, "[sandbox] frame %lld written to %s\n", (long long)frame, path.c_str());
+            }
+            screenshotMs = msSince(t);
+        }
+        frontend->present();
+        sample.frameMs = msSince(frameStart) - screenshotMs;
+        samples.push_back(sample);
+        second.add(sample);
+
+        // Once a second: the HUD's figures, the title, a line on stderr.
+        if (msSince(lastReport) >= 1000.0 || last) {
+            const double simMs = second.mean(second.simMs), renderMs = second.mean(second.renderMs);
+            const double frameMs = second.mean(second.frameMs);
+            frontend->setTitle("corebox sandbox - " + std::to_string(game.world().particleCount()) + " balls - " +
+                               format("sim %.2f ms, render %.2f ms, %.1f fps", simMs, renderMs, second.fps()));
+            std::fprintf(stderr,
+                         "[sandbox] frame %lld, t %.2f: %d frames, %.1f fps; sim %.2f ms (max %.2f), render %.2f ms, "
+                         "frame %.2f ms; %zu balls\n",
+                         (long long)frame, game.world().time(), second.frames, second.fps(), simMs, second.simMaxMs,
+                         renderMs, frameMs, game.world().particleCount());
+            shown = second;
+            second = sandbox::Window{};
+            lastReport = Clock::now();
+        }
+        if (last) break;
+    }
+    const double wallSeconds = 1e-3 * msSince(start);
+
+    std::vector<double> sim, frameTimes;
+    for (size_t k = kSkippedFrames; k < samples.size(); ++k) {
+        sim.push_back(samples[k].simMs);
+        frameTimes.push_back(samples[k].frameMs);
+    }
+    const sandbox::Summary s = sandbox::summarise(sim), f = sandbox::summarise(frameTimes);
+    std::fprintf(stderr,
+                 "[sandbox] %zu frames, %zu balls at the end; after the first %d frames: sim mean %.2f median %.2f p95 "
+                 "%.2f max %.2f ms, "
+                 "frame mean %.2f median %.2f p95 %.2f max %.2f ms\n",
+                 samples.size(), game.world().particleCount(), kSkippedFrames, s.mean, s.median, s.p95, s.max, f.mean,
+                 f.median, f.p95, f.max);
+    if (!o.statsPath.empty()) {
+        writeStats(o, game, samples, steps, wallSeconds, glRenderer);
+        std::fprintf(stderr, "[sandbox] statistics written to %s\n", o.statsPath.c_str());
+    }
+    return g_interrupted ? 130 : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
+    Options options;
+    try {
+        options = parseOptions(argc, argv);
+    } catch (const UsageError& e) {
+        std::fprintf(stderr, "sandbox: %s (sandbox --help lists the options)\n", e.what());
+        return 2;
+    }
+    try {
+        return run(options);
+    } catch (const UsageError& e) {
+        std::fprintf(stderr, "sandbox: %s\n", e.what());
+        return 2;
+    } catch (const sandbox::ScriptError& e) {
+        std::fprintf(stderr, "sandbox: %s\n", e.what());
+        return 2;
+    } catch (const corebox::InputError& e) {
+        std::fprintf(stderr, "sandbox: %s\n", e.what());
+        return 2;
+    } catch (const corebox::InstabilityError& e) {
+        std::fprintf(stderr, "sandbox: the simulation blew up: %s\n", e.what());
+        return 3;
+    } catch (const corebox::DeviceError& e) {
+        std::fprintf(stderr, "sandbox: device error: %s\n", e.what());
+        return 4;
+    } catch (const corebox::PlatformError& e) {
+        const bool hinted = options.headless || std::string(e.what()).find("--headless") != std::string::npos;
+        std::fprintf(stderr, "sandbox: %s%s\n", e.what(), hinted ? "" : " (no display? try --headless)");
+        return 4;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "sandbox: %s\n", e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,56 @@
+// Frame-time bookkeeping of the sandbox: per-frame samples, their summary (mean, median, p95, max),
+// a once-a-second window for the HUD and stderr, and the --stats JSON file.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace sandbox {
+
+struct FrameSample {
+    double simMs = 0;     // world.advance() and the read of the state it leaves
+    double renderMs = 0;  // instances built and uploaded, the frame drawn and finished (glFinish)
+    double frameMs = 0;   // the whole frame: input, simulation, drawing, buffer swap
+};
+
+struct Summary {
+    double mean = 0, median = 0, p95 = 0, max = 0;
+    size_t count = 0;
+};
+
+// p95 and the median by nearest rank on the sorted samples.
+Summary summarise(std::vector<double> values);
+
+// Averages over the frames since the last reset (the HUD's and stderr's once-a-second figures).
+struct Window {
+    double simMs = 0, renderMs = 0, frameMs = 0, simMaxMs = 0;
+    int frames = 0;
+    void add(const FrameSample& s);
+    double fps() const { return frameMs > 0 ? 1e3 * frames / frameMs : 0.0; }
+    double mean(double total) const { return frames > 0 ? total / frames : 0.0; }
+};
+
+// "AMD EPYC 7763 64-Core Processor" from /proc/cpuinfo, or "unknown".
+std::string hostCpuName();
+
+// A minimal JSON object writer (the example keeps its dependencies to corebox, the renderer and GLFW).
+class JsonObject {
+public:
+    JsonObject& add(const std::string& key, const std::string& value);
+    JsonObject& add(const std::string& key, const char* value) { return add(key, std::string(value)); }
+    JsonObject& add(const std::string& key, double value);
+    JsonObject& add(const std::string& key, int64_t value);
+    JsonObject& add(const std::string& key, bool value);
+    JsonObject& addNull(const std::string& key);
+    JsonObject& add(const std::string& key, const Summary& s);
+    std::string text(bool multiline = false) const;  // multiline: a field a line (nested objects stay on one)
+
+private:
+    std::vector<std::pair<std::string, std::string>> m_fields;  // key, JSON value
+};
+
+std::string jsonString(const std::string& s);
+
+}  // namespace sandbox

@@ -1,0 +1,125 @@
+#!/usr/bin/env bash
+# The sandbox example (examples/sandbox.cpp) under Xvfb with its built-in scripted session: exit 0, a
+# screenshot with balls and the HUD text, a --stats JSON with every field and bookkeeping that adds up
+# (balls at the end = start + spawned + fired - removed). Then the same session headless (EGL on
+# Mesa's software renderer, a smaller frame of the same aspect, so the clicks pick the same points):
+# the same state hash, as a fixed-step loop must give whatever the frame rate. Then bad options and scripts: exit 2 and a message naming the culprit. Needs SANDBOX and SRC.
+set -u
+: "${SANDBOX:?}" "${SRC:?}"
+if ! command -v xvfb-run >/dev/null; then echo "xvfb-run not installed: sandbox test skipped"; exit 77; fi
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+passed=0
+failed=0
+fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
+pass() { passed=$((passed + 1)); }
+stats() { python3 "$SRC/tests/app/png_stats.py" "$@"; }
+fraction() { stats "$@" | cut -d' ' -f2; }
+above() { python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > float(sys.argv[2]) else 1)" "$1" "$2"; }
+
+# check_json FILE FRAMES HEADLESS: every field, summaries that make sense, bookkeeping that adds up.
+check_json() {
+    python3 - "$@" <<'PY'
+import json, math, sys
+path, frames, headless = sys.argv[1], int(sys.argv[2]), sys.argv[3] == "true"
+d = json.load(open(path))
+problems = []
+for key in ["command_line", "backend", "backend_name", "precision", "cpu", "gpu", "gl_renderer", "headless", "frames",
+            "frames_measured", "n_start", "n_end", "spawned", "spawn_refused", "removed", "fired", "flashes",
+            "substeps", "simulated_time", "state_hash", "sim_ms", "render_ms", "frame_ms", "fps_mean"]:
+    if key not in d:
+        problems.append("no field " + key)
+for key in ["sim_ms", "render_ms", "frame_ms"]:
+    s = d.get(key, {})
+    values = [s.get(k) for k in ("mean", "median", "p95", "max")]
+    if not all(isinstance(v, (int, float)) and math.isfinite(v) and v >= 0 for v in values):
+        problems.append(f"{key}: {s}")
+    elif not s["median"] <= s["p95"] <= s["max"]:
+        problems.append(f"{key}: median <= p95 <= max fails: {s}")
+if d.get("frames") != frames or d.get("frames_measured") != frames - 10:
+    problems.append(f"frames {d.get('frames')}, measured {d.get('frames_measured')}")
+if d.get("backend") != "cpu" or d.get("precision") != "fp64" or d.get("headless") != headless:
+    problems.append(f"setup: {d.get('backend')} {d.get('precision')} headless {d.get('headless')}")
+if "--scripted" not in d.get("command_line", ""):
+    problems.append("command line: " + d.get("command_line", ""))
+if d.get("n_start") != 500 or d.get("spawned", 0) <= 0 or d.get("removed", 0) <= 0 or d.get("fired") != 2:
+    problems.append(f"session: start {d.get('n_start')}, spawned {d.get('spawned')}, removed {d.get('removed')}, fired {d.get('fired')}")
+if d.get("n_end") != d.get("n_start", 0) + d.get("spawned", 0) + d.get("fired", 0) - d.get("removed", 0):
+    problems.append(f"n_end {d.get('n_end')} != start + spawned + fired - removed")
+if d.get("substeps") != 4 * frames or abs(d.get("simulated_time", 0) - frames / 60) > 1e-9:
+    problems.append(f"not fixed-step: {d.get('substeps')} substeps, t = {d.get('simulated_time')}")
+if d.get("flashes", 0) <= 0:
+    problems.append("no impact flashed")
+for p in problems:
+    print(p)
+sys.exit(1 if problems else 0)
+PY
+}
+
+# ---- the window under Xvfb ---------------------------------------------------------------------------
+timeout 300 xvfb-run -a -s "-screen 0 1600x900x24" "$SANDBOX" --scripted --frames 120 --balls 500 \
+    --screenshot "$work/s.png" --stats "$work/s.json" >"$work/out" 2>"$work/err"
+rc=$?
+[ $rc -eq 0 ] && pass || fail "window run exit $rc: $(tail -5 "$work/err")"
+if [ -s "$work/s.png" ]; then
+    read -r size _ < <(stats "$work/s.png" 0 0 1 1 any)
+    [ "$size" = "1280x720" ] && pass || fail "screenshot is $size"
+    above "$(fraction "$work/s.png" 0.25 0.1 0.75 0.95 any)" 0.03 && pass || fail "blank screenshot: nothing in the box"
+    above "$(fraction "$work/s.png" 0.25 0.1 0.75 0.95 red)" 0.005 && pass || fail "no red balls in the screenshot"
+    # The HUD's text (light grey, top left).
+    above "$(fraction "$work/s.png" 0 0 0.5 0.22 any)" 0.01 && pass || fail "no HUD text in the top left"
+else
+    fail "no screenshot written"
+fi
+if [ -s "$work/s.json" ]; then
+    out=$(check_json "$work/s.json" 120 false) && pass || fail "stats JSON: $out"
+else
+    fail "no stats JSON written"
+fi
+grep -q "^\[sandbox\] frame [0-9]*, t [0-9.]*: [0-9]* frames, [0-9.]* fps; sim [0-9.]* ms" "$work/err" && pass ||
+    fail "no per-second summary on stderr: $(head -3 "$work/err")"
+grep -q "frame 30 (built-in): fire -> heavy ball from" "$work/err" && pass || fail "no shot at frame 30: $(grep fire "$work/err")"
+
+# ---- the same session headless: the same state --------------------------------------------------------
+env -u DISPLAY -u WAYLAND_DISPLAY timeout 300 "$SANDBOX" --headless --software-gl --scripted --frames 120 --balls 500 --size 640x360 \
+    --screenshot "$work/h.png" --stats "$work/h.json" >"$work/hout" 2>"$work/herr"
+rc=$?
+[ $rc -eq 0 ] && pass || fail "headless run exit $rc: $(tail -5 "$work/herr")"
+if [ -s "$work/h.png" ]; then
+    above "$(fraction "$work/h.png" 0.25 0.1 0.75 0.95 red)" 0.005 && pass || fail "no red balls in the headless frame"
+else
+    fail "no headless screenshot written"
+fi
+if [ -s "$work/h.json" ]; then
+    out=$(check_json "$work/h.json" 120 true) && pass || fail "headless stats JSON: $out"
+    python3 - "$work/s.json" "$work/h.json" <<'PY' && pass || fail "window and headless sessions differ (fixed step, same inputs)"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:])
+sys.exit(0 if a["state_hash"] == b["state_hash"] and a["n_end"] == b["n_end"] else 1)
+PY
+fi
+
+# ---- bad options and scripts: exit 2, a message naming the culprit, no window needed ----------------
+bad() {  # bad NAME PATTERN ARGS...
+    local name=$1 pattern=$2
+    shift 2
+    local err rc
+    err=$(env -u DISPLAY -u WAYLAND_DISPLAY timeout 60 "$SANDBOX" "$@" 2>&1 >/dev/null)
+    rc=$?
+    if [ $rc -ne 2 ]; then fail "$name: exit $rc, expected 2: $err"; return; fi
+    grep -q -- "$pattern" <<<"$err" && pass || fail "$name: message lacks '$pattern': $err"
+}
+bad "unknown backend" "--backend" --backend gpu
+bad "negative balls" "--balls" --balls -3
+bad "zero frames" "--frames" --frames 0
+bad "unknown option" "--bogus" --bogus
+bad "too many balls" "at most" --headless --balls 10000000
+bad "missing script" "cannot open" --headless --script "$work/none.script"
+printf '10 click 0.5 0.5\n20 jump\n' >"$work/bad.script"
+bad "bad script command" "bad.script:2: unknown command 'jump'" --headless --script "$work/bad.script"
+printf '10 click 1.5 0.5\n' >"$work/range.script"
+bad "click outside the window" "range.script:1: click needs U V" --headless --script "$work/range.script"
+"$SANDBOX" --help | grep -q -- "--stats FILE.json" && pass || fail "--help does not list --stats"
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
