@@ -241,7 +241,7 @@ public:
     // ---- bookkeeping ----
     EnergyBalance energy();  // a reduction over the particles (with LJ forces: a force pass)
     uint64_t stateHash();    // FNV-1a over the exact bits of ids, positions, velocities and species
-    std::string backendName() const;  // "cpu", "cuda" and the device, for logs
+    std::string backendName() const;  // "cpu (CPU model)" or "cuda (GPU model ...)", for logs
 
 private:
     struct Impl;

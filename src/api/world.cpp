@@ -337,9 +337,9 @@ uint64_t World::stateHash() {
 }
 
 std::string World::backendName() const {
-    if (m_impl->sim) return m_impl->sim->backend().name();
-    if (m_impl->idleBackend) return m_impl->idleBackend->name();
-    return m_impl->choice.name;
+    const Backend* backend = m_impl->sim ? &m_impl->sim->backend() : m_impl->idleBackend.get();
+    if (!backend) return m_impl->choice.name;
+    return backend->name() + " (" + backend->deviceName() + ")";
 }
 
 }  // namespace corebox

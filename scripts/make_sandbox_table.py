@@ -1,0 +1,37 @@
+#!/usr/bin/env python3
+"""The sandbox example's frame times in docs/library.md, from its --stats files in docs/results/.
+
+Reads docs/results/sandbox_*.json (written by `sandbox --stats FILE`) and rewrites the table between
+the markers <!-- sandbox-table:begin --> and <!-- sandbox-table:end --> in docs/library.md.
+"""
+import glob
+import json
+import os
+import re
+
+root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+doc = os.path.join(root, "docs", "library.md")
+
+
+def row(path):
+    d = json.load(open(path))
+    # Early files name the CUDA backend only ("cuda"); the GL renderer names the same GPU then.
+    gpu = d["gpu"] if d["gpu"] not in (None, "cuda") else (d["gl_renderer"].split("/")[0] if d["gpu"] else None)
+    where = gpu or (d["cpu"] + ", 2 cores")
+    frame, sim, render = d["frame_ms"], d["sim_ms"], d["render_ms"]
+    hz = 1000.0 / frame["mean"]
+    return (d["n_start"], d["backend"], f"| {d['n_start']:,} | {d['backend']} {d['precision']} | {where} | {d['gl_renderer'].split(' (')[0]} "
+            f"| {sim['mean']:.1f} / {sim['median']:.1f} / {sim['p95']:.1f} | {render['mean']:.1f} | {frame['mean']:.1f} / {frame['p95']:.1f} "
+            f"| {hz:.0f} | {d['pair_collisions']:,} | `{os.path.basename(path)}` |")
+
+
+rows = sorted(row(p) for p in glob.glob(os.path.join(root, "docs", "results", "sandbox_*.json")))
+table = ["| balls | backend | hardware | GL | simulation ms mean / median / p95 | render ms | frame ms mean / p95 | frames/s | ball impacts | file |",
+         "|---|---|---|---|---|---|---|---|---|---|"] + [r[2] for r in rows]
+text = open(doc).read()
+block = "<!-- sandbox-table:begin -->\n" + "\n".join(table) + "\n<!-- sandbox-table:end -->"
+text, n = re.subn(r"<!-- sandbox-table:begin -->.*?<!-- sandbox-table:end -->", block, text, flags=re.S)
+if n != 1:
+    raise SystemExit("docs/library.md has no sandbox-table markers")
+open(doc, "w").write(text)
+print(f"docs/library.md: {len(rows)} sandbox runs")
