@@ -322,6 +322,26 @@ TEST_P(WorldTest, SpeciesAccelerationsAddToGravity) {
     EXPECT_NEAR(e.conserved(), 0.0, fp64() ? 1e-9 : 1e-5 * 600);
 }
 
+TEST_P(WorldTest, DeviceStateNamesWhereTheStateLives) {
+    MAKE_OR_SKIP(w, def());
+    EXPECT_EQ(w->deviceState().count, 0);  // an empty world has no simulation yet
+    addAll(*w, lattice(100, 9));
+    w->step();
+    const corebox::DeviceState d = w->deviceState();
+    if (GetParam().backend == corebox::BackendKind::Cpu) {
+        EXPECT_EQ(d.device, -1);
+        EXPECT_EQ(d.position, nullptr);
+        return;
+    }
+    EXPECT_GE(d.device, 0);
+    EXPECT_EQ(d.count, 100);
+    EXPECT_EQ(d.precision, GetParam().precision);
+    EXPECT_NE(d.position, nullptr);
+    EXPECT_NE(d.velocity, nullptr);
+    EXPECT_NE(d.species, nullptr);
+    EXPECT_NE(w->backendName().find("cuda"), std::string::npos);
+}
+
 TEST_P(WorldTest, AdvanceKeepsAFixedSubstep) {
     MAKE_OR_SKIP(w, def());
     addAll(*w, lattice(10, 8));
