@@ -5,13 +5,8 @@
 # Needs COREBOX (the binary) and SRC (the source tree) in the environment.
 set -u
 : "${COREBOX:?}" "${SRC:?}"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-passed=0
-failed=0
+source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
 
-fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
-pass() { passed=$((passed + 1)); }
 
 # expect NAME CODE PATTERN -- ARGS...: runs corebox, checks the exit code and that stderr matches.
 expect() {

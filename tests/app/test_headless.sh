@@ -4,12 +4,7 @@
 # exit with code 2 and leave nothing behind. Needs COREBOX and SRC in the environment.
 set -u
 : "${COREBOX:?}" "${SRC:?}"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-passed=0
-failed=0
-fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
-pass() { passed=$((passed + 1)); }
+source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
 
 png_size() {  # prints WIDTHxHEIGHT from a PNG's IHDR chunk
     python3 -c 'import struct,sys; d=open(sys.argv[1],"rb").read(24); assert d[:8]==b"\x89PNG\r\n\x1a\n"; print("%dx%d" % struct.unpack(">II", d[16:24]))' "$1"

@@ -7,15 +7,7 @@
 set -u
 : "${SANDBOX:?}" "${SRC:?}"
 if ! command -v xvfb-run >/dev/null; then echo "xvfb-run not installed: sandbox test skipped"; exit 77; fi
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-passed=0
-failed=0
-fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
-pass() { passed=$((passed + 1)); }
-stats() { python3 "$SRC/tests/app/png_stats.py" "$@"; }
-fraction() { stats "$@" | cut -d' ' -f2; }
-above() { python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > float(sys.argv[2]) else 1)" "$1" "$2"; }
+source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
 
 # check_json FILE FRAMES HEADLESS: every field, summaries that make sense, bookkeeping that adds up.
 check_json() {

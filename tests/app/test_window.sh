@@ -7,16 +7,8 @@
 set -u
 : "${COREBOX:?}" "${SRC:?}"
 if ! command -v xvfb-run >/dev/null; then echo "xvfb-run not installed: window test skipped"; exit 77; fi
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
 export XDG_CONFIG_HOME="$work/config"
-passed=0
-failed=0
-fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
-pass() { passed=$((passed + 1)); }
-stats() { python3 "$SRC/tests/app/png_stats.py" "$@"; }
-fraction() { stats "$@" | cut -d' ' -f2; }
-above() { python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > float(sys.argv[2]) else 1)" "$1" "$2"; }
 
 cat >"$work/demo.script" <<SCRIPT
 # rk4 is the scene's method; raise T, switch to verlet, take a picture, quit
