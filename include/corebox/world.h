@@ -39,6 +39,7 @@
 #include <string>
 #include <vector>
 
+#include "corebox/device_state.h"
 #include "corebox/errors.h"
 #include "corebox/export.h"
 #include "corebox/types.h"
@@ -156,19 +157,6 @@ struct EnergyBalance {
                               // velocities set, field changes
     Vec3d momentum{0, 0, 0};  // total [m sigma / tau]
     double conserved() const { return kinetic + potential + dissipated - external; }
-};
-
-// The state in GPU memory (backend Cuda): arrays of `count` float3 (fp32) or double3 (fp64) in slot
-// order (ids() gives the id of each slot), valid once work on `stream` queued before the call is done,
-// and until the next call that steps or edits the world (a step may swap or reallocate the arrays).
-struct DeviceState {
-    int device = -1;               // CUDA ordinal; -1 on the CPU backend
-    Precision precision = Precision::Fp64;
-    const void* position = nullptr;  // [sigma]
-    const void* velocity = nullptr;  // [sigma / tau]
-    const int32_t* species = nullptr;
-    int64_t count = 0;
-    void* stream = nullptr;        // the cudaStream_t the world's work is queued on
 };
 
 class COREBOX_API World {

@@ -269,17 +269,7 @@ Span<int32_t> World::speciesIndices() { return Span<int32_t>{m_impl->speciesInde
 
 DeviceState World::deviceState() {
     m_impl->flushEdits();
-    DeviceState out;
-    if (!m_impl->sim) return out;
-    const DeviceStateView v = m_impl->sim->backend().deviceState();
-    out.device = v.device;
-    out.precision = v.precision;
-    out.position = v.position;
-    out.velocity = v.velocity;
-    out.species = v.species;
-    out.count = v.count;
-    out.stream = v.stream;
-    return out;
+    return m_impl->sim ? m_impl->sim->backend().deviceState() : DeviceState{};
 }
 
 // ---- contacts and queries ----

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "butcher_tableau.h"
+#include "corebox/device_state.h"  // DeviceState: shared with the public API
 #include "collision_resolution.h"
 #include "contact_relaxation.h"
 #include "device_model.h"
@@ -114,19 +115,6 @@ struct InstanceTarget {
     InstanceKey key = InstanceKey::Species;
 };
 
-// The state in a GPU's memory, for library users who read it from their own kernels: arrays of n
-// Vec3<Real> (x, y, z contiguous; Real = float for fp32, double for fp64) in particle index order,
-// valid once work queued on `stream` before the call is done. device -1: the backend is not a GPU.
-struct DeviceStateView {
-    int device = -1;                  // CUDA device ordinal
-    Precision precision = Precision::Fp64;
-    const void* position = nullptr;   // [sigma]
-    const void* velocity = nullptr;   // [sigma / tau]
-    const int32_t* species = nullptr;
-    int64_t count = 0;
-    void* stream = nullptr;           // the cudaStream_t the backend's work is ordered on
-};
-
 class Backend {
 public:
     virtual ~Backend() = default;
@@ -138,7 +126,7 @@ public:
     // The CUDA device whose memory writeInstances can fill directly (interop), or -1: host only.
     virtual int interopDevice() const { return -1; }
     // The state on the GPU after the last step (with several GPUs: the home GPU's gathered copy).
-    virtual DeviceStateView deviceState() { return DeviceStateView{}; }
+    virtual DeviceState deviceState() { return DeviceState{}; }
 
     // ---- model and state ----
     virtual void setModel(const DeviceModel& model) = 0;         // per-species tables, box, gravity, restitution

@@ -62,7 +62,7 @@ public:
     std::string deviceName() const override;  // "2 x NVIDIA H200 (...), dta exchange" with several GPUs
     Precision precision() const override { return std::is_same<Real, float>::value ? Precision::Fp32 : Precision::Fp64; }
     int interopDevice() const override { return home().device; }
-    DeviceStateView deviceState() override;  // cuda_replicas.cpp
+    DeviceState deviceState() override;  // cuda_replicas.cpp
 
     // ---- model and state (cuda_backend.cpp) ----
     void setModel(const DeviceModel& model) override;

@@ -43,9 +43,9 @@ ParticleState CudaDevice<Real>::state() const {
 }
 
 template <class Real>
-DeviceStateView CudaDevice<Real>::deviceState() {
+DeviceState CudaDevice<Real>::deviceState() {
     gatherToHome();  // the home GPU's full-length arrays then hold every slice
-    DeviceStateView view;
+    DeviceState view;
     view.device = home().device;
     view.precision = precision();
     view.position = home().x.data();
