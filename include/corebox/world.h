@@ -209,7 +209,9 @@ public:
 
     // ---- stepping ----
     StepInfo step();          // one step of WorldDef::substep
-    StepInfo step(double dt);  // one step of dt [tau] > 0
+    // One step of dt [tau] > 0. A dt other than the last step's re-configures the integrator (with LJ
+    // forces a force pass): games should keep a fixed step (advance()).
+    StepInfo step(double dt);
     StepInfo advance(double frameTime);  // the game loop (see the design note)
     double time() const;        // simulated [tau]
     int64_t stepCount() const;
