@@ -25,7 +25,9 @@
 // - Errors are exceptions (errors.h: InputError for bad input or unknown ids, InstabilityError for a
 //   blow-up, DeviceError for GPUs), because each carries a message a user can act on and C++ callers
 //   should not have to check every call. corebox_c.h maps them to error codes plus a message for
-//   other languages' foreign-function interfaces, where exceptions cannot cross.
+//   other languages' foreign-function interfaces, where exceptions cannot cross. An InputError changes
+//   nothing; after an InstabilityError or a DeviceError from a step the world holds the failed step's
+//   state and should be made again.
 //
 // Units are the model's reduced units (DESIGN.md sec. 2): lengths in sigma, masses in m, time in tau,
 // energies in m sigma^2 / tau^2. A game can read them as metres, kilograms and seconds: gravity
