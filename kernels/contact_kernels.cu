@@ -73,7 +73,7 @@ __global__ void sweepKernel(ContactArgs<Real> a) {
         if (given.wallCentre[k] != 0) a.impulses[size_t(kWallCount + k) * n + size_t(i)] += given.wallCentre[k];
     }
     if (given.pairVirial != 0) a.impulses[size_t(kPairVirialRow) * n + size_t(i)] += given.pairVirial;
-    if (r.approachSpeed > Real(0)) atomicMaxNonNegative(&a.residual[0], double(r.approachSpeed));
+    if (r.speedChange > Real(0)) atomicMaxNonNegative(&a.residual[0], double(r.speedChange));
     if (r.overlap > Real(0)) atomicMaxNonNegative(&a.residual[1], double(r.overlap));
 }
 

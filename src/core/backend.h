@@ -180,11 +180,19 @@ public:
     virtual std::vector<ContactRecord> contactLog() const = 0;
 
     // ---- collision stage, 2: contact relaxation (contact_relaxation.h) ----
+    // Whether the backend warm-starts each step's relaxation with the last one's impulses
+    // (contact_relaxation.h); such a relaxation needs fewer sweeps (CollisionSettings::maxSweepsWarm).
+    virtual bool warmStartsContacts() const { return false; }
+    // Those impulses: checkpoints carry them so that a restarted run stays bit-identical. Empty from a
+    // backend that does not warm-start. Setting the state forgets them (indices may mean other particles).
+    virtual std::vector<ContactWarmStart> contactWarmStart() const { return {}; }
+    virtual void restoreContactWarmStart(const std::vector<ContactWarmStart>& /*impulses*/) {}
     // Lists every particle's contacts (pairs and walls within the contact margin) from the current
     // positions and keeps those positions; returns the number of listed contacts (0: nothing to do).
     // `resting`: which touching contacts are stopped too (relaxParticle).
     virtual int64_t listContacts(const RestingContact<double>& resting) = 0;
-    // Runs `sweeps` Jacobi sweeps over the listed contacts; returns the residual of the last one.
+    // Runs `sweeps` sweeps over the listed contacts (Gauss-Seidel or Jacobi, contact_relaxation.h);
+    // returns the residual of the last one.
     virtual ContactResidual<double> relaxContacts(int sweeps) = 0;
     // Work done against gravity by the position moves since listContacts: sum of -m g . dx [eps].
     virtual double contactLiftWork() = 0;

@@ -16,7 +16,10 @@ namespace corebox {
 namespace {
 
 constexpr char kMagic[] = "corebox checkpoint\n";
-constexpr uint32_t kVersion = 2;  // 2: the cached accelerations after the particles (1: none, still read)
+// 3: the contact relaxation's warm-start impulses after the accelerations; 2: the cached accelerations
+// after the particles; 1: neither. All three are read.
+constexpr uint32_t kVersion = 3;
+static_assert(sizeof(ContactWarmStart) == 2 * sizeof(int64_t) + sizeof(double), "warm-start impulses are written as raw records");
 constexpr uint32_t kByteOrderProbe = 0x01020304;
 static_assert(sizeof(Vec3<double>) == 3 * sizeof(double), "positions and velocities are written as raw doubles");
 
@@ -109,6 +112,8 @@ void writeCheckpoint(const std::string& path, const SimulationCheckpoint& c) {
     w.putArray(c.state.species);
     w.put(uint64_t(c.accelerations.size()));
     w.putArray(c.accelerations);
+    w.put(uint64_t(c.contactImpulses.size()));
+    w.putArray(c.contactImpulses);
     w.put(fnv1a(w.bytes()));
     std::error_code ec;
     if (std::filesystem::is_regular_file(path, ec)) {
@@ -130,7 +135,7 @@ SimulationCheckpoint readCheckpoint(const std::string& path) {
     const size_t end = bytes.size() - sizeof(uint64_t);
     Reader r(bytes, magic, end, path);
     const uint32_t version = r.get<uint32_t>("the version");
-    if (version != kVersion && version != 1)
+    if (version < 1 || version > kVersion)
         r.fail("format version " + std::to_string(version) + "; this corebox reads version " + std::to_string(kVersion));
     if (r.get<uint32_t>("the byte-order probe") != kByteOrderProbe || r.get<uint32_t>("the size probe") != sizeof(double))
         r.fail("written on a machine with another byte order or number format");
@@ -156,10 +161,20 @@ SimulationCheckpoint readCheckpoint(const std::string& path) {
     r.getArray(c.state.species, "the species");
     if (version >= 2) {
         const uint64_t cached = r.get<uint64_t>("the accelerations' count");
-        if ((cached != 0 && cached != n) || r.remaining() != cached * sizeof(Vec3<double>))
+        const size_t following = version >= 3 ? sizeof(uint64_t) : 0;  // the impulses' count
+        if ((cached != 0 && cached != n) || r.remaining() < following || (r.remaining() - following) / sizeof(Vec3<double>) < cached ||
+            (version == 2 && r.remaining() != cached * sizeof(Vec3<double>)))
             r.fail("holds " + std::to_string(r.remaining()) + " bytes of accelerations, not the " + std::to_string(cached) + " it announces");
         c.accelerations.resize(size_t(cached));
         r.getArray(c.accelerations, "the accelerations");
+    }
+    if (version >= 3) {
+        const uint64_t impulses = r.get<uint64_t>("the contact impulses' count");
+        if (r.remaining() != impulses * sizeof(ContactWarmStart))
+            r.fail("holds " + std::to_string(r.remaining()) + " bytes of contact impulses, not the " + std::to_string(impulses) +
+                   " it announces");
+        c.contactImpulses.resize(size_t(impulses));
+        r.getArray(c.contactImpulses, "the contact impulses");
     }
     return c;
 }

@@ -5,7 +5,9 @@
 // (positions, velocities, species), the running scene with its live edits, the step and time, the
 // energy bookkeeping (dissipated, thermostat, parameter work, the conserved sum's base and scale),
 // the counters and pressure window since the last observables row, and the adaptive controller's next
-// dt. The backends hold nothing else that a step reads but Verlet's cached accelerations. Those are
+// dt. The backends hold nothing else that a step reads but Verlet's cached accelerations and the
+// contact relaxation's impulses that warm-start the next step (carried when the backend keeps them:
+// Backend::contactWarmStart). The accelerations are
 // carried when they are not what a force pass at X gives bit for bit (the all-pairs update after
 // collisions, CPU and one GPU, exchanges the old pair forces of the moved particles for new ones:
 // Backend::cachedAccelerations); otherwise they are recomputed from the restored X bit for bit (the force pass has a fixed summation order, and
@@ -15,14 +17,16 @@
 //
 // File format (binary, little-endian, doubles as IEEE 754 bits): the magic "corebox checkpoint\n",
 // a format version, a byte-order and size probe, the payload (length-prefixed scene TOML, scalars,
-// then N and the arrays, then the count of cached accelerations, 0 or N, and those; version 1 files,
-// without them, are read too), and an FNV-1a 64 hash of everything before it. A file that is truncated,
+// then N and the arrays, then the count of cached accelerations, 0 or N, and those, then the count of
+// warm-start impulses and those as (i, partner, lambda); versions 1 and 2 files, without the last
+// parts, are read too), and an FNV-1a 64 hash of everything before it. A file that is truncated,
 // foreign, from another version or damaged is refused with a message naming the file.
 #pragma once
 
 #include <cstdint>
 #include <string>
 
+#include "contact_relaxation.h"  // ContactWarmStart
 #include "impulse_sums.h"
 #include "particle_state.h"
 
@@ -48,6 +52,8 @@ struct SimulationCheckpoint {
     // Verlet's cached accelerations when a force pass would not reproduce them bit for bit; empty:
     // recomputed at restore.
     std::vector<Vec3<double>> accelerations;
+    // The contact relaxation's warm-start impulses (Backend::contactWarmStart); empty: a cold start.
+    std::vector<ContactWarmStart> contactImpulses;
 };
 
 // Writes atomically (temp file and rename); an existing checkpoint at `path` is kept as path.prev

@@ -49,6 +49,7 @@ void resolveCollisions(Backend& backend, const CollisionSettings& settings, Step
 
     // 2. Contacts. Deep overlaps (handed in, or left by a capped impact phase) move particles by a
     // good part of a diameter, into neighbours that were not listed: list again after such a pass.
+    const int maxSweeps = backend.warmStartsContacts() ? settings.maxSweepsWarm : settings.maxSweeps;
     double kinetic0 = 0, liftWork = 0;  // kinetic0: only read when something was listed (a reduction)
     ContactResidual<double> residual{0, 0};
     for (int listing = 0; listing < kMaxListings; ++listing) {
@@ -60,8 +61,8 @@ void resolveCollisions(Backend& backend, const CollisionSettings& settings, Step
         residual = backend.relaxContacts(1);
         const double firstOverlap = residual.overlap;
         int sweeps = 1;
-        while (sweeps < settings.maxSweeps &&
-               !(residual.approachSpeed <= settings.speedTolerance && residual.overlap <= settings.overlapTolerance)) {
+        while (sweeps < maxSweeps &&
+               !(residual.speedChange <= settings.speedTolerance && residual.overlap <= settings.overlapTolerance)) {
             residual = backend.relaxContacts(kSweepBatch);
             sweeps += kSweepBatch;
         }

@@ -124,12 +124,12 @@ void assignMaxwellBoltzmannVelocities(const Scene& scene, ParticleState& state) 
 
 void checkPlacement(const Scene& scene, const ParticleState& state, const std::string& source,
                     const SetupProgress& progress) {
-    const double slack = 1e-9;
+    const double slack = kRestingOverlapAccepted;
     for (size_t i = 0; i < state.size(); ++i) {
         const double a = scene.species[size_t(state.species[i])].radius;
         for (int ax = 0; ax < 3; ++ax) {
             const double x = state.position[i][ax];
-            if (x < a - slack || x > scene.box.size[size_t(ax)] - a + slack) {
+            if (x < a - slack * a || x > scene.box.size[size_t(ax)] - a + slack * a) {
                 std::ostringstream msg;
                 msg << "particle " << i << " lies outside the box: "
                     << "xyz"[ax] << " = " << x << " but its centre must be in [" << a << ", "

@@ -27,8 +27,15 @@ ParticleState makeInitialState(const Scene& scene, const SetupProgress& progress
 // Gaussian velocities with variance kT/m per component, centre-of-mass velocity removed.
 void assignMaxwellBoltzmannVelocities(const Scene& scene, ParticleState& state);
 
-// Every centre within [a, L - a] on each axis and no pair closer than a_i + a_j. `source` names the
-// origin in messages (a file, or "placement").
+// How deep an overlap (a fraction of the contact distance a_i + a_j) or a wall penetration (of the
+// radius) a particle file may hold. A resting pile always carries the contact phase's residual
+// overlaps (collision_rounds.h: within 1e-3 of a contact distance when converged, well under 1% of a
+// diameter in any settled pile), so its saved state must read back; the first step's contact phase
+// removes them. Deeper ones are a mistake in the file and are refused.
+inline constexpr double kRestingOverlapAccepted = 0.01;
+
+// Every centre within [a, L - a] on each axis and no pair closer than a_i + a_j, up to
+// kRestingOverlapAccepted. `source` names the origin in messages (a file, or "placement").
 // The overlap check runs on every hardware thread and reports the overlap of the lowest particle
 // index, as a check in file order would.
 void checkPlacement(const Scene& scene, const ParticleState& state, const std::string& source,

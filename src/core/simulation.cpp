@@ -50,6 +50,7 @@ Simulation::Simulation(Scene scene, std::unique_ptr<Backend> backend, const Simu
         m_backend->restoreAccelerations(c.accelerations);
         m_driver.restoreAccelerationsValid();
     }
+    m_backend->restoreContactWarmStart(c.contactImpulses);
     m_step = c.step;
     m_time = c.time;
     m_dissipated = c.dissipated;
@@ -82,6 +83,7 @@ SimulationCheckpoint Simulation::checkpoint() const {
     c.roundCapHits = m_roundCapHits;
     c.dtNext = m_driver.nextDt();
     if (m_driver.accelerationsValid()) c.accelerations = m_backend->cachedAccelerations();
+    c.contactImpulses = m_backend->contactWarmStart();
     c.pressureTime = m_pressureWindow.time();
     c.pressureKineticTime = m_pressureWindow.kineticTime();
     c.pressureImpulses = m_pressureWindow.impulses();

@@ -52,6 +52,8 @@ public:
         m_boxLength = vec3Cast<Real>(model.box);
         m_useList = model.anyPairForce && model.forces == ForceModel::NeighbourList && model.cutoff > 0;
         forgetForces();
+        m_contacts.clear();  // no warm start across a change of masses or radii
+        m_candidatesValid = false;
     }
 
     void setTableau(const ButcherTableau& tableau) override { m_tableau = tableau; }
@@ -67,6 +69,8 @@ public:
         }
         m_acceleration.assign(n, Vec3<Real>{0, 0, 0});
         forgetForces();
+        m_contacts.clear();  // indices may now mean other particles: no warm start
+        m_candidatesValid = false;
     }
 
     ParticleState state() const override { return toHost(m_x, m_v); }
@@ -231,7 +235,7 @@ public:
         m_nearValid = false;
         m_nearGap = Real(window.restingSpeed * window.maxRewind);  // >= the resting gap listContacts uses (maxRewind > dt)
         m_round = 0;
-        m_candidatesValid = false;  // the integration moved everyone
+        m_candidatesValid = m_candidatesValid && candidatesStillHold();  // the integration moved everyone
         m_refreshable = m_accelerationMatchesX && (!m_useList || m_pairsMatchX);
         if (m_refreshable) m_xBeforeCollisions = m_x;
         m_accelerationMatchesX = false;  // until refreshAccelerations or a full pass
@@ -239,6 +243,57 @@ public:
         m_logRound = 0;
         m_stepDt = window.maxRewind / 1.1;  // collision_rounds.cpp: the window is 1.1 dt
         if (m_logContacts) m_detail.resize(n);
+        keepWarmStart();
+    }
+
+    // The last relaxation's contacts and impulses, by particle (a counting sort of m_contacts by i),
+    // for the first listing of this step to warm-start from (contact_relaxation.h).
+    void keepWarmStart() {
+        const size_t n = m_x.size();
+        m_warmStart.assign(n + 1, 0);
+        for (const Contact& c : m_contacts) {
+            if (c.lambda > Real(0) && size_t(c.i) < n) ++m_warmStart[size_t(c.i) + 1];
+        }
+        for (size_t i = 0; i < n; ++i) m_warmStart[i + 1] += m_warmStart[i];
+        m_warmPartner.resize(size_t(m_warmStart[n]));
+        m_warmLambda.resize(size_t(m_warmStart[n]));
+        std::vector<int64_t> slot(m_warmStart.begin(), m_warmStart.end() - 1);
+        for (const Contact& c : m_contacts) {
+            if (!(c.lambda > Real(0)) || size_t(c.i) >= n) continue;
+            const size_t k = size_t(slot[size_t(c.i)]++);
+            m_warmPartner[k] = c.partner;
+            m_warmLambda[k] = c.lambda;
+        }
+        m_contacts.clear();
+        m_firstListing = true;
+    }
+
+    // Particle i's impulse on `partner` at the end of the last step, or 0.
+    Real warmLambdaOf(int64_t i, int64_t partner) const {
+        if (m_warmStart.size() != m_x.size() + 1) return Real(0);
+        for (int64_t k = m_warmStart[size_t(i)]; k < m_warmStart[size_t(i) + 1]; ++k) {
+            if (m_warmPartner[size_t(k)] == partner) return m_warmLambda[size_t(k)];
+        }
+        return Real(0);
+    }
+
+    bool warmStartsContacts() const override { return true; }
+
+    std::vector<ContactWarmStart> contactWarmStart() const override {
+        std::vector<ContactWarmStart> kept;
+        for (const Contact& c : m_contacts) {
+            if (c.lambda > Real(0)) kept.push_back(ContactWarmStart{c.i, c.partner, double(c.lambda)});
+        }
+        return kept;
+    }
+
+    // The values were this precision's before the round trip through double: restored exactly.
+    void restoreContactWarmStart(const std::vector<ContactWarmStart>& impulses) override {
+        m_contacts.clear();
+        for (const ContactWarmStart& w : impulses) {
+            if (w.i < 0 || w.i >= size() || w.partner >= size() || (w.partner >= 0 && w.partner <= w.i) || w.partner < -6) continue;
+            m_contacts.push_back(Contact{w.i, w.partner, 0.0, Real(w.lambda), Real(0)});
+        }
     }
 
     int64_t findEvents(EventScope scope) override {
@@ -331,7 +386,19 @@ public:
         });
         m_xCandidates = m_x;
         m_candidateSlack2 = Real(0.25 * margin * margin);
+        m_candidateNearGap = m_nearGap;
         m_candidatesValid = true;
+    }
+
+    // The candidate lists outlive their step while they still hold every pair that can overlap or
+    // come within the near gap: nobody has moved half the margin since they were made (a Verlet
+    // list's rule) and the near gap has not grown. A settled pile keeps them for many steps.
+    bool candidatesStillHold() const {
+        if (m_xCandidates.size() != m_x.size() || m_nearGap > m_candidateNearGap) return false;
+        for (size_t i = 0; i < m_x.size(); ++i) {
+            if (norm2(m_x[i] - m_xCandidates[i]) > m_candidateSlack2) return false;
+        }
+        return true;
     }
 
     void setContactLog(bool on) override { m_logContacts = on; }
@@ -391,8 +458,11 @@ public:
             return 0;
         }
         const RestingContact<Real> rest{Real(resting.speed), Real(resting.gap)};
-        // Cells wide enough for resting pairs a resting gap apart: every listed pair in neighbouring cells.
-        m_grid.build(m_x, m_boxLength, 2.0 * m_model.maxRadius() + resting.gap);
+        // The impact rounds' candidate lists hold every pair within the resting gap while they still
+        // hold (the sweeps of an earlier listing of this step moved particles: checked again); else
+        // cells wide enough for resting pairs a resting gap apart.
+        const bool fromCandidates = m_candidatesValid && rest.gap <= m_candidateNearGap && candidatesStillHold();
+        if (!fromCandidates) m_grid.build(m_x, m_boxLength, 2.0 * m_model.maxRadius() + resting.gap);
         const Vec3<double> up = vec3Cast<double>(upOf(m_gravity));
         // Each pair once, from its lower index: counted, offsets, then filled in place (no allocation
         // per particle in this per-step path).
@@ -400,7 +470,7 @@ public:
         m_contactStart.assign(size_t(n) + 1, 0);
         parallelFor(m_threads, n, [&](int64_t i) {
             int64_t count = 0;
-            forEachContactOf(i, rest, [&](int64_t partner) { count += ownContact(i, partner); });
+            forEachContactOf(i, rest, fromCandidates, [&](int64_t partner) { count += ownContact(i, partner); });
             m_contactStart[size_t(i) + 1] = count;
         });
         for (int64_t i = 0; i < n; ++i) m_contactStart[size_t(i) + 1] += m_contactStart[size_t(i)];
@@ -409,9 +479,9 @@ public:
         parallelFor(m_threads, n, [&](int64_t i) {
             int64_t slot = m_contactStart[size_t(i)];
             const double height = dot(up, vec3Cast<double>(m_x[size_t(i)]));
-            forEachContactOf(i, rest, [&](int64_t partner) {
+            forEachContactOf(i, rest, fromCandidates, [&](int64_t partner) {
                 if (!ownContact(i, partner)) return;
-                Contact c{i, partner, height, Real(0), Real(0)};
+                Contact c{i, partner, height, m_firstListing ? warmLambdaOf(i, partner) : Real(0), Real(0)};
                 if (partner >= 0) c.height = std::min(c.height, dot(up, vec3Cast<double>(m_x[size_t(partner)])));
                 m_contacts[size_t(slot++)] = c;
             });
@@ -421,6 +491,8 @@ public:
             return a.height < b.height || (a.height == b.height && isWallContact(a.partner) && !isWallContact(b.partner));
         });
         setBounceTargets(rest.speed);
+        m_warmPending = m_firstListing;
+        m_firstListing = false;  // a listing again in this step starts cold: this one's impulses are applied
         m_xListed = m_x;
         return int64_t(m_contacts.size());
     }
@@ -441,6 +513,7 @@ public:
                 const int code = int(-1 - c.partner);
                 const Real vn = (code % 2 == 0 ? Real(1) : Real(-1)) * m_v[i][code / 2];
                 if (vn < Real(0)) c.target = -contactRestitution(true, vn, bounce.wallRestitution, bounce) * vn;
+                if (c.target > Real(0)) c.lambda = Real(0);  // an impact: nothing to warm-start
                 continue;
             }
             const size_t j = size_t(c.partner);
@@ -450,6 +523,29 @@ public:
             if (!(dist > Real(0))) continue;
             const Real vn = dot(m_v[i] - m_v[j], rij) / dist;
             if (vn < Real(0)) c.target = -contactRestitution(true, vn, bounce.restitution, bounce) * vn;
+            if (c.target > Real(0)) c.lambda = Real(0);
+        }
+    }
+
+    // Applies the warm-start impulses the first listing of the step took over (contact_relaxation.h):
+    // part of this relaxation, so the kinetic energy the core measured after the listing still
+    // brackets the whole velocity level.
+    void applyWarmStart() {
+        for (const Contact& c : m_contacts) {
+            if (!(c.lambda > Real(0))) continue;
+            const size_t i = size_t(c.i);
+            if (isWallContact(c.partner)) {
+                const int code = int(-1 - c.partner);
+                m_v[i][code / 2] += code % 2 == 0 ? c.lambda : -c.lambda;
+                continue;
+            }
+            const size_t j = size_t(c.partner);
+            const Vec3<Real> rij = m_x[i] - m_x[j];
+            const Real dist = std::sqrt(norm2(rij));
+            if (!(dist > Real(0))) continue;
+            const Vec3<Real> n = (Real(1) / dist) * rij;
+            m_v[i] += (c.lambda / m_mass[size_t(m_species[i])]) * n;
+            m_v[j] -= (c.lambda / m_mass[size_t(m_species[j])]) * n;
         }
     }
 
@@ -457,6 +553,8 @@ public:
         m_nearValid = false;  // the sweeps move particles
         ContactResidual<Real> r{0, 0};
         const Vec3<Real> up = upOf(m_gravity);
+        if (m_warmPending) applyWarmStart();
+        m_warmPending = false;
         for (int sweep = 0; sweep < sweeps; ++sweep) {
             r = ContactResidual<Real>{0, 0};
             for (Contact& c : m_contacts) {
@@ -489,7 +587,7 @@ public:
                              up, r);
             }
         }
-        return ContactResidual<double>{double(r.approachSpeed), double(r.overlap)};
+        return ContactResidual<double>{double(r.speedChange), double(r.overlap)};
     }
 
     // Each contact's accumulated impulse lambda is its net impulse of the listing (per unit mass for a
@@ -859,14 +957,20 @@ private:
     };
 
     // fn(partner) for each contact of particle i that the relaxation acts on (contact_relaxation.h:
-    // pairContactActive, wallContactActive): neighbours in the cell list's order, then walls.
+    // pairContactActive, wallContactActive): neighbours in the candidate list's or the cell list's
+    // order, then walls.
     template <class Fn>
-    void forEachContactOf(int64_t i, const RestingContact<Real>& rest, Fn&& fn) const {
+    void forEachContactOf(int64_t i, const RestingContact<Real>& rest, bool fromCandidates, Fn&& fn) const {
         const Vec3<Real> xi = m_x[size_t(i)], vi = m_v[size_t(i)];
         const Real ai = m_radius[size_t(m_species[size_t(i)])];
-        m_grid.forNeighbours(xi, [&](int64_t j) {
+        auto visit = [&](int64_t j) {
             if (j != i && pairContactActive(xi, vi, m_x[size_t(j)], m_v[size_t(j)], ai + m_radius[size_t(m_species[size_t(j)])], rest)) fn(j);
-        });
+        };
+        if (fromCandidates) {
+            for (int64_t c = m_candidateStart[size_t(i)]; c < m_candidateStart[size_t(i) + 1]; ++c) visit(int64_t(m_candidates[size_t(c)]));
+        } else {
+            m_grid.forNeighbours(xi, visit);
+        }
         for (int axis = 0; axis < 3; ++axis) {
             for (int side = 0; side < 2; ++side) {
                 if (wallContactActive(xi[axis], vi[axis], ai, m_boxLength[axis], side, rest)) fn(wallCode(axis, side));
@@ -948,6 +1052,7 @@ private:
     std::vector<int32_t> m_candidateOrder;  // the grid's order at the listing: neighbours walk together
     std::vector<Vec3<Real>> m_xCandidates;
     Real m_candidateSlack2 = 0;
+    Real m_candidateNearGap = 0;  // the near gap they were made for
     // Per particle: a partner or wall within m_nearGap at its last look (findEvents); valid until
     // the contact sweeps move particles.
     std::vector<char> m_near;
@@ -982,6 +1087,12 @@ private:
     std::vector<Contact> m_contacts;      // bottom-up
     std::vector<int32_t> m_contactCount;  // listed contacts per particle (setBounceTargets)
     std::vector<Vec3<Real>> m_xListed;
+    // Warm start: the last step's impulses by particle (keepWarmStart), taken by the step's first listing.
+    std::vector<int64_t> m_warmStart;
+    std::vector<int64_t> m_warmPartner;
+    std::vector<Real> m_warmLambda;
+    bool m_firstListing = false;
+    bool m_warmPending = false;  // the listed lambdas are not applied to V yet
 
     Clock::time_point m_phaseStart[3] = {};
     double m_forceSeconds = 0;  // force passes since the Integrate mark

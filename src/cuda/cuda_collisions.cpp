@@ -251,7 +251,7 @@ ContactResidual<double> CudaDevice<Real>::relaxContacts(int sweeps) {
     cudaCheck(cudaMemcpyAsync(bits, m_residual.data(), 2 * sizeof(unsigned long long), cudaMemcpyDeviceToHost, stream()), "contact residual");
     sync();
     ContactResidual<double> r{0, 0};
-    std::memcpy(&r.approachSpeed, &bits[0], sizeof(double));
+    std::memcpy(&r.speedChange, &bits[0], sizeof(double));
     std::memcpy(&r.overlap, &bits[1], sizeof(double));
     return r;
 }

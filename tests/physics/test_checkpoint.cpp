@@ -134,6 +134,56 @@ TEST_P(Restart, ARestartedRunIsBitIdenticalToOneThatNeverStopped) {
     }
 }
 
+TEST_P(Restart, ARestartedPileIsBitIdenticalWithItsWarmStart) {
+    // A settled pile: a backend that warm-starts its contact relaxation (contact_relaxation.h) holds
+    // the last step's impulses, and the checkpoint carries them, so the restarted run starts its next
+    // relaxation where the uninterrupted one does.
+    Scene scene;
+    SpeciesDef ball;
+    ball.count = 300;
+    ball.radius = 0.5;
+    ball.epsilon = 0;
+    scene.species = {ball};
+    scene.box.size = {8, 20, 8};
+    scene.box.wallRestitution = 0.5;
+    scene.interaction.gravity = {0, -9.81, 0};
+    scene.interaction.restitution = 0.5;
+    scene.integrator.method = Method::Verlet;
+    scene.integrator.dt = 1.0 / 240;
+    scene.thermostat.kind = ThermostatKind::None;
+    scene.init.temperature = 0.1;
+    const ParticleState initial = makeInitialState(scene);
+    auto whole = std::make_unique<Simulation>(scene, makeTestBackend(backendName(), Precision::Fp64), initial);
+    auto first = std::make_unique<Simulation>(scene, makeTestBackend(backendName(), Precision::Fp64), initial);
+    for (int s = 0; s < 720; ++s) {
+        whole->step();
+        first->step();
+    }
+    const SimulationCheckpoint kept = first->checkpoint();
+    if (makeTestBackend(backendName(), Precision::Fp64)->warmStartsContacts()) {
+        EXPECT_GT(kept.contactImpulses.size(), 300u) << "a settled pile rests on its contacts";
+    }
+    const std::string path = scratchPath(std::string(backendName()) + "_pile");
+    writeCheckpoint(path, kept);
+    first.reset();
+    const SimulationCheckpoint read = readCheckpoint(path);
+    std::filesystem::remove(path);
+    ASSERT_EQ(read.contactImpulses.size(), kept.contactImpulses.size());
+    Simulation restarted(parseScene(read.sceneToml, path), makeTestBackend(backendName(), Precision::Fp64), read);
+    for (int s = 0; s < 60; ++s) {
+        const StepReport a = whole->step(), b = restarted.step();
+        ASSERT_EQ(a.contactSweeps, b.contactSweeps) << "step " << s;
+    }
+    const ParticleState sa = whole->state(), sb = restarted.state();
+    for (size_t i = 0; i < sa.size(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+            ASSERT_EQ(sa.position[i][k], sb.position[i][k]) << "particle " << i;
+            ASSERT_EQ(sa.velocity[i][k], sb.velocity[i][k]) << "particle " << i;
+        }
+    }
+    EXPECT_EQ(whole->observe().dissipated, restarted.observe().dissipated);
+}
+
 TEST_P(Restart, TruncatedDamagedAndForeignFilesAreRefused) {
     const Scene scene = restartScene(Method::Verlet, false);
     Simulation sim(scene, makeTestBackend(backendName(), Precision::Fp64), makeInitialState(scene));

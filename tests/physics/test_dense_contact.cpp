@@ -229,3 +229,32 @@ TEST_P(DenseContact, MomentumGivenToTheWallsBalancesGravityInAPile) {
         start = end;
     }
 }
+
+TEST_P(DenseContact, ASettledPileHoldsEveryLayer) {
+    // The pile of the test above, 5 s after the drop, over one more second. Every touching contact
+    // that is not approaching fast is listed (contact_relaxation.h), so the layers above the floor
+    // are held with it: none keeps falling onto the layer below (the pile's mean vertical speed stays
+    // a small part of what gravity adds in a step), no step needs the round cap, and the overlaps
+    // left are a small part of the contact phase's tolerance.
+    Scene scene = hardSphereScene(400, 10.0, Method::Verlet, 1.0 / 240);
+    scene.box.size = {10.0, 24.0, 10.0};
+    scene.interaction.gravity = {0, -9.81, 0};
+    scene.interaction.restitution = 0.5;
+    scene.box.wallRestitution = 0.5;
+    scene.init.temperature = 0.1;
+    auto sim = makeSimulation(backendName(), scene);
+    for (int s = 0; s < 1200; ++s) sim->step();
+    int64_t capHits = 0;
+    double worstFall = 0, worstOverlap = 0;
+    for (int s = 0; s < 240; ++s) {
+        const StepReport r = sim->step();
+        capHits += r.roundCapHit ? 1 : 0;
+        worstOverlap = std::max(worstOverlap, r.contactOverlap);
+        worstFall = std::max(worstFall, -sim->observe().py / 400.0);
+    }
+    RecordProperty("worst_mean_fall_speed", std::to_string(worstFall));
+    RecordProperty("worst_overlap", std::to_string(worstOverlap));
+    EXPECT_EQ(capHits, 0);
+    EXPECT_LT(worstFall, 0.25 * 9.81 / 240) << "the pile is falling onto its lower layers";
+    EXPECT_LT(worstOverlap, 1e-4);
+}

@@ -72,3 +72,18 @@ TEST(SetupCheck, ProgressReachesTheEndOfEveryStage) {
     EXPECT_EQ(last["lattice placement"].first, last["lattice placement"].second);
     EXPECT_EQ(last["overlap check"].first, 200000);
 }
+
+TEST(SetupCheck, AcceptsTheResidualOverlapsOfARestingPileAndRefusesDeeperOnes) {
+    // A saved resting pile holds contacts a little closer than a_i + a_j and balls a little past the
+    // wall plane (the contact phase's residual): it must read back. Beyond 1%, the file is wrong.
+    const Scene scene = lineScene(4);
+    ParticleState state = lineState(4);
+    state.position[1].x = state.position[0].x + 0.8 * (1 - 0.5 * kRestingOverlapAccepted);
+    state.position[0].x = 0.4 * (1 - 0.5 * kRestingOverlapAccepted);
+    EXPECT_EQ(overlapMessage(scene, state), "");
+    state.position[3].x = state.position[2].x + 0.8 * (1 - 2 * kRestingOverlapAccepted);
+    EXPECT_NE(overlapMessage(scene, state).find("particles 2 and 3 overlap"), std::string::npos);
+    state = lineState(4);
+    state.position[0].x = 0.4 * (1 - 2 * kRestingOverlapAccepted);
+    EXPECT_NE(overlapMessage(scene, state).find("particle 0 lies outside the box"), std::string::npos);
+}
