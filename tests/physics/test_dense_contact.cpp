@@ -256,7 +256,7 @@ TEST_P(DenseContact, ASettledPileHoldsEveryLayer) {
     RecordProperty("worst_overlap", std::to_string(worstOverlap));
     EXPECT_EQ(capHits, 0);
     if (!makeTestBackend(backendName(), Precision::Fp64)->warmStartsContacts()) {
-        // The GPU's cold Jacobi relaxation does not hold the layers yet (H200: a mean fall of 0.072
+        // The GPU's cold Jacobi relaxation does not hold the layers yet (H200: a mean fall speed of 0.072
         // per step and overlaps of 5e-4): a warm-started relaxation there is still to come.
         GTEST_SKIP() << "a cold Jacobi relaxation: mean fall " << worstFall << ", worst overlap " << worstOverlap;
     }
