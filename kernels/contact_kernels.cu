@@ -1,6 +1,7 @@
 // The contact relaxation on the GPU (contact_relaxation.h): per-particle contact lists built from the
-// cell list in the order the CPU builds them (count, scan, fill), then Jacobi sweeps, one thread per
-// particle, with the same relaxParticle as the CPU. No order-dependent atomics: a sweep reads only
+// cell list in the order the CPU builds them (count, scan, fill, each contact's warm-start impulse
+// from the last step's rows), the warm start, then Jacobi sweeps, one thread per particle
+// (relaxParticle). No order-dependent atomics: a sweep reads only
 // the previous sweep's state, and the residual is a maximum (atomicMax on the bits of non-negative
 // doubles, which order like the values).
 #include <cub/device/device_scan.cuh>
@@ -43,12 +44,48 @@ __global__ void countContactsKernel(ContactArgs<Real> a) {
     a.contactStart[i + 1] = forEachContact(a, i, [](int64_t) {});
 }
 
+// Particle i's impulse on `partner` at the end of the last step (its row there), or 0.
+template <class Real>
+__device__ Real warmLambdaOf(const ContactArgs<Real>& a, int64_t i, int64_t partner) {
+    for (int64_t k = a.warmStart[i]; k < a.warmStart[i + 1]; ++k) {
+        if (a.warmPartner[k] == partner) return a.warmLambda[k];
+    }
+    return Real(0);
+}
+
 template <class Real>
 __global__ void fillContactsKernel(ContactArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.p.n) return;
-    int64_t slot = a.contactStart[i];
-    forEachContact(a, i, [&](int64_t partner) { a.partner[slot++] = partner; });
+    const int64_t first = a.contactStart[i];
+    const int count = int(a.contactStart[i + 1] - first);
+    int64_t slot = first;
+    forEachContact(a, i, [&](int64_t partner) {
+        a.partner[slot] = partner;
+        // An isolated contact may bounce (relaxParticle): nothing to warm-start. Both rows of a pair
+        // decide alike (both counts are 1, or not).
+        const bool isolated = count == 1 && (isWallContact(partner) || a.contactStart[partner + 1] - a.contactStart[partner] == 1);
+        a.lambda[slot] = a.warm && !isolated ? warmLambdaOf(a, i, partner) : Real(0);
+        ++slot;
+    });
+}
+
+template <class Real>
+__global__ void warmStartKernel(ContactArgs<Real> a) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.p.n) return;
+    const int64_t first = a.contactStart[i];
+    const int count = int(a.contactStart[i + 1] - first);
+    if (count == 0) return;
+    ImpulseSums given;
+    a.p.v[i] += warmStartParticle(i, count, [&](int c) { return a.partner[first + c]; }, a.lambda + first, a.p.x, a.p.species, a.table.mass,
+                                  a.table.radius, a.box, given);
+    const size_t n = size_t(a.p.n);
+    for (int k = 0; k < kWallCount; ++k) {
+        if (given.wall[k] != 0) a.impulses[size_t(k) * n + size_t(i)] += given.wall[k];
+        if (given.wallCentre[k] != 0) a.impulses[size_t(kWallCount + k) * n + size_t(i)] += given.wallCentre[k];
+    }
+    if (given.pairVirial != 0) a.impulses[size_t(kPairVirialRow) * n + size_t(i)] += given.pairVirial;
 }
 
 __device__ void atomicMaxNonNegative(unsigned long long* target, double value) {
@@ -64,7 +101,7 @@ __global__ void sweepKernel(ContactArgs<Real> a) {
     ContactResidual<Real> r{0, 0};
     ImpulseSums given;
     auto contactsOf = [&](int64_t j) { return int(a.contactStart[j + 1] - a.contactStart[j]); };
-    relaxParticle(i, count, [&](int c) { return a.partner[first + c]; }, contactsOf, a.p.x, a.p.v, a.p.species, a.table.mass,
+    relaxParticle(i, count, [&](int c) { return a.partner[first + c]; }, contactsOf, a.lambda + first, a.p.x, a.p.v, a.p.species, a.table.mass,
                   a.table.radius, a.box, a.up, a.bounce, a.dv[i], a.dx[i], r, given);
     // Each particle's own impulse rows (no atomics): summed in a fixed order when asked.
     const size_t n = size_t(a.p.n);
@@ -122,6 +159,13 @@ void launchFillContacts(const ContactArgs<Real>& a, cudaStream_t stream) {
 }
 
 template <class Real>
+void launchWarmStart(const ContactArgs<Real>& a, cudaStream_t stream) {
+    if (a.p.n == 0) return;
+    warmStartKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+    checkLaunch("contact warm-start kernel");
+}
+
+template <class Real>
 void launchRelaxContacts(const ContactArgs<Real>& a, int sweeps, cudaStream_t stream) {
     if (a.p.n == 0) return;
     for (int sweep = 0; sweep < sweeps; ++sweep) {
@@ -145,6 +189,7 @@ void launchLiftWorkRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, 
 #define COREBOX_INSTANTIATE(Real)                                                                                  \
     template void launchCountContacts<Real>(const ContactArgs<Real>&, cudaStream_t);                               \
     template void launchFillContacts<Real>(const ContactArgs<Real>&, cudaStream_t);                                \
+    template void launchWarmStart<Real>(const ContactArgs<Real>&, cudaStream_t);                                   \
     template void launchRelaxContacts<Real>(const ContactArgs<Real>&, int, cudaStream_t);                          \
     template void launchLiftWorkRow<Real>(const ParticleArrays<Real>&, SpeciesTable<Real>, const Vec3<Real>*, double*, cudaStream_t);
 COREBOX_INSTANTIATE(float)

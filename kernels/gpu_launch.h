@@ -252,6 +252,12 @@ struct ContactArgs {
     Vec3<Real>* dx;           // n: one sweep's position change
     unsigned long long* residual;  // [approach speed, overlap] as the bits of non-negative doubles (max)
     double* impulses;         // kImpulseRows x n (impulse_sums.h): each particle's impulses since the listing
+    Real* lambda;             // per listed contact, as partner[]: its accumulated impulse (contact_relaxation.h)
+    // The last step's rows for the warm start (warm: the fill takes each contact's lambda from them).
+    bool warm;
+    const int64_t* warmStart;
+    const int64_t* warmPartner;
+    const Real* warmLambda;
 };
 // contactStart[i + 1] = particle i's contact count (contactStart[0] = 0); the caller scans it.
 template <class Real>
@@ -259,7 +265,11 @@ void launchCountContacts(const ContactArgs<Real>& args, cudaStream_t stream);
 // Exclusive-scans counts in place into offsets: n + 1 entries.
 size_t contactScanScratchBytes(int64_t n);
 void scanContactCounts(int64_t* contactStart, int64_t n, void* scratch, size_t scratchBytes, cudaStream_t stream);
-// Fills partner[] in the order the count visited them (cell-list order, then walls).
+// Fills partner[] in the order the count visited them (cell-list order, then walls), and lambda[]:
+// with `warm`, each contact's impulse at the end of the last step (0 for a new or isolated contact).
+// Applies the filled impulses to V (the warm start), before the first sweep.
+template <class Real>
+void launchWarmStart(const ContactArgs<Real>& args, cudaStream_t stream);
 template <class Real>
 void launchFillContacts(const ContactArgs<Real>& args, cudaStream_t stream);
 // One Jacobi sweep (contact_relaxation.h: relaxParticle) then the update, `sweeps` times; the

@@ -180,9 +180,11 @@ public:
     virtual std::vector<ContactRecord> contactLog() const = 0;
 
     // ---- collision stage, 2: contact relaxation (contact_relaxation.h) ----
-    // Whether the backend warm-starts each step's relaxation with the last one's impulses
-    // (contact_relaxation.h); such a relaxation needs fewer sweeps (CollisionSettings::maxSweepsWarm).
+    // Whether the backend warm-starts each step's relaxation with the last one's impulses, and whether
+    // it sweeps Gauss-Seidel (contact_relaxation.h): a warm-started Gauss-Seidel relaxation needs few
+    // sweeps (CollisionSettings::maxSweepsGaussSeidel), a Jacobi one many more.
     virtual bool warmStartsContacts() const { return false; }
+    virtual bool relaxesGaussSeidel() const { return false; }
     // Those impulses: checkpoints carry them so that a restarted run stays bit-identical. Empty from a
     // backend that does not warm-start. Setting the state forgets them (indices may mean other particles).
     virtual std::vector<ContactWarmStart> contactWarmStart() const { return {}; }

@@ -30,19 +30,22 @@ struct CollisionSettings {
     int maxRounds = 64;            // impact rounds per step
     double dt = 0;                 // the step just taken: no rewind beyond it
     double restingSpeed = 0;       // slower contacts rest instead of bouncing [sigma / tau]
-    // Contact sweeps per listing: a warm-started Gauss-Seidel relaxation (Backend::warmStartsContacts)
-    // begins near its end and needs few (the 10,000-ball pile, CPU: 16 sweeps 116 ms per frame with
-    // overlaps within 0.04% of a diameter; 32 sweeps 157 ms, 0.05%; capped at 128, 420 ms); a cold
-    // Jacobi relaxation needs many.
-    int maxSweeps = 128;
-    int maxSweepsWarm = 16;
+    // Contact sweeps per listing. A warm-started Gauss-Seidel relaxation begins near its end and
+    // carries support from the floor to the top within a sweep, so it needs few (the 10,000-ball pile,
+    // CPU: 16 sweeps 116 ms per frame with overlaps within 0.04% of a diameter; 32 sweeps 157 ms,
+    // 0.05%; capped at 128, 420 ms). Jacobi carries support a layer per sweep and needs many (H200,
+    // warm-started with 16: a column of ten balls sinks 1.6e-3 and a pile's overlaps reach 1e-3).
+    int maxSweepsJacobi = 128;
+    int maxSweepsGaussSeidel = 16;
     double speedTolerance = 0;     // contacts converged when no approach is faster than this ...
     double overlapTolerance = 1e-3;  // ... and no overlap deeper than this fraction of a contact distance
 };
 
 // Settings for a step of length dt under gravity g: the resting speed is 2 |g| dt, twice what
 // gravity adds to an approach in one step (0 without gravity: every approach is then an impact).
-CollisionSettings collisionSettingsFor(const InteractionDef& interaction, double dt);
+// `smallestContact`: the smallest contact distance a_i + a_j of the scene (the overlap tolerance is
+// relative to it).
+CollisionSettings collisionSettingsFor(const InteractionDef& interaction, double dt, double smallestContact);
 
 // Runs both phases on the backend's current state; fills the collision fields of `report`.
 void resolveCollisions(Backend& backend, const CollisionSettings& settings, StepReport& report);

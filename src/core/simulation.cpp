@@ -108,7 +108,11 @@ StepReport Simulation::step() {
     backend.markPhase(StepPhase::Integrate);
     m_driver.integrate(backend, report);
     backend.markPhase(StepPhase::Collide);
-    resolveCollisions(backend, collisionSettingsFor(m_scene.interaction, report.dt), report);
+    double smallestContact = 0;
+    for (const SpeciesDef& sp : m_scene.species) {
+        if (sp.radius > 0 && (smallestContact == 0 || 2 * sp.radius < smallestContact)) smallestContact = 2 * sp.radius;
+    }
+    resolveCollisions(backend, collisionSettingsFor(m_scene.interaction, report.dt, smallestContact), report);
     backend.markPhase(StepPhase::Done);
     // Collisions moved some particles: Verlet's cached accelerations are stale for them and their
     // neighbours. A backend that can bring them up to date for just those keeps the cache; otherwise

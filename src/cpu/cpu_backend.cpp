@@ -278,6 +278,7 @@ public:
     }
 
     bool warmStartsContacts() const override { return true; }
+    bool relaxesGaussSeidel() const override { return true; }
 
     std::vector<ContactWarmStart> contactWarmStart() const override {
         std::vector<ContactWarmStart> kept;
@@ -485,6 +486,11 @@ public:
                 if (partner >= 0) c.height = std::min(c.height, dot(up, vec3Cast<double>(m_x[size_t(partner)])));
                 m_contacts[size_t(slot++)] = c;
             });
+            // By partner: the same list whether the candidates or the grid were walked (the order
+            // breaks the sweep order's ties, so a restart, which builds its candidates afresh, stays
+            // bit-identical).
+            std::sort(m_contacts.begin() + m_contactStart[size_t(i)], m_contacts.begin() + slot,
+                      [](const Contact& a, const Contact& b) { return a.partner < b.partner; });
         });
         // Bottom-up; at one height the walls first, since they are what holds everything else.
         std::stable_sort(m_contacts.begin(), m_contacts.end(), [](const Contact& a, const Contact& b) {

@@ -114,6 +114,7 @@ void CudaDevice<Real>::setModel(const DeviceModel& model) {
     });
     m_gravity = vec3Cast<Real>(model.gravity);
     m_box = vec3Cast<Real>(model.box);
+    m_listedThisStep = m_warmValid = false;  // no warm start across a change of masses or radii
 }
 
 template <class Real>
@@ -126,6 +127,7 @@ template <class Real>
 void CudaDevice<Real>::setState(const ParticleState& state) {
     sync();
     m_accelerationMatchesX = false;
+    m_listedThisStep = m_warmValid = false;  // indices may now mean other particles: no warm start
     m_n = int64_t(state.size());
     m_partition.resize(m_n);
     // Full-length arrays are padded to P equal chunks (NCCL); padding rows are never read as particles.

@@ -78,6 +78,15 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     m_logRound = 0;
     m_stepDt = window.maxRewind / 1.1;  // collision_rounds.cpp: the window is 1.1 dt
     if (m_logging) cudaCheck(cudaMemsetAsync(m_counters.data() + 2, 0, sizeof(unsigned int), s), "memset");
+    // The last listing's rows become the warm start of this step's first listing.
+    m_warmValid = m_listedThisStep;
+    if (m_warmValid) {
+        std::swap(m_contactStart, m_warmStart);
+        std::swap(m_contactPartner, m_warmPartner);
+        std::swap(m_contactLambda, m_warmLambda);
+    }
+    m_listedThisStep = false;
+    m_firstListing = true;
 }
 
 template <class Real>
@@ -211,6 +220,11 @@ gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
     a.dx = m_dx.data();
     a.residual = m_residual.data();
     a.impulses = m_contactImpulses.data();
+    a.lambda = m_contactLambda.data();
+    a.warm = false;
+    a.warmStart = m_warmStart.data();
+    a.warmPartner = m_warmPartner.data();
+    a.warmLambda = m_warmLambda.data();
     return a;
 }
 
@@ -233,17 +247,26 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     m_contactScanScratch.resize(scratch);
     gpu::scanContactCounts(m_contactStart.data(), m_n, m_contactScanScratch.data(), scratch, s);
     const int64_t total = readBack(m_contactStart, size_t(m_n));
+    m_listedThisStep = true;
+    const bool warm = m_firstListing && m_warmValid;
+    m_firstListing = false;  // a listing again in this step starts cold: this one's impulses are applied
     if (total == 0) return 0;
     m_contactPartner.resize(size_t(total));
+    m_contactLambda.resize(size_t(total));
     m_contactImpulses.resize(size_t(kImpulseRows) * size_t(m_n));
     cudaCheck(cudaMemsetAsync(m_contactImpulses.data(), 0, size_t(kImpulseRows) * size_t(m_n) * sizeof(double), s), "memset");
-    gpu::launchFillContacts(contactArgs(), s);
+    gpu::ContactArgs<Real> fill = contactArgs();
+    fill.warm = warm;
+    gpu::launchFillContacts(fill, s);
+    m_warmPending = warm;
     cudaCheck(cudaMemcpyAsync(m_xListed.data(), home().x.data(), size_t(m_n) * sizeof(Vec3<Real>), cudaMemcpyDeviceToDevice, s), "contacts");
     return total;
 }
 
 template <class Real>
 ContactResidual<double> CudaDevice<Real>::relaxContacts(int sweeps) {
+    if (m_warmPending) gpu::launchWarmStart(contactArgs(), stream());
+    m_warmPending = false;
     gpu::launchRelaxContacts(contactArgs(), sweeps, stream());
     homeChanged();
     m_cellsMatchPositions = false;
@@ -254,6 +277,66 @@ ContactResidual<double> CudaDevice<Real>::relaxContacts(int sweeps) {
     std::memcpy(&r.speedChange, &bits[0], sizeof(double));
     std::memcpy(&r.overlap, &bits[1], sizeof(double));
     return r;
+}
+
+// Each pair once, from its lower index, and the walls: the contacts that end the last relaxation
+// pushing (lambda > 0), from the current rows.
+template <class Real>
+std::vector<ContactWarmStart> CudaDevice<Real>::contactWarmStart() const {
+    if (!m_listedThisStep || m_n == 0) return {};
+    sync();
+    std::vector<int64_t> start(size_t(m_n) + 1);
+    m_contactStart.download(start.data(), start.size());
+    const size_t total = size_t(start.back());
+    std::vector<int64_t> partner(total);
+    std::vector<Real> lambda(total);
+    if (total > 0) {
+        m_contactPartner.download(partner.data(), total);
+        m_contactLambda.download(lambda.data(), total);
+    }
+    std::vector<ContactWarmStart> kept;
+    for (int64_t i = 0; i < m_n; ++i) {
+        for (int64_t k = start[size_t(i)]; k < start[size_t(i) + 1]; ++k) {
+            const int64_t p = partner[size_t(k)];
+            if ((p < 0 || p > i) && lambda[size_t(k)] > Real(0)) kept.push_back(ContactWarmStart{i, p, double(lambda[size_t(k)])});
+        }
+    }
+    return kept;
+}
+
+// Rows as a listing leaves them (both particles of a pair hold it), for the next step's first listing.
+// The values were this precision's before the round trip through double: restored exactly.
+template <class Real>
+void CudaDevice<Real>::restoreContactWarmStart(const std::vector<ContactWarmStart>& impulses) {
+    const size_t n = size_t(m_n);
+    auto valid = [&](const ContactWarmStart& w) {
+        return w.i >= 0 && w.i < m_n && w.partner < m_n && !(w.partner >= 0 && w.partner <= w.i) && w.partner >= -6;
+    };
+    std::vector<int64_t> start(n + 1, 0);
+    for (const ContactWarmStart& w : impulses) {
+        if (!valid(w)) continue;
+        ++start[size_t(w.i) + 1];
+        if (w.partner >= 0) ++start[size_t(w.partner) + 1];
+    }
+    for (size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+    const size_t total = size_t(start[n]);
+    std::vector<int64_t> partner(total), slot(start.begin(), start.end() - 1);
+    std::vector<Real> lambda(total);
+    for (const ContactWarmStart& w : impulses) {
+        if (!valid(w)) continue;
+        size_t k = size_t(slot[size_t(w.i)]++);
+        partner[k] = w.partner;
+        lambda[k] = Real(w.lambda);
+        if (w.partner < 0) continue;
+        k = size_t(slot[size_t(w.partner)]++);
+        partner[k] = w.i;
+        lambda[k] = Real(w.lambda);
+    }
+    sync();
+    m_contactStart.upload(start.data(), start.size());
+    m_contactPartner.upload(partner.data(), partner.size());
+    m_contactLambda.upload(lambda.data(), lambda.size());
+    m_listedThisStep = true;
 }
 
 template <class Real>

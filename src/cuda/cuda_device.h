@@ -96,6 +96,9 @@ public:
     std::vector<ContactRecord> contactLog() const override;
     int64_t listContacts(const RestingContact<double>& resting) override;
     ContactResidual<double> relaxContacts(int sweeps) override;
+    bool warmStartsContacts() const override { return true; }
+    std::vector<ContactWarmStart> contactWarmStart() const override;
+    void restoreContactWarmStart(const std::vector<ContactWarmStart>& impulses) override;
     double contactLiftWork() override;
     ImpulseSums contactImpulses() override;
 
@@ -220,6 +223,14 @@ private:
     ImpactWindow<Real> m_window{0, 0};
     RestingContact<Real> m_resting{0, 0};
     DeviceBuffer<int64_t> m_contactStart, m_contactPartner;
+    DeviceBuffer<Real> m_contactLambda;  // per listed contact: its accumulated impulse
+    // Warm start (contact_relaxation.h): the last step's final rows, swapped in at beginCollisions.
+    DeviceBuffer<int64_t> m_warmStart, m_warmPartner;
+    DeviceBuffer<Real> m_warmLambda;
+    bool m_listedThisStep = false;  // the current rows are this step's last listing (checkpoints read them)
+    bool m_warmValid = false;       // m_warm* hold the last step's final rows
+    bool m_firstListing = false;    // no listing yet in this step
+    bool m_warmPending = false;     // the filled impulses are not applied to V yet
     DeviceBuffer<Vec3<Real>> m_xListed, m_dv, m_dx;
     DeviceBuffer<unsigned long long> m_residual;  // [approach speed, overlap], double bits
     DeviceBuffer<unsigned char> m_contactScanScratch;

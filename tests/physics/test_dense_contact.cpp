@@ -6,6 +6,8 @@
 //   restitution (an elastic fluid keeps its energy);
 // - a ball resting on the floor and a column of ten balls stay put for 10^4 steps under gravity: no
 //   creep sideways, no sinking, no overlap, and the energy they lose is what the conserved sum books;
+// - a settled pile holds every layer: no layer keeps falling onto the one below, no round cap, small
+//   overlaps;
 // - the pressure bookkeeping of both phases: a resting ball presses on the floor with its weight, and
 //   in a pile the momentum given to the walls balances gravity and the pile's momentum change.
 #include <gtest/gtest.h>
@@ -235,7 +237,8 @@ TEST_P(DenseContact, ASettledPileHoldsEveryLayer) {
     // that is not approaching fast is listed (contact_relaxation.h), so the layers above the floor
     // are held with it: none keeps falling onto the layer below (the pile's mean vertical speed stays
     // a small part of what gravity adds in a step), no step needs the round cap, and the overlaps
-    // left are a small part of the contact phase's tolerance.
+    // left are a quarter of the 1e-3 of a contact distance that bounds any contact phase. (Listing
+    // only the approaching contacts, the pile fell at 0.13 per ball on the CPU, 0.072 on an H200.)
     Scene scene = hardSphereScene(400, 10.0, Method::Verlet, 1.0 / 240);
     scene.box.size = {10.0, 24.0, 10.0};
     scene.interaction.gravity = {0, -9.81, 0};
@@ -255,11 +258,6 @@ TEST_P(DenseContact, ASettledPileHoldsEveryLayer) {
     RecordProperty("worst_mean_fall_speed", std::to_string(worstFall));
     RecordProperty("worst_overlap", std::to_string(worstOverlap));
     EXPECT_EQ(capHits, 0);
-    if (!makeTestBackend(backendName(), Precision::Fp64)->warmStartsContacts()) {
-        // The GPU's cold Jacobi relaxation does not hold the layers yet (H200: a mean fall speed of 0.072
-        // per step and overlaps of 5e-4): a warm-started relaxation there is still to come.
-        GTEST_SKIP() << "a cold Jacobi relaxation: mean fall " << worstFall << ", worst overlap " << worstOverlap;
-    }
     EXPECT_LT(worstFall, 0.25 * 9.81 / 240) << "the pile is falling onto its lower layers";
-    EXPECT_LT(worstOverlap, 1e-4);
+    EXPECT_LT(worstOverlap, 2.5e-4);  // listing only approaching contacts left 2.3e-3 (CPU) and 5e-4 (H200)
 }
