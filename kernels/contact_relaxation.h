@@ -68,8 +68,9 @@
 // the potential energy released) with the conserved sum within 6e-6 (CPU, fp64) and 1e-6 (H200,
 // fp64 and fp32) of its start. With every touching contact listed and the warm start (`corebox bench
 // pile`, 5 s, 4 steps a frame): 10,000 balls on the CPU (2 threads, fp64, 16 Gauss-Seidel sweeps) take
-// 102 ms a frame against Bullet's 217 in the same run (before: 606 against 286), overlaps within
-// 0.03% of a diameter; on an H200 (fp32, Jacobi) 30 ms a frame (before: 36), 0.08%.
+// 105 ms a frame against Bullet's 210 in the same run (before, on another 2-core machine: 606 against
+// 286), overlaps within 0.03% of a diameter; on an H200 (fp32, Jacobi) 30 ms a frame (before: 36),
+// 0.08%.
 #pragma once
 
 #include <cstdint>
