@@ -53,6 +53,17 @@ __device__ Real warmLambdaOf(const ContactArgs<Real>& a, int64_t i, int64_t part
     return Real(0);
 }
 
+// Particle i's own impulse rows (no atomics): summed in a fixed order when asked.
+template <class Real>
+__device__ void addImpulseRows(const ContactArgs<Real>& a, int64_t i, const ImpulseSums& given) {
+    const size_t n = size_t(a.p.n);
+    for (int k = 0; k < kWallCount; ++k) {
+        if (given.wall[k] != 0) a.impulses[size_t(k) * n + size_t(i)] += given.wall[k];
+        if (given.wallCentre[k] != 0) a.impulses[size_t(kWallCount + k) * n + size_t(i)] += given.wallCentre[k];
+    }
+    if (given.pairVirial != 0) a.impulses[size_t(kPairVirialRow) * n + size_t(i)] += given.pairVirial;
+}
+
 template <class Real>
 __global__ void fillContactsKernel(ContactArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
@@ -80,12 +91,7 @@ __global__ void warmStartKernel(ContactArgs<Real> a) {
     ImpulseSums given;
     a.p.v[i] += warmStartParticle(i, count, [&](int c) { return a.partner[first + c]; }, a.lambda + first, a.p.x, a.p.species, a.table.mass,
                                   a.table.radius, a.box, given);
-    const size_t n = size_t(a.p.n);
-    for (int k = 0; k < kWallCount; ++k) {
-        if (given.wall[k] != 0) a.impulses[size_t(k) * n + size_t(i)] += given.wall[k];
-        if (given.wallCentre[k] != 0) a.impulses[size_t(kWallCount + k) * n + size_t(i)] += given.wallCentre[k];
-    }
-    if (given.pairVirial != 0) a.impulses[size_t(kPairVirialRow) * n + size_t(i)] += given.pairVirial;
+    addImpulseRows(a, i, given);
 }
 
 __device__ void atomicMaxNonNegative(unsigned long long* target, double value) {
@@ -103,13 +109,7 @@ __global__ void sweepKernel(ContactArgs<Real> a) {
     auto contactsOf = [&](int64_t j) { return int(a.contactStart[j + 1] - a.contactStart[j]); };
     relaxParticle(i, count, [&](int c) { return a.partner[first + c]; }, contactsOf, a.lambda + first, a.p.x, a.p.v, a.p.species, a.table.mass,
                   a.table.radius, a.box, a.up, a.bounce, a.dv[i], a.dx[i], r, given);
-    // Each particle's own impulse rows (no atomics): summed in a fixed order when asked.
-    const size_t n = size_t(a.p.n);
-    for (int k = 0; k < kWallCount; ++k) {
-        if (given.wall[k] != 0) a.impulses[size_t(k) * n + size_t(i)] += given.wall[k];
-        if (given.wallCentre[k] != 0) a.impulses[size_t(kWallCount + k) * n + size_t(i)] += given.wallCentre[k];
-    }
-    if (given.pairVirial != 0) a.impulses[size_t(kPairVirialRow) * n + size_t(i)] += given.pairVirial;
+    addImpulseRows(a, i, given);
     if (r.speedChange > Real(0)) atomicMaxNonNegative(&a.residual[0], double(r.speedChange));
     if (r.overlap > Real(0)) atomicMaxNonNegative(&a.residual[1], double(r.overlap));
 }

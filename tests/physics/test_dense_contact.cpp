@@ -41,6 +41,18 @@ double worstOverlap(const ParticleState& st, double radius, const std::array<dou
     return worst;
 }
 
+// 400 balls of radius 0.5 on a lattice in a 10 x 24 x 10 box, gravity -9.81 along y, restitution
+// 0.5 with each other and the walls, dt = 1/240.
+Scene pileOf400() {
+    Scene scene = hardSphereScene(400, 10.0, Method::Verlet, 1.0 / 240);
+    scene.box.size = {10.0, 24.0, 10.0};
+    scene.interaction.gravity = {0, -9.81, 0};
+    scene.interaction.restitution = 0.5;
+    scene.box.wallRestitution = 0.5;
+    scene.init.temperature = 0.1;
+    return scene;
+}
+
 Vec3<double> momentum(const ParticleState& st) {
     Vec3<double> p{0, 0, 0};
     for (const Vec3<double>& v : st.velocity) p += v;  // unit masses
@@ -201,13 +213,7 @@ TEST_P(DenseContact, MomentumGivenToTheWallsBalancesGravityInAPile) {
     // while the balls land (impacts) and once the pile rests (contacts carry the weight, layer by
     // layer, to the floor). Once the pile rests (4 s after the drop) p hardly changes: the floor bears the
 // weight, M g t, within 1%.
-    Scene scene = hardSphereScene(400, 10.0, Method::Verlet, 1.0 / 240);
-    scene.box.size = {10.0, 24.0, 10.0};
-    scene.interaction.gravity = {0, -9.81, 0};
-    scene.interaction.restitution = 0.5;
-    scene.box.wallRestitution = 0.5;
-    scene.init.temperature = 0.1;
-    auto sim = makeSimulation(backendName(), scene);
+    auto sim = makeSimulation(backendName(), pileOf400());
     const double mass = 400.0, g = 9.81;
     ObservablesRow start = sim->observe();
     const double potential0 = start.potential;
@@ -239,13 +245,7 @@ TEST_P(DenseContact, ASettledPileHoldsEveryLayer) {
     // a small part of what gravity adds in a step), no step needs the round cap, and the overlaps
     // left are a quarter of the 1e-3 of a contact distance that bounds any contact phase. (Listing
     // only the approaching contacts, the pile fell at 0.13 per ball on the CPU, 0.072 on an H200.)
-    Scene scene = hardSphereScene(400, 10.0, Method::Verlet, 1.0 / 240);
-    scene.box.size = {10.0, 24.0, 10.0};
-    scene.interaction.gravity = {0, -9.81, 0};
-    scene.interaction.restitution = 0.5;
-    scene.box.wallRestitution = 0.5;
-    scene.init.temperature = 0.1;
-    auto sim = makeSimulation(backendName(), scene);
+    auto sim = makeSimulation(backendName(), pileOf400());
     for (int s = 0; s < 1200; ++s) sim->step();
     int64_t capHits = 0;
     double worstFall = 0, worstOverlap = 0;
