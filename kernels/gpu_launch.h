@@ -250,7 +250,7 @@ struct ContactArgs {
     ContactBounce<Real> bounce;  // which contacts keep their restitution (contactRestitution)
     Vec3<Real>* dv;           // n: one sweep's velocity change
     Vec3<Real>* dx;           // n: one sweep's position change
-    unsigned long long* residual;  // [approach speed, overlap] as the bits of non-negative doubles (max)
+    unsigned long long* residual;  // [speed change, overlap] as the bits of non-negative doubles (max)
     double* impulses;         // kImpulseRows x n (impulse_sums.h): each particle's impulses since the listing
     Real* lambda;             // per listed contact, as partner[]: its accumulated impulse (contact_relaxation.h)
     // The last step's rows for the warm start (warm: the fill takes each contact's lambda from them).
@@ -267,11 +267,11 @@ size_t contactScanScratchBytes(int64_t n);
 void scanContactCounts(int64_t* contactStart, int64_t n, void* scratch, size_t scratchBytes, cudaStream_t stream);
 // Fills partner[] in the order the count visited them (cell-list order, then walls), and lambda[]:
 // with `warm`, each contact's impulse at the end of the last step (0 for a new or isolated contact).
+template <class Real>
+void launchFillContacts(const ContactArgs<Real>& args, cudaStream_t stream);
 // Applies the filled impulses to V (the warm start), before the first sweep.
 template <class Real>
 void launchWarmStart(const ContactArgs<Real>& args, cudaStream_t stream);
-template <class Real>
-void launchFillContacts(const ContactArgs<Real>& args, cudaStream_t stream);
 // One Jacobi sweep (contact_relaxation.h: relaxParticle) then the update, `sweeps` times; the
 // residual holds the maxima of the last sweep.
 template <class Real>

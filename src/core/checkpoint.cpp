@@ -170,7 +170,7 @@ SimulationCheckpoint readCheckpoint(const std::string& path) {
     }
     if (version >= 3) {
         const uint64_t impulses = r.get<uint64_t>("the contact impulses' count");
-        if (r.remaining() != impulses * sizeof(ContactWarmStart))
+        if (impulses > r.remaining() / sizeof(ContactWarmStart) || r.remaining() != impulses * sizeof(ContactWarmStart))
             r.fail("holds " + std::to_string(r.remaining()) + " bytes of contact impulses, not the " + std::to_string(impulses) +
                    " it announces");
         c.contactImpulses.resize(size_t(impulses));

@@ -29,7 +29,9 @@ CollisionSettings collisionSettingsFor(const InteractionDef& interaction, double
     // Gravity presses a resting stack into its base by g dt^2 / 2 a step, and what the position level
     // leaves of it is left at every contact up the stack: a quarter of it, not 1e-3 of a contact
     // distance (a warm-started Jacobi relaxation on the H200 left a column of ten balls 1.6e-3 lower).
-    if (g > 0 && smallestContact > 0) settings.overlapTolerance = std::min(settings.overlapTolerance, 0.25 * g * dt * dt / smallestContact);
+    // Not below 1e-5: five times fp32's contact slack (collision.h), what fp32 positions resolve.
+    if (g > 0 && smallestContact > 0)
+        settings.overlapTolerance = std::min(settings.overlapTolerance, std::max(1e-5, 0.25 * g * dt * dt / smallestContact));
     return settings;
 }
 
@@ -67,8 +69,9 @@ void resolveCollisions(Backend& backend, const CollisionSettings& settings, Step
         int sweeps = 1;
         while (sweeps < maxSweeps &&
                !(residual.speedChange <= settings.speedTolerance && residual.overlap <= settings.overlapTolerance)) {
-            residual = backend.relaxContacts(kSweepBatch);
-            sweeps += kSweepBatch;
+            const int batch = std::min(kSweepBatch, maxSweeps - sweeps);
+            residual = backend.relaxContacts(batch);
+            sweeps += batch;
         }
         report.contactSweeps += sweeps;
         liftWork += backend.contactLiftWork();

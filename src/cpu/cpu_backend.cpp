@@ -292,7 +292,9 @@ public:
     void restoreContactWarmStart(const std::vector<ContactWarmStart>& impulses) override {
         m_contacts.clear();
         for (const ContactWarmStart& w : impulses) {
-            if (w.i < 0 || w.i >= size() || w.partner >= size() || (w.partner >= 0 && w.partner <= w.i) || w.partner < -6) continue;
+            if (w.i < 0 || w.i >= size() || w.partner >= size() || (w.partner >= 0 && w.partner <= w.i) || w.partner < -6 ||
+                !std::isfinite(w.lambda) || !(w.lambda > 0))
+                continue;
             m_contacts.push_back(Contact{w.i, w.partner, 0.0, Real(w.lambda), Real(0)});
         }
     }

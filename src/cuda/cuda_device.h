@@ -232,7 +232,7 @@ private:
     bool m_firstListing = false;    // no listing yet in this step
     bool m_warmPending = false;     // the filled impulses are not applied to V yet
     DeviceBuffer<Vec3<Real>> m_xListed, m_dv, m_dx;
-    DeviceBuffer<unsigned long long> m_residual;  // [approach speed, overlap], double bits
+    DeviceBuffer<unsigned long long> m_residual;  // [speed change, overlap], double bits
     DeviceBuffer<unsigned char> m_contactScanScratch;
     DeviceBuffer<CollisionEvent> m_events;
     DeviceBuffer<char> m_active, m_hasContactAcceleration;
