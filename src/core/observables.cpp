@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "vocabulary.h"
+
 namespace corebox {
 
 std::string observablesHeader(const Scene& scene) {
@@ -9,7 +11,7 @@ std::string observablesHeader(const Scene& scene) {
         "step,time,kinetic,potential,total,dissipated,thermostat,px,py,pz,temperature,collisions_pair,collisions_wall,pressure_wall,"
         "pressure_virial,pressure_wall_centre";
     for (const SpeciesDef& s : scene.species) header += ",temperature_" + s.name;
-    return header;
+    return header + ",forces";
 }
 
 void writeObservablesRow(std::ostream& out, const ObservablesRow& row) {
@@ -23,7 +25,7 @@ void writeObservablesRow(std::ostream& out, const ObservablesRow& row) {
         std::snprintf(buffer, sizeof buffer, ",%.8g", t);
         out << buffer;
     }
-    out << '\n';
+    out << ',' << forceModelName(row.forces) << '\n';
 }
 
 }  // namespace corebox

@@ -1,7 +1,9 @@
 // Observables of a run (DESIGN.md sec. 3) and their CSV form. Collision counts in a row are those
 // since the previous row, and so are the pressures (pressure.h: averaged over that window; 0 in the
 // row at step 0). The conserved sum E_kin + E_pot + E_dissipated - E_thermostat stays
-// constant up to integration error: it is what the blow-up check and the energy tests watch.
+// constant up to integration error: it is what the blow-up check and the energy tests watch. The
+// last column, `forces`, names the pair-force model the run used at the row (the automatic choice or
+// the scene's; a live edit that changes it shows from the next row on).
 #pragma once
 
 #include <cstdint>
@@ -31,6 +33,7 @@ struct ObservablesRow {
     double window = 0;          // time since the previous row [tau]
     ImpulseSums impulses;       // of that window: each wall's momentum, r_ij . J_ij of the pair impulses
     std::vector<double> speciesTemperature;
+    ForceModel forces = ForceModel::AllPairs;  // the pair-force model in effect (force_model.h): none, all_pairs, neighbour_list
 
     double total() const { return kinetic + potential; }
     double conserved() const { return kinetic + potential + dissipated - thermostat; }

@@ -180,6 +180,7 @@ ObservablesRow Simulation::observe() {
     row.py = e.momentum.y;
     row.pz = e.momentum.z;
     row.temperature = m_particleCount > 0 ? 2.0 * e.kinetic / (3.0 * double(m_particleCount)) : 0.0;
+    row.forces = m_forceChoice.model;
     row.collisionsPair = m_pairCollisions;
     row.collisionsWall = m_wallCollisions;
     for (size_t s = 0; s < m_countPerSpecies.size(); ++s) {

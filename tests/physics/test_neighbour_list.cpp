@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "cell_list.h"
 #include "device_model.h"
+#include "observables.h"
 #include "physics_fixtures.h"
 #include "state_hash.h"
 
@@ -259,7 +261,7 @@ TEST(NeighbourListCpu, SameStateOnOneAndTwoThreads) {
     EXPECT_EQ(one, hashOf(1));
 }
 
-// A live edit of the cutoff re-chooses the model.
+// A live edit of the cutoff re-chooses the model, and the observables rows say which one ran.
 TEST(NeighbourListCpu, LiveCutoffEditsSwitchTheModel) {
     Scene scene = collidingGas(ForceModel::Auto);
     scene.species[0].count = 4000;
@@ -269,12 +271,22 @@ TEST(NeighbourListCpu, LiveCutoffEditsSwitchTheModel) {
     EXPECT_EQ(sim->forceChoice().model, ForceModel::NeighbourList) << sim->forceChoice().reason;
     sim->step();
     StepParameters p = stepParametersOf(sim->scene());
+    std::ostringstream csv;
+    writeObservablesRow(csv, sim->observe());
     p.interaction.cutoff = 0;
     sim->setStepParameters(p);
     EXPECT_EQ(sim->forceChoice().model, ForceModel::AllPairs);
     sim->step();
+    writeObservablesRow(csv, sim->observe());
     p.interaction.cutoff = 2.0;
     sim->setStepParameters(p);
     EXPECT_EQ(sim->forceChoice().model, ForceModel::NeighbourList);
     sim->step();
+    writeObservablesRow(csv, sim->observe());
+    const std::string header = observablesHeader(sim->scene());
+    EXPECT_EQ(header.substr(header.rfind(',')), ",forces");
+    std::vector<std::string> last;
+    std::istringstream lines(csv.str());
+    for (std::string line; std::getline(lines, line);) last.push_back(line.substr(line.rfind(',') + 1));
+    EXPECT_EQ(last, (std::vector<std::string>{"neighbour_list", "all_pairs", "neighbour_list"}));
 }
