@@ -73,6 +73,7 @@
 // 0.08%.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "collision.h"
@@ -93,6 +94,30 @@ struct ContactWarmStart {
     int64_t partner;
     double lambda;
 };
+
+// Whether a record read back (a checkpoint) can warm-start n particles: an index in range, a partner
+// above it or a wall, and a finite push.
+inline bool isUsableWarmStart(const ContactWarmStart& w, int64_t n) {
+    return w.i >= 0 && w.i < n && w.partner < n && !(w.partner >= 0 && w.partner <= w.i) && w.partner >= -kWallCount &&
+           std::isfinite(w.lambda) && w.lambda > 0;
+}
+
+// Adds `delta` to a contact's accumulated impulse, which never goes below 0 (a contact only pushes);
+// returns the impulse actually applied.
+template <class Real>
+COREBOX_HD inline Real accumulateImpulse(Real& lambda, Real delta) {
+    const Real next = lambda + delta > Real(0) ? lambda + delta : Real(0);
+    const Real applied = next - lambda;
+    lambda = next;
+    return applied;
+}
+
+// An impulse along n (from j to i) on a pair: i gains it, j loses it.
+template <class Real>
+COREBOX_HD inline void applyPairImpulse(Vec3<Real>& vi, Vec3<Real>& vj, Real mi, Real mj, Vec3<Real> n, Real impulse) {
+    vi += (impulse / mi) * n;
+    vj -= (impulse / mj) * n;
+}
 
 // Which touching (not overlapping) contacts rest: those approaching slower than `speed` (a few g dt)
 // and closer than `gap` (what that speed closes in a step). Both 0 without gravity: then only
@@ -223,9 +248,7 @@ COREBOX_HD inline void relaxParticle(int64_t i, int count, Partner&& partner, Co
             if (e > Real(0)) {
                 push = -(Real(1) + e) * vn;
             } else {
-                const Real next = lambda[c] - w * vn > Real(0) ? lambda[c] - w * vn : Real(0);
-                push = next - lambda[c];
-                lambda[c] = next;
+                push = accumulateImpulse(lambda[c], -w * vn);
             }
             if (push != Real(0)) {
                 dv[axis] += push * inward;
@@ -255,9 +278,7 @@ COREBOX_HD inline void relaxParticle(int64_t i, int count, Partner&& partner, Co
         if (e > Real(0)) {
             impulse = -(Real(1) + e) * mu * vn;
         } else {
-            const Real next = lambda[c] - w * mu * vn > Real(0) ? lambda[c] - w * mu * vn : Real(0);
-            impulse = next - lambda[c];
-            lambda[c] = next;
+            impulse = accumulateImpulse(lambda[c], -w * mu * vn);
         }
         if (impulse != Real(0)) {
             dv += (impulse / mi) * n;
@@ -318,24 +339,20 @@ COREBOX_HD inline void stopPairContact(Vec3<Real>& vi, Vec3<Real>& vj, Real mi, 
                                        ContactResidual<Real>& residual) {
     const Real vn = dot(vi - vj, n);
     const Real mu = mi * mj / (mi + mj);
-    const Real next = lambda + mu * (target - vn) > Real(0) ? lambda + mu * (target - vn) : Real(0);
-    const Real impulse = next - lambda;
+    const Real impulse = accumulateImpulse(lambda, mu * (target - vn));
     const Real change = (impulse < Real(0) ? -impulse : impulse) / mu;
     if (change > residual.speedChange) residual.speedChange = change;
-    lambda = next;
-    vi += (impulse / mi) * n;
-    vj -= (impulse / mj) * n;
+    applyPairImpulse(vi, vj, mi, mj, n, impulse);
 }
 
 // The same against a wall with inward normal `inward` (+1 low wall, -1 high wall) on `axis`.
 template <class Real>
 COREBOX_HD inline void stopWallContact(Real& v, Real inward, Real target, Real& lambda, ContactResidual<Real>& residual) {
     const Real vn = inward * v;
-    const Real next = lambda + (target - vn) > Real(0) ? lambda + (target - vn) : Real(0);  // impulse per unit mass
-    const Real change = next > lambda ? next - lambda : lambda - next;
+    const Real push = accumulateImpulse(lambda, target - vn);  // impulse per unit mass
+    const Real change = push < Real(0) ? -push : push;
     if (change > residual.speedChange) residual.speedChange = change;
-    v += (next - lambda) * inward;
-    lambda = next;
+    v += push * inward;
 }
 
 // Removes the overlap of i and j, shared as overlapShare says.

@@ -180,13 +180,12 @@ public:
     virtual std::vector<ContactRecord> contactLog() const = 0;
 
     // ---- collision stage, 2: contact relaxation (contact_relaxation.h) ----
-    // Whether the backend warm-starts each step's relaxation with the last one's impulses, and whether
-    // it sweeps Gauss-Seidel (contact_relaxation.h): a warm-started Gauss-Seidel relaxation needs few
-    // sweeps (CollisionSettings::maxSweepsGaussSeidel), a Jacobi one many more.
-    virtual bool warmStartsContacts() const { return false; }
+    // Whether the backend sweeps Gauss-Seidel (contact_relaxation.h): a warm-started Gauss-Seidel
+    // relaxation needs few sweeps (CollisionSettings::maxSweepsGaussSeidel), a Jacobi one many more.
     virtual bool relaxesGaussSeidel() const { return false; }
-    // Those impulses: checkpoints carry them so that a restarted run stays bit-identical. Empty from a
-    // backend that does not warm-start. Setting the state forgets them (indices may mean other particles).
+    // The impulses the last relaxation ended with, which warm-start the next step's: checkpoints carry
+    // them so that a restarted run stays bit-identical. Empty from a backend that does not warm-start
+    // or before anything rested. Setting the state forgets them (indices may mean other particles).
     virtual std::vector<ContactWarmStart> contactWarmStart() const { return {}; }
     virtual void restoreContactWarmStart(const std::vector<ContactWarmStart>& /*impulses*/) {}
     // Lists every particle's contacts (pairs and walls within the contact margin) from the current

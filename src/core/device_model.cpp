@@ -8,6 +8,14 @@ namespace corebox {
 
 double DeviceModel::maxRadius() const { return radius.empty() ? 0.0 : *std::max_element(radius.begin(), radius.end()); }
 
+double DeviceModel::smallestContact() const {
+    double smallest = 0;
+    for (double a : radius) {
+        if (a > 0 && (smallest == 0 || 2 * a < smallest)) smallest = 2 * a;
+    }
+    return smallest;
+}
+
 DeviceModel deviceModelOf(const StepParameters& parameters) {
     DeviceModel model;
     model.pairs = buildPairTable(parameters);

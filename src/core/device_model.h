@@ -32,6 +32,7 @@ struct DeviceModel {
 
     int speciesCount() const { return int(mass.size()); }
     double maxRadius() const;
+    double smallestContact() const;  // 2 a of the smallest radius a > 0; 0 when every radius is 0
 };
 
 DeviceModel deviceModelOf(const StepParameters& parameters);

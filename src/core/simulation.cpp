@@ -97,6 +97,7 @@ void Simulation::applyParameters() {
     m_forceChoice = chooseForceModel(parameters, m_particleCount, m_backend->name(), m_backend->supportsNeighbourLists());
     DeviceModel model = deviceModelOf(parameters);
     model.forces = m_forceChoice.model;
+    m_smallestContact = model.smallestContact();
     m_backend->setModel(model);
     m_driver.configure(*m_backend, m_scene.integrator);
 }
@@ -108,11 +109,7 @@ StepReport Simulation::step() {
     backend.markPhase(StepPhase::Integrate);
     m_driver.integrate(backend, report);
     backend.markPhase(StepPhase::Collide);
-    double smallestContact = 0;
-    for (const SpeciesDef& sp : m_scene.species) {
-        if (sp.radius > 0 && (smallestContact == 0 || 2 * sp.radius < smallestContact)) smallestContact = 2 * sp.radius;
-    }
-    resolveCollisions(backend, collisionSettingsFor(m_scene.interaction, report.dt, smallestContact), report);
+    resolveCollisions(backend, collisionSettingsFor(m_scene.interaction, report.dt, m_smallestContact), report);
     backend.markPhase(StepPhase::Done);
     // Collisions moved some particles: Verlet's cached accelerations are stale for them and their
     // neighbours. A backend that can bring them up to date for just those keeps the cache; otherwise

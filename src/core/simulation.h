@@ -113,6 +113,7 @@ private:
     int64_t m_wallCollisions = 0;
     int64_t m_roundCapHits = 0;
     PressureGeometry m_pressureGeometry;
+    double m_smallestContact = 0;  // DeviceModel::smallestContact of the running model (collision settings)
     PressureWindow m_pressureWindow;  // since the last observe()
     double m_energyScale = 1;
     double m_conserved0 = 0;

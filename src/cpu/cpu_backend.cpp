@@ -277,7 +277,6 @@ public:
         return Real(0);
     }
 
-    bool warmStartsContacts() const override { return true; }
     bool relaxesGaussSeidel() const override { return true; }
 
     std::vector<ContactWarmStart> contactWarmStart() const override {
@@ -292,10 +291,7 @@ public:
     void restoreContactWarmStart(const std::vector<ContactWarmStart>& impulses) override {
         m_contacts.clear();
         for (const ContactWarmStart& w : impulses) {
-            if (w.i < 0 || w.i >= size() || w.partner >= size() || (w.partner >= 0 && w.partner <= w.i) || w.partner < -6 ||
-                !std::isfinite(w.lambda) || !(w.lambda > 0))
-                continue;
-            m_contacts.push_back(Contact{w.i, w.partner, 0.0, Real(w.lambda), Real(0)});
+            if (isUsableWarmStart(w, size())) m_contacts.push_back(Contact{w.i, w.partner, 0.0, Real(w.lambda), Real(0)});
         }
     }
 
@@ -551,9 +547,7 @@ public:
             const Vec3<Real> rij = m_x[i] - m_x[j];
             const Real dist = std::sqrt(norm2(rij));
             if (!(dist > Real(0))) continue;
-            const Vec3<Real> n = (Real(1) / dist) * rij;
-            m_v[i] += (c.lambda / m_mass[size_t(m_species[i])]) * n;
-            m_v[j] -= (c.lambda / m_mass[size_t(m_species[j])]) * n;
+            applyPairImpulse(m_v[i], m_v[j], m_mass[size_t(m_species[i])], m_mass[size_t(m_species[j])], (Real(1) / dist) * rij, c.lambda);
         }
     }
 

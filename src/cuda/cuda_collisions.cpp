@@ -309,10 +309,7 @@ std::vector<ContactWarmStart> CudaDevice<Real>::contactWarmStart() const {
 template <class Real>
 void CudaDevice<Real>::restoreContactWarmStart(const std::vector<ContactWarmStart>& impulses) {
     const size_t n = size_t(m_n);
-    auto valid = [&](const ContactWarmStart& w) {
-        return w.i >= 0 && w.i < m_n && w.partner < m_n && !(w.partner >= 0 && w.partner <= w.i) && w.partner >= -6 &&
-               std::isfinite(w.lambda) && w.lambda > 0;
-    };
+    auto valid = [&](const ContactWarmStart& w) { return isUsableWarmStart(w, m_n); };
     std::vector<int64_t> start(n + 1, 0);
     for (const ContactWarmStart& w : impulses) {
         if (!valid(w)) continue;

@@ -96,7 +96,6 @@ public:
     std::vector<ContactRecord> contactLog() const override;
     int64_t listContacts(const RestingContact<double>& resting) override;
     ContactResidual<double> relaxContacts(int sweeps) override;
-    bool warmStartsContacts() const override { return true; }
     std::vector<ContactWarmStart> contactWarmStart() const override;
     void restoreContactWarmStart(const std::vector<ContactWarmStart>& impulses) override;
     double contactLiftWork() override;
