@@ -16,10 +16,13 @@
 // - when the rows alone give too few blocks to fill the GPU (N below a few hundred thousand), the
 //   j range is split into chunks computed by separate blocks; their partial forces are added by a
 //   second kernel in chunk order, so the result does not depend on scheduling (no atomics).
+// A full pass over every particle on one GPU evaluates each pair once instead, with Newton's third
+// law, where that pays and fits in memory (pairs_once_kernels.cu, pairsOnceApplies below).
 #include <algorithm>
 
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
+#include "pairs_once.h"
 
 namespace corebox::gpu {
 namespace {
@@ -163,16 +166,6 @@ void launchVariant(const ForceArgs<Real>& a, bool cutoff, dim3 grid, size_t shar
     else forceKernel<Real, kEnergy, kSingle, false><<<grid, kBlock, shared, stream>>>(a, chunkLength, partialForce, partialEnergy);
 }
 
-int multiprocessorCount() {
-    static int count = [] {
-        int device = 0, sms = 0;
-        cudaGetDevice(&device);
-        cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device);
-        return sms > 0 ? sms : 1;
-    }();
-    return count;
-}
-
 // How the j range is split: enough blocks for about eight per multiprocessor. A chunk need not be
 // whole tiles (the last tile of a chunk is partly filled), so small systems split down to kMinChunk
 // sources per chunk: at N = 1024 the rows alone make two blocks, whose threads would each walk all N
@@ -201,10 +194,32 @@ template <class Real>
 void launchListForces(const ForceArgs<Real>& a, cudaStream_t stream);  // neighbour_list_kernels.cu
 
 template <class Real>
-size_t forceScratchBytes(int64_t rows, int64_t n) {
+size_t forceScratchBytes(int64_t rows, int64_t n, bool pairsOnce) {
     const ChunkPlan plan = planChunks(rows, n);
-    if (plan.chunks <= 1) return 0;
-    return partialForceBytes<Real>(plan.chunks, rows) + size_t(plan.chunks) * size_t(rows) * sizeof(double);
+    const size_t chunked = plan.chunks <= 1 ? 0 : partialForceBytes<Real>(plan.chunks, rows) + size_t(plan.chunks) * size_t(rows) * sizeof(double);
+    const int tile = pairsOnce && rows == n ? pairsOnceTileFor(n, multiprocessorCount(), sizeof(Real)) : 0;
+    return tile > 0 ? std::max(chunked, pairsOnceScratchBytes(n, tile, sizeof(Real))) : chunked;
+}
+
+template <class Real>
+bool pairsOnceApplies(const ForceArgs<Real>& a) {
+    if (!(a.pairsOnce && a.anyPairForce && a.peers.count == 0 && !a.rowIndex && !a.neighbours && !a.pairEnergy && a.begin == 0 && a.end == a.n))
+        return false;
+    const int tile = pairsOnceTileFor(a.n, multiprocessorCount(), sizeof(Real));
+    return tile > 0 && a.scratchBytes >= pairsOnceScratchBytes(a.n, tile, sizeof(Real));
+}
+
+template <class Real>
+int64_t allPairsEvaluations(int64_t n, bool pairsOnce) {
+    const int tile = pairsOnce ? pairsOnceTileFor(n, multiprocessorCount(), sizeof(Real)) : 0;
+    if (tile == 0) return n * (n - 1);
+    // Off-diagonal tile pairs evaluate each pair once; a diagonal one every ordered pair and itself.
+    int64_t diagonal = 0;
+    for (int64_t begin = 0; begin < n; begin += tile) {
+        const int64_t m = std::min<int64_t>(tile, n - begin);
+        diagonal += m * m;
+    }
+    return (n * n - diagonal) / 2 + diagonal;
 }
 
 template <class Real>
@@ -218,6 +233,10 @@ void launchForces(const ForceArgs<Real>& a, cudaStream_t stream) {
     }
     if (a.neighbours && a.peers.count == 0) {
         launchListForces(a, stream);
+        return;
+    }
+    if (pairsOnceApplies(a)) {
+        launchPairsOnceForces(a, stream);
         return;
     }
     const bool single = a.table.count == 1;
@@ -310,7 +329,11 @@ template void launchExchangeMovedPairForces<double>(const ForceArgs<double>&, co
                                                     int64_t, cudaStream_t);
 template void launchForces<float>(const ForceArgs<float>&, cudaStream_t);
 template void launchForces<double>(const ForceArgs<double>&, cudaStream_t);
-template size_t forceScratchBytes<float>(int64_t, int64_t);
-template size_t forceScratchBytes<double>(int64_t, int64_t);
+template size_t forceScratchBytes<float>(int64_t, int64_t, bool);
+template size_t forceScratchBytes<double>(int64_t, int64_t, bool);
+template bool pairsOnceApplies<float>(const ForceArgs<float>&);
+template bool pairsOnceApplies<double>(const ForceArgs<double>&);
+template int64_t allPairsEvaluations<float>(int64_t, bool);
+template int64_t allPairsEvaluations<double>(int64_t, bool);
 
 }  // namespace corebox::gpu

@@ -14,6 +14,18 @@ constexpr int kBlock = 256;
 
 inline unsigned int blocksFor(int64_t n, int block = kBlock) { return unsigned((n + block - 1) / block); }
 
+// Multiprocessors of the current device, asked once per process (launch geometry: enough blocks to
+// fill them). The GPUs one process uses are of one model.
+inline int multiprocessorCount() {
+    static const int count = [] {
+        int device = 0, sms = 0;
+        cudaGetDevice(&device);
+        cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device);
+        return sms > 0 ? sms : 1;
+    }();
+    return count;
+}
+
 // Launch errors (bad configuration) surface at once; asynchronous faults at the next sync, where
 // the host side (src/cuda) checks them.
 inline void checkLaunch(const char* what) {

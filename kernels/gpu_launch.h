@@ -77,6 +77,9 @@ struct ForceArgs {
     // Lists only, when set (indexed by particle): particles whose mask is 0 are skipped, their acceleration kept (the refresh of
     // the rows a collision stage touched; neighbour_list_kernels.cu).
     const unsigned char* rowMask;
+    // All pairs on one GPU may evaluate each pair once (Newton's third law, pairs_once_kernels.cu)
+    // where that applies (pairsOnceApplies); false: every ordered pair, the report's kernel.
+    bool pairsOnce;
 };
 template <class Real>
 void launchForces(const ForceArgs<Real>& args, cudaStream_t stream);
@@ -131,9 +134,18 @@ void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t ro
 template <class Real>
 void launchListMoved(const Vec3<Real>* x, const Vec3<Real>* xBuilt, int64_t begin, int64_t end, Real halfSkin2, unsigned int* moved,
                      cudaStream_t stream);
-// Scratch the force pass needs for rows [begin, end) of n particles (0 when it does not split j).
+// Scratch the force pass needs for rows [begin, end) of n particles (0 when it does not split j), and
+// with pairsOnce the partial forces of the pairs-once pass where it applies to a full pass (rows = n).
 template <class Real>
-size_t forceScratchBytes(int64_t rows, int64_t n);
+size_t forceScratchBytes(int64_t rows, int64_t n, bool pairsOnce = false);
+// Whether a full pass over n particles with these arguments evaluates each pair once; the pair
+// evaluations a full all-pairs pass does: n (n - 1) / 2 plus the diagonal tiles' extra, or n (n - 1).
+template <class Real>
+bool pairsOnceApplies(const ForceArgs<Real>& args);
+template <class Real>
+int64_t allPairsEvaluations(int64_t n, bool pairsOnce);
+template <class Real>
+void launchPairsOnceForces(const ForceArgs<Real>& args, cudaStream_t stream);  // pairs_once_kernels.cu
 
 // ---- integration (integrate_kernels.cu) ----
 template <class Real>

@@ -22,9 +22,24 @@ def force_table(data):
         f"- command: `{data['command']}`",
         f"- measured: {data['timestamp']}",
         "",
-        "| precision | N | pair interactions / s | passes | seconds |",
-        "|---|---:|---:|---:|---:|",
     ]
+    # Records from before the pairs-once kernel have no kernel column: every ordered pair evaluated.
+    if any("kernel" in r for r in data["results"]):
+        lines += [
+            "Pair interactions are counted as NVIDIA's nbody counts them (N (N - 1) a pass, whatever the kernel does);",
+            "evaluations are the pairs the kernel computed: `pairs_once` evaluates each pair once (Newton's third law),",
+            "`ordered` every ordered pair.",
+            "",
+            "| precision | N | kernel | pair interactions / s | pair evaluations / s | passes | seconds |",
+            "|---|---:|---|---:|---:|---:|---:|",
+        ]
+        for r in data["results"]:
+            lines.append(
+                f"| {r['precision']} | {r['n']} | {r['kernel']} | {r['pair_interactions_per_second']:.3e} |"
+                f" {r['pair_evaluations_per_second']:.3e} | {r['passes']} | {r['seconds']:.2f} |"
+            )
+        return "\n".join(lines) + "\n"
+    lines += ["| precision | N | pair interactions / s | passes | seconds |", "|---|---:|---:|---:|---:|"]
     for r in data["results"]:
         lines.append(
             f"| {r['precision']} | {r['n']} | {r['pair_interactions_per_second']:.3e} | {r['passes']} | {r['seconds']:.2f} |"

@@ -201,6 +201,14 @@ int main(int argc, char** argv) {
     addChoices(forcesCmd, "--precision", precisionTable(), "Precisions", forces.precisions);
     forcesCmd->add_option("--min-seconds", forces.minSeconds, "Repeat each measurement at least this long")->capture_default_str();
     forcesCmd->add_option("--out", forces.outputPrefix, "Write OUT.csv and OUT.json");
+    std::vector<std::string> forceKernels{"pairs_once", "ordered"};
+    forcesCmd
+        ->add_option("--kernels", forceKernels,
+                     "CUDA all-pairs kernels to measure: pairs_once (each pair once, Newton's third law, where it applies; "
+                     "the ordered kernel runs where it does not) and ordered (every ordered pair)")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"pairs_once", "ordered"}))
+        ->capture_default_str();
 
     ThroughputOptions throughput;
     FrameSize frameSize{throughput.frameWidth, throughput.frameHeight};
@@ -434,6 +442,8 @@ int main(int argc, char** argv) {
     }
     if (*forcesCmd) {
         forces.commandLine = commandLine(argc, argv);
+        forces.pairsOnce.clear();
+        for (const std::string& k : forceKernels) forces.pairsOnce.push_back(k == "pairs_once");
         return runReportingErrors([&] { runForceBenchmark(forces); });
     }
     return kExitInput;

@@ -1,5 +1,6 @@
 #include "force_benchmark.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -18,7 +19,7 @@ namespace {
 void writeResults(const ForceBenchmarkOptions& options, const std::vector<ForceBenchmarkResult>& results,
                   const std::string& deviceName) {
     const HardwareInfo host = hostHardware();
-    std::string csv = "backend,device,threads,precision,n,passes,seconds,pair_interactions_per_second\n";
+    std::string csv = "backend,device,threads,precision,n,kernel,passes,seconds,pair_interactions_per_second,pair_evaluations_per_second\n";
     nlohmann::json json;
     json["benchmark"] = "force_pass";
     json["command"] = options.commandLine;
@@ -29,15 +30,17 @@ void writeResults(const ForceBenchmarkOptions& options, const std::vector<ForceB
     json["model"] = "Lennard-Jones, one species, all pairs (no cutoff), number density 0.5";
     for (const ForceBenchmarkResult& r : results) {
         char line[512];
-        std::snprintf(line, sizeof line, "%s,\"%s\",%d,%s,%lld,%lld,%.6f,%.6e\n", options.backend.c_str(), deviceName.c_str(),
+        std::snprintf(line, sizeof line, "%s,\"%s\",%d,%s,%lld,%s,%lld,%.6f,%.6e,%.6e\n", options.backend.c_str(), deviceName.c_str(),
                       options.threads > 0 ? options.threads : host.hardwareThreads, precisionName(r.precision), (long long)r.n,
-                      (long long)r.passes, r.seconds, r.pairsPerSecond);
+                      r.kernel.c_str(), (long long)r.passes, r.seconds, r.pairsPerSecond, r.evaluationsPerSecond);
         csv += line;
         json["results"].push_back({{"precision", precisionName(r.precision)},
                                    {"n", r.n},
+                                   {"kernel", r.kernel},
                                    {"passes", r.passes},
                                    {"seconds", r.seconds},
-                                   {"pair_interactions_per_second", r.pairsPerSecond}});
+                                   {"pair_interactions_per_second", r.pairsPerSecond},
+                                   {"pair_evaluations_per_second", r.evaluationsPerSecond}});
     }
     std::cout << csv;
     if (options.outputPrefix.empty()) return;
@@ -55,24 +58,40 @@ void writeResults(const ForceBenchmarkOptions& options, const std::vector<ForceB
 std::vector<ForceBenchmarkResult> runForceBenchmark(const ForceBenchmarkOptions& options) {
     std::vector<ForceBenchmarkResult> results;
     std::string deviceName;
+    // The CPU has one all-pairs kernel (ordered pairs): one run per size.
+    const bool oneKernel = options.backend == "cpu" || options.pairsOnce.empty();
+    const std::vector<bool> kernels = oneKernel ? std::vector<bool>{true} : options.pairsOnce;
     for (Precision precision : options.precisions) {
         for (int64_t n : options.sizes) {
-            const Scene scene = throughputScene(n, 0.5, precision, Method::Rk4);
-            const std::unique_ptr<Backend> backend = forcePassBackend(BackendChoice{options.backend, precision, options.threads}, scene);
-            if (deviceName.empty()) deviceName = backend->deviceName();
-            runForcePass(*backend, n);  // warm-up: page in buffers, spin up threads
-            using Clock = std::chrono::steady_clock;
-            const Clock::time_point start = Clock::now();
-            int64_t passes = 0, pairs = 0;
-            double seconds = 0;
-            do {
-                pairs += runForcePass(*backend, n);
-                ++passes;
-                seconds = std::chrono::duration<double>(Clock::now() - start).count();
-            } while (seconds < options.minSeconds);
-            results.push_back({precision, n, passes, seconds, double(pairs) / seconds});
-            std::fprintf(stderr, "[corebox] bench forces: %s N = %lld: %.3e pair interactions/s (%lld passes, %.2f s)\n",
-                         precisionName(precision), (long long)n, double(pairs) / seconds, (long long)passes, seconds);
+            for (bool pairsOnce : kernels) {
+                const Scene scene = throughputScene(n, 0.5, precision, Method::Rk4);
+                BackendChoice choice{options.backend, precision, options.threads};
+                choice.pairsOnce = pairsOnce;
+                const std::unique_ptr<Backend> backend = forcePassBackend(choice, scene);
+                if (deviceName.empty()) deviceName = backend->deviceName();
+                runForcePass(*backend, n);  // warm-up: page in buffers, spin up threads
+                const int64_t evaluations0 = backend->forceCounters().allPairsEvaluations;
+                using Clock = std::chrono::steady_clock;
+                const Clock::time_point start = Clock::now();
+                int64_t passes = 0, pairs = 0;
+                double seconds = 0;
+                do {
+                    pairs += runForcePass(*backend, n);
+                    ++passes;
+                    seconds = std::chrono::duration<double>(Clock::now() - start).count();
+                } while (seconds < options.minSeconds);
+                const int64_t evaluations = backend->forceCounters().allPairsEvaluations - evaluations0;
+                const std::string kernel = evaluations < pairs ? "pairs_once" : "ordered";
+                // A kernel asked for but not applicable at this N ran the ordered kernel: recorded as such, once.
+                if (!oneKernel && pairsOnce && kernel == "ordered" &&
+                    std::find(kernels.begin(), kernels.end(), false) != kernels.end())
+                    continue;
+                results.push_back({precision, n, kernel, passes, seconds, double(pairs) / seconds, double(evaluations) / seconds});
+                std::fprintf(stderr,
+                             "[corebox] bench forces: %s N = %lld, %s: %.3e pair interactions/s, %.3e evaluations/s (%lld passes, %.2f s)\n",
+                             precisionName(precision), (long long)n, kernel.c_str(), double(pairs) / seconds, double(evaluations) / seconds,
+                             (long long)passes, seconds);
+            }
         }
     }
     writeResults(options, results, deviceName);

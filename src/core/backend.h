@@ -62,6 +62,7 @@ struct ForceCounters {
     int64_t refreshes = 0;
     int64_t refreshedParticles = 0;  // accelerations recomputed by the refreshes
     int64_t listBuilds = 0;
+    int64_t allPairsEvaluations = 0;  // pair evaluations of the all-pairs full passes (ordered pairs, or each pair once)
 };
 
 struct CollisionTally {

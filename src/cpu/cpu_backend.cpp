@@ -789,6 +789,7 @@ private:
             parallelFor(m_threads, int64_t(x.size()), [&](int64_t i) {
                 out[size_t(i)] = accelerationOf(i, x, pairEnergy ? &pairEnergy[i] : nullptr);
             });
+            if (m_model.anyPairForce) m_counters.allPairsEvaluations += int64_t(x.size()) * (int64_t(x.size()) - 1);
         }
         m_forceSeconds += secondsBetween(start, Clock::now());
     }

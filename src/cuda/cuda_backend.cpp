@@ -63,6 +63,7 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
         m_replicas.push_back(std::make_unique<Replica<Real>>());
         m_replicas.back()->device = s.device;
     }
+    m_pairsOnce = options.pairsOnce;
     const Exchange exchange = options.exchange != Exchange::Auto ? options.exchange
                               : fastestExchange(options.gpus, peerAccessProblem(devicesOf(options)).empty());
     m_exchange = std::make_unique<PeerExchange>(m_partition, exchange);
@@ -144,7 +145,7 @@ void CudaDevice<Real>::setState(const ParticleState& state) {
         r.species.upload(state.species.data(), state.species.size());
         for (auto* b : {&r.xStage, &r.vStage}) b->resize(padded);
         r.acceleration.resize(rows);
-        r.forceScratch.resize(gpu::forceScratchBytes<Real>(int64_t(rows), m_n));
+        r.forceScratch.resize(gpu::forceScratchBytes<Real>(int64_t(rows), m_n, m_pairsOnce));
     });
     m_hostSpecies = state.species;
     for (auto* b : {&m_contactAcceleration, &m_snapshotX, &m_snapshotV}) b->resize(size_t(m_n));

@@ -17,6 +17,9 @@ struct CudaBackendOptions {
     int device = 0;  // the first GPU: it renders, resolves collisions and holds the whole state
     int gpus = 1;    // GPUs device, device + 1, ...: each owns a contiguous slice of the particles
     Exchange exchange = Exchange::Auto;  // how the slices share positions (Auto: fastestExchange)
+    // All pairs on one GPU: evaluate each pair once with Newton's third law where it pays
+    // (kernels/pairs_once_kernels.cu); false: every ordered pair (the report's kernel, for comparison).
+    bool pairsOnce = true;
 };
 
 // Number of usable CUDA devices; 0 when there is no driver or no GPU (never throws).

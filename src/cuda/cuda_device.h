@@ -198,6 +198,8 @@ private:
     std::vector<cudaEvent_t> m_timingEvents;
     size_t m_forceEvents = 0;
     int64_t m_fullPasses = 0;
+    int64_t m_allPairsEvaluations = 0;  // ForceCounters::allPairsEvaluations
+    bool m_pairsOnce = true;            // CudaBackendOptions::pairsOnce
     int64_t m_refreshes = 0;
     // Verlet's refresh after collisions (one GPU, lists): A matched X at the last full pass and X has
     // not changed since, X as the collision stage found it, and whether both held then.

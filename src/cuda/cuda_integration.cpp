@@ -14,7 +14,7 @@ gpu::ForceArgs<Real> CudaDevice<Real>::forceArgs(int k, const Vec3<Real>* x, Vec
     const DeviceSlice& s = slice(k);
     gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     s.begin, s.end, tableOf(r), m_model.anyPairForce, m_model.hasCutoff,
                            out, nullptr,          r.forceScratch.data(), r.forceScratch.size(), {},                    nullptr,
-                           nullptr, nullptr, 0, nullptr, nullptr, nullptr};
+                           nullptr, nullptr, 0, nullptr, nullptr, nullptr, m_pairsOnce};
     f.peers.count = 0;
     return f;
 }
@@ -24,7 +24,7 @@ gpu::ForceArgs<Real> CudaDevice<Real>::homeForceArgs(const Vec3<Real>* x, Vec3<R
     Replica<Real>& r = home();
     gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     0, m_n, table(), m_model.anyPairForce, m_model.hasCutoff,
                            out, nullptr,          m_homeForceScratch.data(), m_homeForceScratch.size(), {}, nullptr,
-                           nullptr, nullptr, 0, nullptr, nullptr, nullptr};
+                           nullptr, nullptr, 0, nullptr, nullptr, nullptr, false};
     f.peers.count = 0;
     return f;
 }
@@ -67,6 +67,8 @@ void CudaDevice<Real>::forcePass(int stage) {
             f.peers.chunk = m_partition.chunk();
             for (int j = 0; j < gpuCount(); ++j) f.peers.x[j] = positions(*m_replicas[size_t(j)]);
         }
+        if (!useLists() && m_model.anyPairForce)
+            m_allPairsEvaluations += gpu::pairsOnceApplies(f) ? gpu::allPairsEvaluations<Real>(m_n, true) : f.end > f.begin ? (f.end - f.begin) * (m_n - 1) : 0;
         if (k == 0) launchTimedForces(f);
         else gpu::launchForces(f, slice(k).stream);
     });
@@ -188,6 +190,7 @@ ForceCounters CudaDevice<Real>::forceCounters() const {
     ForceCounters c;
     c.fullPasses = m_fullPasses;
     c.refreshes = m_refreshes;
+    c.allPairsEvaluations = m_allPairsEvaluations;
     for (const auto& r : m_replicas) c.listBuilds += r->list.builds();
     return c;
 }

@@ -38,6 +38,7 @@ std::unique_ptr<Backend> makeBackend(const BackendChoice& choice) {
     options.device = choice.device;
     options.gpus = choice.gpus > 0 ? choice.gpus : gpusFor(choice.particleCount, std::max(cudaDeviceCount() - choice.device, 1));
     options.exchange = choice.exchange;
+    options.pairsOnce = choice.pairsOnce;
     return makeCudaBackend(options);
 #else
     throw DeviceError("--backend cuda: this build of corebox has no CUDA backend (built without nvcc); use --backend cpu");

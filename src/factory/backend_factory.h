@@ -17,6 +17,7 @@ struct BackendChoice {
     int gpus = 0;     // CUDA devices used; 0: auto (the measured crossover for particleCount)
     Exchange exchange = Exchange::Auto;
     int64_t particleCount = 0;  // what gpus = auto decides on
+    bool pairsOnce = true;      // CUDA all pairs: each pair once (Newton's third law) where it pays; false: every ordered pair
 };
 
 // True when this build has the CUDA backend and a GPU is present.
