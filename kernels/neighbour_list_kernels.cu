@@ -77,6 +77,32 @@ __global__ void listMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBuilt, i
     if (!(d2 <= halfSkin2)) *moved = 1u;  // NaN included
 }
 
+// The screen words of one row (ForceArgs::screen), reduced over the warp's live rows first so that a
+// pass of 10^6 rows makes tens of thousands of atomics, not millions. Rounded so that the screen
+// never reports a pair farther or a wall nearer than they are.
+template <class Real>
+__device__ void screenRow(const ForceArgs<Real>& a, Vec3<Real> xi, Real ai, Real nearest) {
+    const Real wallReach = (ai + a.contactGap) * Real(1 + kScreenMargin);
+    Real depth = -Real(INFINITY);
+    bool finite = true;
+    for (int axis = 0; axis < 3; ++axis) {
+        finite = finite && isfinite(xi[axis]);
+        depth = fmax(depth, fmax(wallReach - xi[axis], xi[axis] - (a.box[axis] - wallReach)));
+    }
+    const float nearestF = sizeof(Real) == sizeof(float) ? float(nearest) : __double2float_rd(double(nearest));
+    const float depthF = sizeof(Real) == sizeof(float) ? float(depth) : __double2float_ru(double(depth));
+    const unsigned live = __activemask();
+    // Non-negative floats order as their bits do.
+    const unsigned nearestBits = __reduce_min_sync(live, nearestF >= 0.0f ? __float_as_uint(nearestF) : 0u);
+    const unsigned depthBits = __reduce_max_sync(live, depthF > 0.0f ? __float_as_uint(depthF) : 0u);
+    const bool anyNonFinite = __any_sync(live, !finite || !(nearest >= Real(0)));
+    if (int(threadIdx.x % 32) == __ffs(live) - 1) {
+        atomicMin(&a.screen[0], nearestBits);
+        if (depthBits != 0u) atomicMax(&a.screen[1], depthBits);
+        if (anyNonFinite) a.screen[2] = 1u;
+    }
+}
+
 // One thread per row: the sum over its list, in list order. With rowIndex (one GPU, whose lists
 // have a row per particle) thread k sums the row of particle rowIndex[begin + k] and writes its
 // acceleration there: the collision stage's end-of-step accelerations of the particles it resolves.
@@ -94,19 +120,37 @@ __global__ void listForceKernel(ForceArgs<Real> a) {
     const int s = a.table.count;
     const PairCoefficients<Real> single = a.table.pairs[0];
     const int32_t count = a.neighbourCount[row];
+    // The collision screen (ForceArgs::screen): each pair's reach is its contact distance plus the gap, with a margin.
+    const bool screen = a.screen != nullptr;
+    const Real grow = Real(1 + kScreenMargin);
+    const Real ai = a.table.radius[si];
+    const Real singleReach = (ai + ai + a.contactGap) * grow;
+    const Real singleInverse = Real(1) / (singleReach * singleReach);
+    Real nearest = Real(INFINITY);  // smallest R^2 / reach^2 of the row
     Vec3<Real> force{0, 0, 0};
     double energy = 0;
     for (int32_t c = 0; c < count; ++c) {
         const int32_t j = a.neighbours[int64_t(c) * rows + row];
         const Vec3<Real> d = xi - a.x[j];
-        const PairCoefficients<Real>& p = kSingleSpecies ? single : a.table.pairs[si * s + a.species[j]];
+        const int sj = kSingleSpecies ? 0 : a.species[j];
+        const PairCoefficients<Real>& p = kSingleSpecies ? single : a.table.pairs[si * s + sj];
         Real u = 0;
-        const Real f = pairForceOverR(p, norm2(d), kEnergy ? &u : nullptr);
+        const Real r2 = norm2(d);
+        const Real f = pairForceOverR(p, r2, kEnergy ? &u : nullptr);
         force += f * d;
         if (kEnergy) energy += double(u);
+        if (screen) {
+            Real inverse = singleInverse;
+            if (!kSingleSpecies) {
+                const Real reach = (ai + a.table.radius[sj] + a.contactGap) * grow;
+                inverse = Real(1) / (reach * reach);
+            }
+            nearest = fmin(nearest, r2 * inverse);
+        }
     }
     a.acceleration[out] = a.table.invMass[si] * force + a.table.field[si];
     if (kEnergy) a.pairEnergy[out] = energy;
+    if (screen) screenRow(a, xi, ai, nearest);
 }
 
 template <class Real>

@@ -35,6 +35,7 @@
 #include "particle_instance.h"
 #include "particle_state.h"
 #include "scene.h"
+#include "step_report.h"  // StageScreen
 
 namespace corebox {
 
@@ -164,6 +165,13 @@ public:
     // (DeviceModel::forces); one that does not runs all pairs, and the force choice says so.
     virtual bool supportsNeighbourLists() const { return false; }
 
+    // ---- a posteriori collision stage, 0: the screen ----
+    // What the backend knows, from the last force pass at the current positions, of the stage to come
+    // (StageScreen), with `contactGap` the resting gap of the contact phase. Quiet: the stage is
+    // skipped, and the backend leaves itself as an empty stage would (no contact log, no warm start).
+    // WallsOnly: the stage runs and the backend's searches skip the pairs. Full (the default: a
+    // backend that cannot tell): the whole stage. One host wait instead of the stage's searches.
+    virtual StageScreen screenStage(double /*contactGap*/) { return StageScreen::Full; }
     // ---- a posteriori collision stage, 1: impact rounds (DESIGN.md sec. 2) ----
     // Every particle active; counts and losses zeroed. The window says which overlaps are impacts of
     // this step (collision_resolution.h).

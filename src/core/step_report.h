@@ -8,6 +8,11 @@
 
 namespace corebox {
 
+// What a backend's screen of the collision stage found (Backend::screenStage): nothing near contact
+// (the stage skipped), only particles at walls with every pair too far to meet in the stage (walls
+// searched alone), or something else or nothing known (the whole stage).
+enum class StageScreen { Full, WallsOnly, Quiet };
+
 struct StepReport {
     double dt = 0;                 // the step actually taken (adaptive dp5 may shrink it)
     int rejectedSteps = 0;         // adaptive attempts rejected before this one
@@ -16,6 +21,7 @@ struct StepReport {
     int64_t contacts = 0;          // contacts relaxed after the impacts (pairs counted from both sides, walls once)
     double dissipated = 0;         // kinetic energy lost in collisions and contacts this step [eps]
     int rounds = 0;                // parallel impact rounds used
+    StageScreen screen = StageScreen::Full;  // what the backend's screen found (the stage ran whole, for walls, or not)
     bool roundCapHit = false;      // impacts remained after InteractionDef::maxCollisionRounds
     int contactSweeps = 0;         // Jacobi sweeps of the contact relaxation
     double contactOverlap = 0;     // largest overlap left, as a fraction of the contact distance

@@ -95,6 +95,7 @@ CudaDevice<Real>::~CudaDevice() {
 template <class Real>
 void CudaDevice<Real>::setModel(const DeviceModel& model) {
     m_model = model;
+    m_screenPending = false;  // screened with the old radii and box
     const std::vector<PairCoefficients<Real>> pairs = convertPairTable<Real>(model.pairs);
     const size_t s = model.mass.size();
     m_speciesCount = int(s);

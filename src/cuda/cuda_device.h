@@ -88,6 +88,7 @@ public:
     void acceptStage() override;
 
     // ---- collision rounds (cuda_collisions.cpp) ----
+    StageScreen screenStage(double contactGap) override;
     void beginCollisions(const ImpactWindow<double>& window) override;
     int64_t findEvents(EventScope scope) override;
     void applyEvents() override;
@@ -200,6 +201,19 @@ private:
     int64_t m_fullPasses = 0;
     int64_t m_allPairsEvaluations = 0;  // ForceCounters::allPairsEvaluations
     bool m_pairsOnce = true;            // CudaBackendOptions::pairsOnce
+    // The collision screen (screenStage): the last full list pass at X wrote its three words
+    // (ForceArgs::screen) with m_screenGap; m_screenPending until X, the model or the state change.
+    DeviceBuffer<unsigned int> m_screen;
+    double m_screenGap = -1;  // the gap of the last quietStep call (< 0: none yet, no screen)
+    bool m_screenPending = false;
+    // No pair can come within contact in this stage (the screen's clearance exceeds what the wall
+    // events can move two particles): the searches see walls only, through an empty cell list, and
+    // skip building one. m_pairsClearNext: from screenStage to the stage's beginCollisions.
+    bool m_pairsClear = false, m_pairsClearNext = false;
+    // The walls-only view: one cell holding nobody ({0, 0}), and particles in index order (the
+    // searches take their particles in the view's order).
+    DeviceBuffer<int32_t> m_emptyCellStart, m_indexOrder;
+    CellListView emptyCells();
     int64_t m_refreshes = 0;
     // Verlet's refresh after collisions (one GPU, lists): A matched X at the last full pass and X has
     // not changed since, X as the collision stage found it, and whether both held then.

@@ -14,7 +14,7 @@ gpu::ForceArgs<Real> CudaDevice<Real>::forceArgs(int k, const Vec3<Real>* x, Vec
     const DeviceSlice& s = slice(k);
     gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     s.begin, s.end, tableOf(r), m_model.anyPairForce, m_model.hasCutoff,
                            out, nullptr,          r.forceScratch.data(), r.forceScratch.size(), {},                    nullptr,
-                           nullptr, nullptr, 0, nullptr, nullptr, nullptr, m_pairsOnce};
+                           nullptr, nullptr, 0, nullptr, nullptr, nullptr, m_pairsOnce, nullptr, {0, 0, 0}, 0};
     f.peers.count = 0;
     return f;
 }
@@ -24,7 +24,7 @@ gpu::ForceArgs<Real> CudaDevice<Real>::homeForceArgs(const Vec3<Real>* x, Vec3<R
     Replica<Real>& r = home();
     gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     0, m_n, table(), m_model.anyPairForce, m_model.hasCutoff,
                            out, nullptr,          m_homeForceScratch.data(), m_homeForceScratch.size(), {}, nullptr,
-                           nullptr, nullptr, 0, nullptr, nullptr, nullptr, false};
+                           nullptr, nullptr, 0, nullptr, nullptr, nullptr, false, nullptr, {0, 0, 0}, 0};
     f.peers.count = 0;
     return f;
 }
@@ -52,6 +52,10 @@ void CudaDevice<Real>::forcePass(int stage) {
     scatterFromHome();
     // The positions: X for A = a(X), the stage positions Xs otherwise; every GPU's copy.
     auto positions = [&](Replica<Real>& r) { return stage < 0 ? r.x.data() : r.xStage.data(); };
+    // Lists hold every pair closer than the cutoff: the screen sees every pair within reach only if
+    // the largest reach is below it.
+    const bool screen = stage < 0 && gpuCount() == 1 && useLists() && m_screenGap >= 0 &&
+                        (2 * m_model.maxRadius() + m_screenGap) * (1 + gpu::kScreenMargin) < m_model.cutoff;
     std::vector<void*> buffers;
     for (auto& r : m_replicas) buffers.push_back(positions(*r));
     m_exchange->share(buffers, sizeof(Vec3<Real>));
@@ -61,6 +65,14 @@ void CudaDevice<Real>::forcePass(int stage) {
         if (useLists()) {
             r.list.update(positions(r), m_n, slice(k).begin, slice(k).end, m_box, m_model.cutoff, m_model.skin, slice(k).stream);
             r.list.fill(f);
+        }
+        if (screen) {  // this pass also screens the collision stage at X (screenStage)
+            m_screen.resize(3);
+            cudaCheck(cudaMemsetAsync(m_screen.data(), 0xff, sizeof(unsigned int), stream()), "memset");
+            cudaCheck(cudaMemsetAsync(m_screen.data() + 1, 0, 2 * sizeof(unsigned int), stream()), "memset");
+            f.screen = m_screen.data();
+            f.box = m_box;
+            f.contactGap = Real(m_screenGap);
         }
         if (m_exchange->method() == Exchange::Da && gpuCount() > 1) {
             f.peers.count = gpuCount();
@@ -76,6 +88,7 @@ void CudaDevice<Real>::forcePass(int stage) {
     m_homeCurrent = gpuCount() == 1;
     ++m_fullPasses;
     m_accelerationMatchesX = stage < 0;
+    m_screenPending = screen;
     if (stage < 0) m_accelerationIncremental = false;
 }
 

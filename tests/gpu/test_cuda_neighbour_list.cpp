@@ -134,6 +134,41 @@ TEST(CudaAllPairs, ACollisionStepCostsNoSecondForcePass) {
     expectSameRun(simulate(scene, "cpu", steps), gpu, scene.box.size[0]);
 }
 
+// The collision screen (CudaDevice::screenStage): the list pass at the end of each Verlet step tells
+// whether anything is near contact. Steps with nothing near skip the stage, steps with only wall hits
+// run it for walls alone; the run is the CPU's (whose stage always searches everything) to 1e-9, with
+// the same collision counts. About one particle a step hits a wall here (Poisson), so both kinds of
+// screened step occur.
+TEST(CudaNeighbourList, TheCollisionScreenSkipsQuietStepsAndKeepsTheCpuResult) {
+    COREBOX_REQUIRE_GPU();
+    Scene scene = liquid(ForceModel::NeighbourList, Precision::Fp64);
+    for (SpeciesDef& s : scene.species) s.radius = 0.42;
+    const int steps = 100;
+    Simulation gpu(scene, backendFor("cuda", Precision::Fp64), makeInitialState(scene));
+    Simulation cpu(scene, backendFor("cpu", Precision::Fp64), makeInitialState(scene));
+    int quiet = 0, wallsOnly = 0;
+    int64_t gpuPairs = 0, gpuWalls = 0, cpuPairs = 0, cpuWalls = 0;
+    for (int k = 0; k < steps; ++k) {
+        const StepReport g = gpu.step(), c = cpu.step();
+        quiet += g.screen == StageScreen::Quiet ? 1 : 0;
+        wallsOnly += g.screen == StageScreen::WallsOnly ? 1 : 0;
+        EXPECT_EQ(c.screen, StageScreen::Full) << "the CPU has no screen";
+        gpuPairs += g.pairCollisions;
+        gpuWalls += g.wallCollisions;
+        cpuPairs += c.pairCollisions;
+        cpuWalls += c.wallCollisions;
+    }
+    RecordProperty("quiet_steps", quiet);
+    RecordProperty("walls_only_steps", wallsOnly);
+    EXPECT_GT(quiet, 0);
+    EXPECT_GT(wallsOnly, 0);
+    EXPECT_GT(gpuWalls, 0);
+    EXPECT_EQ(gpuPairs, cpuPairs);
+    EXPECT_EQ(gpuWalls, cpuWalls);
+    expectSameRun(SimRun{cpu.state(), cpu.observe(), cpu.forceChoice(), {}}, SimRun{gpu.state(), gpu.observe(), gpu.forceChoice(), {}},
+                  scene.box.size[0]);
+}
+
 TEST(CudaNeighbourList, RebuildsKeepTheCpuResult) {
     COREBOX_REQUIRE_GPU();
     Scene scene = liquid(ForceModel::NeighbourList, Precision::Fp64);
