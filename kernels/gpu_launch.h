@@ -112,12 +112,21 @@ void launchExchangeMovedPairForces(const ForceArgs<Real>& args, const Vec3<Real>
 // Full Verlet lists (both directions, each row sums its own pairs: no atomics, a fixed order) of rows
 // [begin, end) over all n positions, from the cell list of cells >= r_c + skin: partners in the
 // 27-cell walk's order (cell_list.h), so the sums are the same on every run.
+// A particle of a cell list with its position, in the list's order (cell by cell): the list build
+// streams these instead of gathering x[sorted[k]] from all over memory (one 16-byte load in fp32
+// instead of an index and a scattered position).
+template <class Real>
+struct alignas(16) CellEntry {
+    Real x, y, z;
+    int32_t index;
+};
 template <class Real>
 struct NeighbourListArgs {
     const Vec3<Real>* x;  // all n positions
     int64_t n, begin, end;
     const int32_t* rowParticle;  // the particle of each list row (launchListRowOrder)
     CellListView cells;   // over x, cells at least reach wide
+    const CellEntry<Real>* cellEntries;  // n: entry k is particle cells.sorted[k] (launchGatherCellEntries)
     Real reach2;          // (r_c + skin)^2
     int32_t maxNeighbours;
     int32_t* neighbours;       // out: maxNeighbours x rows, partner c of row r at [c * rows + r]
@@ -126,6 +135,9 @@ struct NeighbourListArgs {
 };
 template <class Real>
 void launchBuildNeighbourList(const NeighbourListArgs<Real>& args, cudaStream_t stream);
+// entries[k] = (x[sorted[k]], sorted[k]) for k < n.
+template <class Real>
+void launchGatherCellEntries(const Vec3<Real>* x, const int32_t* sorted, int64_t n, CellEntry<Real>* entries, cudaStream_t stream);
 // The order of list rows: when the lists cover every particle, the cell list's order (neighbouring
 // threads then read the same partners: the locality of a particle sort, while particle arrays, ids
 // and every output keep their order); otherwise (one GPU's slice) the particles' own order.

@@ -1,7 +1,9 @@
 // Neighbour lists on the GPU (gpu_launch.h: NeighbourListArgs) and the forces summed over them.
 //
 // Design note. A GPU thread per row walks the 27 cells around its particle (cell_list.h, the one grid,
-// cells of at least r_c + skin) and keeps every partner closer than r_c + skin: full lists, so each
+// cells of at least r_c + skin; the candidates read from a cell-ordered copy of the positions, which
+// streams: gathering x[sorted[k]] made the build 5.5 ms at 10^6 particles on an H200, most of it
+// scattered loads) and keeps every partner closer than r_c + skin: full lists, so each
 // row sums its own pairs with no atomics on forces and the same result on every run (Newton's third
 // law would need scattered writes). The walk collects a row in shared memory and sorts it by partner
 // index before writing it out: a row's sum then does not depend on when the list was built (a listed
@@ -32,15 +34,23 @@ __global__ void buildListKernel(NeighbourListArgs<Real> a) {
     const int64_t i = a.rowParticle[row];
     const Vec3<Real> xi = a.x[i];
     int32_t count = 0;
-    forEachNeighbour(a.cells, xi, [&](int64_t j) {
-        if (j == i) return;
-        const Vec3<Real> d = xi - a.x[j];
-        if (!(norm2(d) < a.reach2)) return;
-        if (count < a.maxNeighbours) mine[count * stride] = int32_t(j);
-        ++count;
+    // forEachNeighbour's walk (27 cells in ascending key, each in list order), over the cell-ordered
+    // entries: a cell's particles are contiguous, so the candidates stream instead of being gathered.
+    forEachNeighbourCell(a.cells.geometry, cellCoords(a.cells.geometry, xi), [&](int cell) {
+        const int32_t end = a.cells.cellStart[cell + 1];
+        for (int32_t k = a.cells.cellStart[cell]; k < end; ++k) {
+            const CellEntry<Real> e = a.cellEntries[k];
+            const Vec3<Real> d{xi.x - e.x, xi.y - e.y, xi.z - e.z};
+            if (!(norm2(d) < a.reach2) || e.index == i) continue;
+            if (count < a.maxNeighbours) mine[count * stride] = e.index;
+            ++count;
+        }
     });
     a.neighbourCount[row] = count;
-    atomicMax(a.mostNeighbours, unsigned(count));
+    // One atomic a warp: a million rows on one address would queue behind each other.
+    const unsigned live = __activemask();
+    const unsigned most = __reduce_max_sync(live, unsigned(count));
+    if (int(threadIdx.x % 32) == __ffs(live) - 1) atomicMax(a.mostNeighbours, most);
     if (count > a.maxNeighbours) return;  // the list grows and is built again
     for (int32_t c = 1; c < count; ++c) {
         const int32_t key = mine[c * stride];
@@ -52,6 +62,15 @@ __global__ void buildListKernel(NeighbourListArgs<Real> a) {
         mine[(k + 1) * stride] = key;
     }
     for (int32_t c = 0; c < count; ++c) a.neighbours[int64_t(c) * rows + row] = mine[c * stride];
+}
+
+template <class Real>
+__global__ void gatherCellEntriesKernel(const Vec3<Real>* x, const int32_t* sorted, int64_t n, CellEntry<Real>* entries) {
+    const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (k >= n) return;
+    const int32_t j = sorted[k];
+    const Vec3<Real> p = x[j];
+    entries[k] = CellEntry<Real>{p.x, p.y, p.z, j};
 }
 
 // Threads per block of the list build: as many as 64 whose rows fit the shared memory a block may have.
@@ -256,6 +275,15 @@ void launchListForces(const ForceArgs<Real>& a, cudaStream_t stream) {
     checkLaunch("neighbour list force kernel");
 }
 
+template <class Real>
+void launchGatherCellEntries(const Vec3<Real>* x, const int32_t* sorted, int64_t n, CellEntry<Real>* entries, cudaStream_t stream) {
+    if (n <= 0) return;
+    gatherCellEntriesKernel<Real><<<blocksFor(n), kBlock, 0, stream>>>(x, sorted, n, entries);
+    checkLaunch("cell entries kernel");
+}
+
+template void launchGatherCellEntries<float>(const Vec3<float>*, const int32_t*, int64_t, CellEntry<float>*, cudaStream_t);
+template void launchGatherCellEntries<double>(const Vec3<double>*, const int32_t*, int64_t, CellEntry<double>*, cudaStream_t);
 template void launchBuildNeighbourList<float>(const NeighbourListArgs<float>&, cudaStream_t);
 template void launchBuildNeighbourList<double>(const NeighbourListArgs<double>&, cudaStream_t);
 template void launchListVirialRows<float>(const ForceArgs<float>&, double*, cudaStream_t);

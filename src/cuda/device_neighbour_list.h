@@ -72,6 +72,8 @@ private:
         const int64_t rows = m_end - m_begin;
         const double reach = m_cutoff + m_skin;
         const CellListView cells = m_cells.build(x, m_n, cellGeometry(vec3Cast<double>(m_box), m_n, reach), stream);
+        m_cellEntries.resize(size_t(std::max<int64_t>(m_n, 1)));
+        gpu::launchGatherCellEntries(x, cells.sorted, m_n, m_cellEntries.data(), stream);
         m_count.resize(size_t(std::max<int64_t>(rows, 1)));
         m_rowParticle.resize(size_t(std::max<int64_t>(rows, 1)));
         m_rowOf.resize(size_t(std::max<int64_t>(rows, 1)));
@@ -79,8 +81,8 @@ private:
         m_flag.resize(1);
         for (;;) {
             m_neighbours.resize(size_t(std::max<int64_t>(rows, 1)) * size_t(m_columns));
-            gpu::NeighbourListArgs<Real> a{x, m_n, m_begin, m_end, m_rowParticle.data(), cells, Real(reach * reach), m_columns, m_neighbours.data(),
-                                           m_count.data(), m_flag.data()};
+            gpu::NeighbourListArgs<Real> a{x, m_n, m_begin, m_end, m_rowParticle.data(), cells, m_cellEntries.data(), Real(reach * reach), m_columns,
+                                           m_neighbours.data(), m_count.data(), m_flag.data()};
             gpu::launchBuildNeighbourList(a, stream);
             const unsigned int most = readFlag(stream);
             if (most <= unsigned(m_columns)) break;
@@ -93,6 +95,7 @@ private:
     }
 
     DeviceCellList<Real> m_cells;
+    DeviceBuffer<gpu::CellEntry<Real>> m_cellEntries;  // the cell list's particles with their positions, in its order
     DeviceBuffer<int32_t> m_neighbours, m_count;
     DeviceBuffer<int32_t> m_rowParticle, m_rowOf;  // rows in cell order (one GPU), and back
     DeviceBuffer<Vec3<Real>> m_xBuilt;
