@@ -326,8 +326,12 @@ void launchPairVirialRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table
 
 // ---- reductions (reduce_kernels.cu) ----
 // Sums of per-particle quantities: rows of `values` (row-major, rows x n) reduced into per-block
-// partials (rows x blocks); returns the number of blocks.
-int launchBlockSums(const double* values, int rows, int64_t n, double* partials, cudaStream_t stream);
+// partials (rows x blocks); returns the number of blocks. With a mask, only the entries i with
+// mask[i] != 0 are read, the others taken as zero: the same sums where they are zero, without reading
+// them (the collision stage's impulse rows: a few hundred particles of 10^7 have events).
+int launchBlockSums(const double* values, int rows, int64_t n, double* partials, cudaStream_t stream, const char* mask = nullptr);
+// values[r * n + i] = 0 for every row r and every i with mask[i] != 0.
+void launchClearMaskedRows(double* values, int rows, int64_t n, const char* mask, cudaStream_t stream);
 int blockSumBlocks(int64_t n);
 
 template <class Real>

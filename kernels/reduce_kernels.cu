@@ -11,7 +11,7 @@ namespace {
 constexpr int kReduceBlock = 256;
 constexpr int kItemsPerThread = 8;
 
-__global__ void blockSumsKernel(const double* values, int64_t n, double* partials, int blocks) {
+__global__ void blockSumsKernel(const double* values, int64_t n, double* partials, int blocks, const char* mask) {
     __shared__ double cache[kReduceBlock];
     const int row = blockIdx.y;
     const double* v = values + size_t(row) * size_t(n);
@@ -19,7 +19,7 @@ __global__ void blockSumsKernel(const double* values, int64_t n, double* partial
     double sum = 0;
     for (int k = 0; k < kItemsPerThread; ++k) {
         const int64_t i = base + int64_t(k) * kReduceBlock + threadIdx.x;
-        if (i < n) sum += v[i];
+        if (i < n && (!mask || mask[i])) sum += v[i];
     }
     cache[threadIdx.x] = sum;
     __syncthreads();
@@ -71,15 +71,27 @@ __global__ void healthKernel(HealthArgs<Real> a) {
     if (slot < 5) a.examples[slot] = i;
 }
 
+__global__ void clearMaskedRowsKernel(double* values, int rows, int64_t n, const char* mask) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= n || !mask[i]) return;
+    for (int r = 0; r < rows; ++r) values[size_t(r) * size_t(n) + size_t(i)] = 0;
+}
+
 }  // namespace
 
 int blockSumBlocks(int64_t n) { return int((n + int64_t(kReduceBlock) * kItemsPerThread - 1) / (int64_t(kReduceBlock) * kItemsPerThread)); }
 
-int launchBlockSums(const double* values, int rows, int64_t n, double* partials, cudaStream_t stream) {
+int launchBlockSums(const double* values, int rows, int64_t n, double* partials, cudaStream_t stream, const char* mask) {
     const int blocks = std::max(blockSumBlocks(n), 1);
-    blockSumsKernel<<<dim3(unsigned(blocks), unsigned(rows)), kReduceBlock, 0, stream>>>(values, n, partials, blocks);
+    blockSumsKernel<<<dim3(unsigned(blocks), unsigned(rows)), kReduceBlock, 0, stream>>>(values, n, partials, blocks, mask);
     checkLaunch("block sums kernel");
     return blocks;
+}
+
+void launchClearMaskedRows(double* values, int rows, int64_t n, const char* mask, cudaStream_t stream) {
+    if (n <= 0) return;
+    clearMaskedRowsKernel<<<blocksFor(n), kBlock, 0, stream>>>(values, rows, n, mask);
+    checkLaunch("clear rows kernel");
 }
 
 template <class Real>

@@ -182,11 +182,11 @@ ParticleState CudaDevice<Real>::download(const DeviceBuffer<Vec3<Real>>& xd, con
 // ---- reductions ----
 
 template <class Real>
-int CudaDevice<Real>::queuePartialSums(const double* values, int rows) {
+int CudaDevice<Real>::queuePartialSums(const double* values, int rows, const char* mask) {
     const int blocks = std::max(gpu::blockSumBlocks(m_n), 1);
     const size_t count = size_t(rows) * size_t(blocks);
     m_partials.resize(count);
-    if (m_n > 0) gpu::launchBlockSums(values, rows, m_n, m_partials.data(), stream());
+    if (m_n > 0) gpu::launchBlockSums(values, rows, m_n, m_partials.data(), stream(), mask);
     else cudaCheck(cudaMemsetAsync(m_partials.data(), 0, count * sizeof(double), stream()), "memset");
     cudaCheck(cudaMemcpyAsync(m_hostPartials.resize(count), m_partials.data(), count * sizeof(double), cudaMemcpyDeviceToHost, stream()),
               "sums");

@@ -169,7 +169,7 @@ private:
     }
     // Queues the block partials of `rows` rows of `values` (each n long) into pinned memory;
     // hostPartialSums() adds them, in block order, after a sync.
-    int queuePartialSums(const double* values, int rows);
+    int queuePartialSums(const double* values, int rows, const char* mask = nullptr);
     std::vector<double> hostPartialSums(int rows, int blocks) const;
     // Health kernel and its read-back queued (host arrays below); healthReport() reads them after a sync.
     void queueHealth();
@@ -275,6 +275,7 @@ private:
     DeviceBuffer<double> m_rows, m_partials, m_pairEnergy;
     // Impact rows: kImpulseRows x n (impulse_sums.h), then the kinetic energy each particle lost.
     DeviceBuffer<double> m_impactRows;
+    int64_t m_impactRowsN = -1;  // n of the last stage: its rows are zero but where flagged (beginCollisions)
     DeviceBuffer<double> m_contactImpulses;  // kImpulseRows x n (impulse_sums.h)
     DeviceBuffer<ParticleInstance> m_instances;  // staging for host instance targets
 };
