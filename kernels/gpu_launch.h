@@ -74,8 +74,8 @@ struct ForceArgs {
     int64_t listRows;               // rows of the lists (their column stride): end - begin unless rowIndex is set
     const int32_t* rowParticle;     // the particle of list row r (rows run in cell order on one GPU)
     const int32_t* rowOf;           // the list row of particle p (rowIndex passes)
-    // Lists only, when set (indexed by particle): particles whose mask is 0 are skipped, their acceleration kept (the refresh of
-    // the rows a collision stage touched; neighbour_list_kernels.cu).
+    // Lists only, when set (indexed by list row, read before anything else of the row): rows whose mask is 0 are skipped,
+    // their acceleration kept (the refresh of the rows a collision stage touched; neighbour_list_kernels.cu).
     const unsigned char* rowMask;
     // All pairs on one GPU may evaluate each pair once (Newton's third law, pairs_once_kernels.cu)
     // where that applies (pairsOnceApplies); false: every ordered pair, the report's kernel.
@@ -148,11 +148,11 @@ void launchListRowOrder(const CellListView& cells, int64_t n, int64_t begin, int
 // both sides), partners in list order; the lists' rows must be every particle (one GPU).
 template <class Real>
 void launchListVirialRows(const ForceArgs<Real>& lists, double* row, cudaStream_t stream);
-// touched[p] = 1 for every particle p (lists of every particle: one GPU) whose position differs from
-// xBefore, and for each listed partner of such a particle (full lists: exactly the particles whose
-// sums read it); 0 elsewhere.
+// touched[rowOf[p]] = 1 for every particle p (lists of every particle: one GPU) whose position differs
+// from xBefore, and for each listed partner of such a particle (full lists: exactly the rows whose sums
+// read it); 0 elsewhere. Particles are read in index order (coalesced), the lists only for the moved.
 template <class Real>
-void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* rowParticle, const int32_t* neighbours,
+void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* rowOf, const int32_t* neighbours,
                       const int32_t* neighbourCount, unsigned char* touched, cudaStream_t stream);
 // *moved = 1 when some row of x[begin, end) is farther than halfSkin from xBuilt (row-indexed) or not
 // finite; reset to 0 by the launch.

@@ -130,10 +130,10 @@ __global__ void listForceKernel(ForceArgs<Real> a) {
     const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (k >= a.end - a.begin) return;
     const int64_t rows = a.listRows;
+    if (a.rowMask && !a.rowIndex && !a.rowMask[k]) return;  // a coalesced byte per row, nothing else read
     const int64_t i = a.rowIndex ? int64_t(a.rowIndex[a.begin + k]) : int64_t(a.rowParticle[k]);
     const int64_t row = a.rowIndex ? int64_t(a.rowOf[i]) : k;
     const int64_t out = a.rowIndex ? i : i - a.begin;
-    if (a.rowMask && !a.rowMask[out]) return;
     const Vec3<Real> xi = a.x[i];
     const int si = a.species[i];
     const int s = a.table.count;
@@ -199,16 +199,16 @@ __global__ void rowOrderKernel(const int32_t* sorted, int64_t n, int64_t begin, 
 }
 
 template <class Real>
-__global__ void touchMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* rowParticle,
+__global__ void touchMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* rowOf,
                                  const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched) {
-    const int64_t row = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (row >= rows) return;
-    const int32_t p = rowParticle[row];
+    const int64_t p = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (p >= rows) return;
     const Vec3<Real> a = x[p], b = xBefore[p];
     if (a.x == b.x && a.y == b.y && a.z == b.z) return;
-    touched[p] = 1;
+    const int64_t row = rowOf[p];
+    touched[row] = 1;
     const int32_t count = neighbourCount[row];
-    for (int32_t c = 0; c < count; ++c) touched[neighbours[int64_t(c) * rows + row]] = 1;  // every writer writes 1
+    for (int32_t c = 0; c < count; ++c) touched[rowOf[neighbours[int64_t(c) * rows + row]]] = 1;  // every writer writes 1
 }
 
 }  // namespace
@@ -229,11 +229,11 @@ void launchListRowOrder(const CellListView& cells, int64_t n, int64_t begin, int
 }
 
 template <class Real>
-void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* rowParticle, const int32_t* neighbours,
+void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* rowOf, const int32_t* neighbours,
                       const int32_t* neighbourCount, unsigned char* touched, cudaStream_t stream) {
     if (rows <= 0) return;
     cudaMemsetAsync(touched, 0, size_t(rows), stream);
-    touchMovedKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(x, xBefore, rows, rowParticle, neighbours, neighbourCount, touched);
+    touchMovedKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(x, xBefore, rows, rowOf, neighbours, neighbourCount, touched);
     checkLaunch("touched rows kernel");
 }
 

@@ -96,6 +96,7 @@ template <class Real>
 void CudaDevice<Real>::setModel(const DeviceModel& model) {
     m_model = model;
     m_screenPending = false;  // screened with the old radii and box
+    m_listAtX = false;
     const std::vector<PairCoefficients<Real>> pairs = convertPairTable<Real>(model.pairs);
     const size_t s = model.mass.size();
     m_speciesCount = int(s);
@@ -129,6 +130,7 @@ template <class Real>
 void CudaDevice<Real>::setState(const ParticleState& state) {
     sync();
     m_accelerationMatchesX = false;
+    m_listAtX = false;
     m_listedThisStep = m_warmValid = false;  // indices may now mean other particles: no warm start
     m_n = int64_t(state.size());
     m_partition.resize(m_n);

@@ -213,7 +213,7 @@ void CudaDevice<Real>::applyEvents() {
         f.scratch = m_homeForceScratch.data();
         f.scratchBytes = m_homeForceScratch.size();
         if (useLists() && gpuCount() == 1) {  // O(M x partners), not O(M x N): 10^7 particles hit the walls by the thousand
-            home().list.update(home().x.data(), m_n, 0, m_n, m_box, m_model.cutoff, m_model.skin, s);
+            if (!m_listAtX) home().list.update(home().x.data(), m_n, 0, m_n, m_box, m_model.cutoff, m_model.skin, s);
             home().list.fill(f);
         }
         gpu::launchForces(f, s);

@@ -127,7 +127,10 @@ private:
     std::vector<std::vector<void*>> stateBuffers() const;  // X and V, each one buffer per GPU
     void scatterFromHome() const;
     // The home GPU changed X or V (collisions, thermostat): the other GPUs' slices are stale.
-    void homeChanged() const { m_slicesCurrent = gpuCount() == 1; }
+    void homeChanged() const {
+        m_slicesCurrent = gpuCount() == 1;
+        m_listAtX = false;
+    }
     // Runs body(k, replica) on every GPU k with that GPU current; the home GPU is current after.
     template <class Body>
     void onEachGpu(Body body) const {
@@ -206,6 +209,9 @@ private:
     DeviceBuffer<unsigned int> m_screen;
     double m_screenGap = -1;  // the gap of the last quietStep call (< 0: none yet, no screen)
     bool m_screenPending = false;
+    // One GPU: the lists were checked (and rebuilt if needed) at the current X by the last full pass;
+    // the first impact round then needs no displacement check of its own. Cleared whenever X changes.
+    mutable bool m_listAtX = false;
     // No pair can come within contact in this stage (the screen's clearance exceeds what the wall
     // events can move two particles): the searches see walls only, through an empty cell list, and
     // skip building one. m_pairsClearNext: from screenStage to the stage's beginCollisions.

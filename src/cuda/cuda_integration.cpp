@@ -89,6 +89,7 @@ void CudaDevice<Real>::forcePass(int stage) {
     ++m_fullPasses;
     m_accelerationMatchesX = stage < 0;
     m_screenPending = screen;
+    m_listAtX = stage < 0 && gpuCount() == 1 && useLists();
     if (stage < 0) m_accelerationIncremental = false;
 }
 
@@ -231,6 +232,7 @@ void CudaDevice<Real>::drift(double dt) {
         gpu::launchVerletDrift(r.x.data() + s.begin, r.v.data() + s.begin, s.size(), Real(dt), s.stream);
     });
     m_accelerationMatchesX = false;
+    m_listAtX = false;
     m_homeCurrent = gpuCount() == 1;
 }
 
@@ -296,6 +298,7 @@ void CudaDevice<Real>::acceptStage() {
         std::swap(r->v, r->vStage);
     }
     m_accelerationMatchesX = false;
+    m_listAtX = false;
     m_homeCurrent = gpuCount() == 1;
 }
 

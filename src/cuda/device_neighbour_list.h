@@ -56,7 +56,7 @@ public:
     // must be every particle: one GPU), for a force pass over those rows only (ForceArgs::rowMask).
     const unsigned char* touchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, cudaStream_t stream) {
         m_touched.resize(size_t(std::max<int64_t>(m_end - m_begin, 1)));
-        gpu::launchTouchMoved(x, xBefore, m_end - m_begin, m_rowParticle.data(), m_neighbours.data(), m_count.data(), m_touched.data(), stream);
+        gpu::launchTouchMoved(x, xBefore, m_end - m_begin, m_rowOf.data(), m_neighbours.data(), m_count.data(), m_touched.data(), stream);
         return m_touched.data();
     }
 
