@@ -34,6 +34,33 @@ __global__ void findEventsKernel(CollisionArgs<Real> a) {
     }
 }
 
+// The wall event e of particle i (its partner a wall code), resolved with the particle's acceleration
+// at the end of the step: moves and turns it, returns the collision kind and what the tally adds.
+template <class Real>
+__device__ int resolveWallOf(const CollisionArgs<Real>& a, int64_t i, const CollisionEvent& e, Vec3<Real> acceleration, double* loss, double* impulse, int* impulseRow, bool* atCentre, ImpactDetail<Real>* logged) {
+    const int si = a.p.species[i];
+    const int code = int(-1 - e.partner), axis = code / 2;
+    Vec3<Real> x = a.p.x[i], v = a.p.v[i];
+    const int kind = resolveWallEvent(x[axis], v[axis], acceleration[axis], a.table.mass[si], a.table.radius[si], a.box[axis], code % 2,
+                                      e.key, a.window.maxRewind, a.wallRestitution, a.elasticBelow, loss, impulse, logged);
+    if (logged) logged->normal[axis] = code % 2 == 0 ? Real(1) : Real(-1);  // into the box
+    *impulseRow = code;
+    *atCentre = atWallCentre(x, a.table.radius[si], a.box, axis);
+    a.p.x[i] = x;
+    a.p.v[i] = v;
+    return kind;
+}
+
+// What one resolved impact adds to its particle's rows and to the kind counts.
+template <class Real>
+__device__ void recordImpact(const CollisionArgs<Real>& a, int64_t i, int kind, double loss, double impulse, int impulseRow, bool atCentre) {
+    if (kind == kNoCollision) return;
+    a.loss[i] += loss;
+    a.impulses[size_t(impulseRow) * size_t(a.p.n) + size_t(i)] += impulse;  // only thread i writes row i
+    if (atCentre) a.impulses[size_t(kWallCount + impulseRow) * size_t(a.p.n) + size_t(i)] += impulse;
+    atomicAdd(&a.kindCounts[kind - 1], 1ull);
+}
+
 template <class Real>
 __global__ void resolveKernel(CollisionArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
@@ -61,24 +88,41 @@ __global__ void resolveKernel(CollisionArgs<Real> a) {
             a.p.v[j] = vj;
         }
     } else {
-        const int code = int(-1 - e.partner), axis = code / 2;
-        Vec3<Real> x = a.p.x[i], v = a.p.v[i];
-        kind = resolveWallEvent(x[axis], v[axis], a.contactAcceleration[i][axis], a.table.mass[si], a.table.radius[si],
-                                a.box[axis], code % 2, e.key, a.window.maxRewind, a.wallRestitution, a.elasticBelow, &loss, &impulse,
-                                logged);
-        if (logged) logged->normal[axis] = code % 2 == 0 ? Real(1) : Real(-1);  // into the box
-        impulseRow = code;
-        atCentre = atWallCentre(x, a.table.radius[si], a.box, axis);
-        a.p.x[i] = x;
-        a.p.v[i] = v;
+        kind = resolveWallOf(a, i, e, a.contactAcceleration[i], &loss, &impulse, &impulseRow, &atCentre, logged);
     }
-    if (kind != kNoCollision) {
-        a.loss[i] += loss;
-        a.impulses[size_t(impulseRow) * size_t(a.p.n) + size_t(i)] += impulse;  // only thread i writes row i
-        if (atCentre) a.impulses[size_t(kWallCount + impulseRow) * size_t(a.p.n) + size_t(i)] += impulse;
-        atomicAdd(&a.kindCounts[kind - 1], 1ull);
-        if (logged) a.log[atomicAdd(&a.counters[2], 1u)] = ImpactRecord<Real>{i, e.partner, a.logRound, detail};
+    recordImpact(a, i, kind, loss, impulse, impulseRow, atCentre);
+    if (kind != kNoCollision && logged) a.log[atomicAdd(&a.counters[2], 1u)] = ImpactRecord<Real>{i, e.partner, a.logRound, detail};
+}
+
+// Walls only: each particle's wall impacts in turn (launchResolveWallImpacts).
+template <class Real>
+__global__ void resolveWallImpactsKernel(CollisionArgs<Real> a, const Vec3<Real>* acceleration, Real contactGap, unsigned int* stats) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.p.n) return;
+    const int si = a.p.species[i];
+    const Real radius = a.table.radius[si];
+    unsigned impacts = 0;
+    // At most one impact per wall plane an axis: a rebound puts the centre inside on that axis, and the
+    // opposite wall is a box length away.
+    for (int k = 0; k < 2 * 3; ++k) {
+        CollisionEvent e = noEvent();
+        considerWalls(a.p.x[i], a.p.v[i], radius, a.box, a.window, e);
+        if (!isValid(e)) break;
+        double loss = 0, impulse = 0;
+        int impulseRow = kPairVirialRow;
+        bool atCentre = false;
+        const int kind = resolveWallOf(a, i, e, acceleration[i], &loss, &impulse, &impulseRow, &atCentre,
+                                       static_cast<ImpactDetail<Real>*>(nullptr));
+        recordImpact(a, i, kind, loss, impulse, impulseRow, atCentre);
+        a.hasContactAcceleration[i] = 1;  // its impact rows are written: the tally reads them, the next stage clears them
+        ++impacts;
     }
+    if (impacts > 0) atomicMax(&stats[0], impacts);
+    const Vec3<Real> x = a.p.x[i];
+    const Real reach = (radius + contactGap) * Real(1 + kScreenMargin);
+    bool near = false;
+    for (int axis = 0; axis < 3; ++axis) near = near || !(x[axis] >= reach && x[axis] <= a.box[axis] - reach);
+    if (near) stats[1] = 1u;
 }
 
 // After resolution: a particle stays active when it had an event (resolved now or still pending).
@@ -109,7 +153,17 @@ void launchUpdateActive(const CollisionArgs<Real>& a, cudaStream_t stream) {
     checkLaunch("active kernel");
 }
 
+template <class Real>
+void launchResolveWallImpacts(const CollisionArgs<Real>& a, const Vec3<Real>* acceleration, Real contactGap, unsigned int* stats,
+                              cudaStream_t stream) {
+    cudaMemsetAsync(stats, 0, 2 * sizeof(unsigned int), stream);
+    if (a.p.n <= 0) return;
+    resolveWallImpactsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, acceleration, contactGap, stats);
+    checkLaunch("wall impacts kernel");
+}
+
 #define COREBOX_INSTANTIATE(Real)                                                                                  \
+    template void launchResolveWallImpacts<Real>(const CollisionArgs<Real>&, const Vec3<Real>*, Real, unsigned int*, cudaStream_t); \
     template void launchFindEvents<Real>(const CollisionArgs<Real>&, cudaStream_t);                                \
     template void launchResolve<Real>(const CollisionArgs<Real>&, cudaStream_t);                                  \
     template void launchUpdateActive<Real>(const CollisionArgs<Real>&, cudaStream_t);

@@ -272,6 +272,17 @@ void launchResolve(const CollisionArgs<Real>& args, cudaStream_t stream);
 // active[i] = particle i had an event this round.
 template <class Real>
 void launchUpdateActive(const CollisionArgs<Real>& args, cudaStream_t stream);
+// Walls only (no pair can meet in this stage, CudaDevice::screenStage): every particle resolves its wall
+// impacts one after another, earliest first, as the rounds would one a round (particles do not meet,
+// so each particle's sequence is the rounds' sequence), with `acceleration` the end-of-step
+// accelerations (the rounds' contact accelerations: the same pass at the same positions). Adds to the
+// kind counts, losses and impulse rows as launchResolve does and marks the particles with an impact in
+// hasContactAcceleration (the rows the tally reads). stats[0] = most impacts of one particle (atomicMax),
+// stats[1] = 1 when some particle ends within contactGap (with the screen's margin) of a wall, or
+// overlapping it: the contact phase may list it. No contact log (the caller runs the rounds then).
+template <class Real>
+void launchResolveWallImpacts(const CollisionArgs<Real>& args, const Vec3<Real>* acceleration, Real contactGap, unsigned int* stats,
+                              cudaStream_t stream);
 
 // ---- contact relaxation (contact_kernels.cu) ----
 template <class Real>

@@ -176,6 +176,12 @@ public:
     // Every particle active; counts and losses zeroed. The window says which overlaps are impacts of
     // this step (collision_resolution.h).
     virtual void beginCollisions(const ImpactWindow<double>& window) = 0;
+    // After screenStage said WallsOnly and beginCollisions: resolves every wall impact of the stage at
+    // once, each particle's in the order the rounds would take them (particles that cannot meet each
+    // other have independent sequences: the rounds' result exactly), and returns the rounds the loop
+    // would have counted (the most impacts of one particle, plus the round that finds none). -1 when
+    // the backend does not (the rounds run).
+    virtual int resolveWallImpacts() { return -1; }
     // Each particle's earliest event (collision_resolution.h); returns how many particles have one.
     virtual int64_t findEvents(EventScope scope) = 0;
     // Resolves every event that is the earliest of each particle it touches (a matching, so no two

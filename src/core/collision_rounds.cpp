@@ -48,6 +48,13 @@ void resolveCollisions(Backend& backend, const CollisionSettings& settings, Step
     // rounding of a position against a depth of v dt): a tenth of a step of room keeps it an impact.
     backend.beginCollisions(ImpactWindow<double>{1.1 * settings.dt, settings.restingSpeed});
     bool settled = false;
+    if (report.screen == StageScreen::WallsOnly) {  // no pair can meet: the walls at once, no round-by-round waits
+        const int rounds = backend.resolveWallImpacts();
+        if (rounds >= 0) {
+            report.rounds = rounds;
+            settled = true;
+        }
+    }
     for (int round = 0; round < settings.maxRounds && !settled; ++round) {
         report.rounds = round + 1;
         settled = backend.findEvents(EventScope::Active) == 0;

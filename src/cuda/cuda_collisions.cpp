@@ -125,6 +125,8 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     m_screenPending = false;
     m_pairsClear = m_pairsClearNext;
     m_pairsClearNext = false;
+    m_wallTallyPending = m_wallsResolvedAtOnce = false;
+    m_wallContactsPossible = true;
     gatherToHome();
     m_cellsMatchPositions = false;  // the integration moved everything
     m_window = ImpactWindow<Real>{Real(window.maxRewind), Real(window.restingSpeed)};
@@ -166,6 +168,40 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     }
     m_listedThisStep = false;
     m_firstListing = true;
+}
+
+// Walls only, one GPU, the end-of-step accelerations at hand (m_refreshable: A matched X when the stage
+// began; the rounds would compute the same rows by the same pass), no contact log: one kernel and one
+// wait for the impacts, their tally and whether the contact listing can find anything, instead of two
+// rounds, the tally and the listing, four waits (an LJ fluid of 10^6 in a walled box: a few hundred
+// wall hits a step).
+template <class Real>
+int CudaDevice<Real>::resolveWallImpacts() {
+    if (!m_pairsClear || !m_refreshable || m_logging || gpuCount() != 1) return -1;
+    cudaStream_t s = stream();
+    m_wallStats.resize(2);
+    gpu::launchResolveWallImpacts(collisionArgs(), home().acceleration.data(), Real(m_screenGap), m_wallStats.data(), s);
+    unsigned long long* words = m_hostWords.resize(kHostWords);
+    cudaCheck(cudaMemcpyAsync(words, m_kindCounts.data(), 3 * sizeof(unsigned long long), cudaMemcpyDeviceToHost, s), "counts");
+    cudaCheck(cudaMemcpyAsync(words + 3, m_wallStats.data(), 2 * sizeof(unsigned int), cudaMemcpyDeviceToHost, s), "wall impacts");
+    const int blocks = queuePartialSums(m_impactRows.data(), kImpulseRows + 1, m_hasContactAcceleration.data());
+    sync();
+    const std::vector<double> sums = hostPartialSums(kImpulseRows + 1, blocks);
+    unsigned int stats[2];
+    std::memcpy(stats, words + 3, sizeof stats);
+    m_wallTally = CollisionTally{};
+    m_wallTally.pairCollisions = int64_t(words[0]);
+    m_wallTally.wallCollisions = int64_t(words[1]);
+    if (m_wallTally.total() > 0) {
+        m_wallTally.dissipated = sums[size_t(kImpulseRows)];
+        m_wallTally.impulses = impulseSumsOf(sums);
+    }
+    m_wallTallyPending = m_wallsResolvedAtOnce = true;
+    m_wallContactsPossible = stats[1] != 0;
+    m_eventsApplied = true;
+    homeChanged();
+    m_cellsMatchPositions = false;
+    return int(stats[0]) + 1;
 }
 
 template <class Real>
@@ -229,6 +265,10 @@ void CudaDevice<Real>::applyEvents() {
 template <class Real>
 CollisionTally CudaDevice<Real>::collisionTally() {
     CollisionTally t;
+    if (m_wallTallyPending) {  // read with resolveWallImpacts' wait
+        m_wallTallyPending = false;
+        return m_wallTally;
+    }
     // Nothing resolved since beginCollisions zeroed the counters: nothing to read back.
     if (!m_eventsApplied) return t;
     // The counts, the losses and the impulses come back with one wait: the loss is the last of the
@@ -318,6 +358,13 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     gatherToHome();
     cudaStream_t s = stream();
     m_resting = RestingContact<Real>{Real(resting.speed), Real(resting.gap)};
+    if (m_wallsResolvedAtOnce && !m_wallContactsPossible && resting.gap <= m_screenGap) {
+        // No pair within reach (the screen) and no particle near a wall after the impacts: nothing to
+        // list, and nothing for the next step's warm start (as a listing of zero contacts leaves it).
+        m_listedThisStep = false;
+        m_firstListing = false;
+        return 0;
+    }
     const double reach = 2.0 * m_model.maxRadius() + resting.gap;  // every listed pair in neighbouring cells
     const CellGeometry geometry = cellGeometry(vec3Cast<double>(m_box), m_n, reach);
     // The impact search's grid serves when nothing moved since it was built and the cells are the

@@ -89,6 +89,7 @@ public:
 
     // ---- collision rounds (cuda_collisions.cpp) ----
     StageScreen screenStage(double contactGap) override;
+    int resolveWallImpacts() override;
     void beginCollisions(const ImpactWindow<double>& window) override;
     int64_t findEvents(EventScope scope) override;
     void applyEvents() override;
@@ -216,6 +217,11 @@ private:
     // events can move two particles): the searches see walls only, through an empty cell list, and
     // skip building one. m_pairsClearNext: from screenStage to the stage's beginCollisions.
     bool m_pairsClear = false, m_pairsClearNext = false;
+    // resolveWallImpacts: its tally, read with its one wait (collisionTally returns it), and whether
+    // some particle ended near a wall (else the contact listing has nothing to find).
+    DeviceBuffer<unsigned int> m_wallStats;
+    CollisionTally m_wallTally;
+    bool m_wallTallyPending = false, m_wallsResolvedAtOnce = false, m_wallContactsPossible = true;
     // The walls-only view: one cell holding nobody ({0, 0}), and particles in index order (the
     // searches take their particles in the view's order).
     DeviceBuffer<int32_t> m_emptyCellStart, m_indexOrder;

@@ -136,8 +136,8 @@ TEST(CudaAllPairs, ACollisionStepCostsNoSecondForcePass) {
 
 // The collision screen (CudaDevice::screenStage): the list pass at the end of each Verlet step tells
 // whether anything is near contact. Steps with nothing near skip the stage, steps with only wall hits
-// run it for walls alone; the run is the CPU's (whose stage always searches everything) to 1e-9, with
-// the same collision counts. About one particle a step hits a wall here (Poisson), so both kinds of
+// resolve them at once (resolveWallImpacts); the run is the CPU's (whose stage always searches
+// everything) to 1e-9, with the same collision counts and wall pressure. About one particle a step hits a wall here (Poisson), so both kinds of
 // screened step occur.
 TEST(CudaNeighbourList, TheCollisionScreenSkipsQuietStepsAndKeepsTheCpuResult) {
     COREBOX_REQUIRE_GPU();
@@ -165,8 +165,12 @@ TEST(CudaNeighbourList, TheCollisionScreenSkipsQuietStepsAndKeepsTheCpuResult) {
     EXPECT_GT(gpuWalls, 0);
     EXPECT_EQ(gpuPairs, cpuPairs);
     EXPECT_EQ(gpuWalls, cpuWalls);
-    expectSameRun(SimRun{cpu.state(), cpu.observe(), cpu.forceChoice(), {}}, SimRun{gpu.state(), gpu.observe(), gpu.forceChoice(), {}},
-                  scene.box.size[0]);
+    const ObservablesRow gpuRow = gpu.observe(), cpuRow = cpu.observe();
+    // The wall impulses of the walls-only stage reach the pressure as the rounds' do.
+    EXPECT_GT(cpuRow.pressureWall, 0);
+    EXPECT_NEAR(gpuRow.pressureWall, cpuRow.pressureWall, 1e-9 * cpuRow.pressureWall);
+    EXPECT_NEAR(gpuRow.pressureWallCentre, cpuRow.pressureWallCentre, 1e-9 * std::fabs(cpuRow.pressureWallCentre) + 1e-12);
+    expectSameRun(SimRun{cpu.state(), cpuRow, cpu.forceChoice(), {}}, SimRun{gpu.state(), gpuRow, gpu.forceChoice(), {}}, scene.box.size[0]);
 }
 
 TEST(CudaNeighbourList, RebuildsKeepTheCpuResult) {
