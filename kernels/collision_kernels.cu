@@ -96,7 +96,8 @@ __global__ void resolveKernel(CollisionArgs<Real> a) {
 
 // Walls only: each particle's wall impacts in turn (launchResolveWallImpacts).
 template <class Real>
-__global__ void resolveWallImpactsKernel(CollisionArgs<Real> a, const Vec3<Real>* acceleration, Real contactGap, unsigned int* stats) {
+__global__ void resolveWallImpactsKernel(CollisionArgs<Real> a, const Vec3<Real>* acceleration, Real contactGap, const Vec3<Real>* xBuilt,
+                                         Real halfSkin2, unsigned int* stats) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.p.n) return;
     const int si = a.p.species[i];
@@ -117,8 +118,11 @@ __global__ void resolveWallImpactsKernel(CollisionArgs<Real> a, const Vec3<Real>
         a.hasContactAcceleration[i] = 1;  // its impact rows are written: the tally reads them, the next stage clears them
         ++impacts;
     }
-    if (impacts > 0) atomicMax(&stats[0], impacts);
     const Vec3<Real> x = a.p.x[i];
+    if (impacts > 0) {
+        atomicMax(&stats[0], impacts);
+        if (xBuilt && !(norm2(x - xBuilt[i]) <= halfSkin2)) stats[2] = 1u;
+    }
     const Real reach = (radius + contactGap) * Real(1 + kScreenMargin);
     bool near = false;
     for (int axis = 0; axis < 3; ++axis) near = near || !(x[axis] >= reach && x[axis] <= a.box[axis] - reach);
@@ -154,16 +158,17 @@ void launchUpdateActive(const CollisionArgs<Real>& a, cudaStream_t stream) {
 }
 
 template <class Real>
-void launchResolveWallImpacts(const CollisionArgs<Real>& a, const Vec3<Real>* acceleration, Real contactGap, unsigned int* stats,
-                              cudaStream_t stream) {
-    cudaMemsetAsync(stats, 0, 2 * sizeof(unsigned int), stream);
+void launchResolveWallImpacts(const CollisionArgs<Real>& a, const Vec3<Real>* acceleration, Real contactGap, const Vec3<Real>* xBuilt,
+                              Real halfSkin2, unsigned int* stats, cudaStream_t stream) {
+    cudaMemsetAsync(stats, 0, 3 * sizeof(unsigned int), stream);
     if (a.p.n <= 0) return;
-    resolveWallImpactsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, acceleration, contactGap, stats);
+    resolveWallImpactsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, acceleration, contactGap, xBuilt, halfSkin2, stats);
     checkLaunch("wall impacts kernel");
 }
 
 #define COREBOX_INSTANTIATE(Real)                                                                                  \
-    template void launchResolveWallImpacts<Real>(const CollisionArgs<Real>&, const Vec3<Real>*, Real, unsigned int*, cudaStream_t); \
+    template void launchResolveWallImpacts<Real>(const CollisionArgs<Real>&, const Vec3<Real>*, Real, const Vec3<Real>*, Real, unsigned int*, \
+                                                 cudaStream_t);                                                                   \
     template void launchFindEvents<Real>(const CollisionArgs<Real>&, cudaStream_t);                                \
     template void launchResolve<Real>(const CollisionArgs<Real>&, cudaStream_t);                                  \
     template void launchUpdateActive<Real>(const CollisionArgs<Real>&, cudaStream_t);

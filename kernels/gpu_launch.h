@@ -148,12 +148,13 @@ void launchListRowOrder(const CellListView& cells, int64_t n, int64_t begin, int
 // both sides), partners in list order; the lists' rows must be every particle (one GPU).
 template <class Real>
 void launchListVirialRows(const ForceArgs<Real>& lists, double* row, cudaStream_t stream);
-// touched[rowOf[p]] = 1 for every particle p (lists of every particle: one GPU) whose position differs
-// from xBefore, and for each listed partner of such a particle (full lists: exactly the rows whose sums
-// read it); 0 elsewhere. Particles are read in index order (coalesced), the lists only for the moved.
+// touched[rowOf[p]] = 1 for every particle p (lists of every particle: one GPU) that moved, and for each
+// listed partner of such a particle (full lists: exactly the rows whose sums read it); 0 elsewhere.
+// Moved: moved[p] != 0 when `moved` is set, else a position that differs from xBefore. Particles are
+// read in index order (coalesced), the lists only for the moved.
 template <class Real>
-void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* rowOf, const int32_t* neighbours,
-                      const int32_t* neighbourCount, unsigned char* touched, cudaStream_t stream);
+void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, const char* moved, int64_t rows, const int32_t* rowOf,
+                      const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched, cudaStream_t stream);
 // *moved = 1 when some row of x[begin, end) is farther than halfSkin from xBuilt (row-indexed) or not
 // finite; reset to 0 by the launch.
 template <class Real>
@@ -279,10 +280,13 @@ void launchUpdateActive(const CollisionArgs<Real>& args, cudaStream_t stream);
 // kind counts, losses and impulse rows as launchResolve does and marks the particles with an impact in
 // hasContactAcceleration (the rows the tally reads). stats[0] = most impacts of one particle (atomicMax),
 // stats[1] = 1 when some particle ends within contactGap (with the screen's margin) of a wall, or
-// overlapping it: the contact phase may list it. No contact log (the caller runs the rounds then).
+// overlapping it: the contact phase may list it; stats[2] = 1 when a particle with an impact ends
+// farther than sqrt(halfSkin2) from xBuilt (its position at the neighbour lists' build, indexed by
+// particle; null: not checked): the lists may no longer hold its partners. No contact log (the caller
+// runs the rounds then).
 template <class Real>
-void launchResolveWallImpacts(const CollisionArgs<Real>& args, const Vec3<Real>* acceleration, Real contactGap, unsigned int* stats,
-                              cudaStream_t stream);
+void launchResolveWallImpacts(const CollisionArgs<Real>& args, const Vec3<Real>* acceleration, Real contactGap, const Vec3<Real>* xBuilt,
+                              Real halfSkin2, unsigned int* stats, cudaStream_t stream);
 
 // ---- contact relaxation (contact_kernels.cu) ----
 template <class Real>

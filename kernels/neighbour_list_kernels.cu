@@ -205,12 +205,16 @@ __global__ void rowOrderKernel(const int32_t* sorted, int64_t n, int64_t begin, 
 }
 
 template <class Real>
-__global__ void touchMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* rowOf,
+__global__ void touchMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBefore, const char* moved, int64_t rows, const int32_t* rowOf,
                                  const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched) {
     const int64_t p = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (p >= rows) return;
-    const Vec3<Real> a = x[p], b = xBefore[p];
-    if (a.x == b.x && a.y == b.y && a.z == b.z) return;
+    if (moved) {
+        if (!moved[p]) return;
+    } else {
+        const Vec3<Real> a = x[p], b = xBefore[p];
+        if (a.x == b.x && a.y == b.y && a.z == b.z) return;
+    }
     const int64_t row = rowOf[p];
     touched[row] = 1;
     const int32_t count = neighbourCount[row];
@@ -235,11 +239,11 @@ void launchListRowOrder(const CellListView& cells, int64_t n, int64_t begin, int
 }
 
 template <class Real>
-void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, int64_t rows, const int32_t* rowOf, const int32_t* neighbours,
-                      const int32_t* neighbourCount, unsigned char* touched, cudaStream_t stream) {
+void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, const char* moved, int64_t rows, const int32_t* rowOf,
+                      const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched, cudaStream_t stream) {
     if (rows <= 0) return;
     cudaMemsetAsync(touched, 0, size_t(rows), stream);
-    touchMovedKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(x, xBefore, rows, rowOf, neighbours, neighbourCount, touched);
+    touchMovedKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(x, xBefore, moved, rows, rowOf, neighbours, neighbourCount, touched);
     checkLaunch("touched rows kernel");
 }
 
@@ -294,10 +298,10 @@ template void launchBuildNeighbourList<float>(const NeighbourListArgs<float>&, c
 template void launchBuildNeighbourList<double>(const NeighbourListArgs<double>&, cudaStream_t);
 template void launchListVirialRows<float>(const ForceArgs<float>&, double*, cudaStream_t);
 template void launchListVirialRows<double>(const ForceArgs<double>&, double*, cudaStream_t);
-template void launchTouchMoved<float>(const Vec3<float>*, const Vec3<float>*, int64_t, const int32_t*, const int32_t*, const int32_t*,
-                                      unsigned char*, cudaStream_t);
-template void launchTouchMoved<double>(const Vec3<double>*, const Vec3<double>*, int64_t, const int32_t*, const int32_t*, const int32_t*,
-                                       unsigned char*, cudaStream_t);
+template void launchTouchMoved<float>(const Vec3<float>*, const Vec3<float>*, const char*, int64_t, const int32_t*, const int32_t*,
+                                      const int32_t*, unsigned char*, cudaStream_t);
+template void launchTouchMoved<double>(const Vec3<double>*, const Vec3<double>*, const char*, int64_t, const int32_t*, const int32_t*,
+                                       const int32_t*, unsigned char*, cudaStream_t);
 template void launchListMoved<float>(const Vec3<float>*, const Vec3<float>*, int64_t, int64_t, float, unsigned int*, cudaStream_t);
 template void launchListMoved<double>(const Vec3<double>*, const Vec3<double>*, int64_t, int64_t, double, unsigned int*, cudaStream_t);
 template void launchListForces<float>(const ForceArgs<float>&, cudaStream_t);

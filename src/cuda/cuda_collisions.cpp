@@ -125,7 +125,7 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     m_screenPending = false;
     m_pairsClear = m_pairsClearNext;
     m_pairsClearNext = false;
-    m_wallTallyPending = m_wallsResolvedAtOnce = false;
+    m_wallTallyPending = m_wallsResolvedAtOnce = m_wallsAtOnce = m_wallsOnlyMoved = false;
     m_wallContactsPossible = true;
     gatherToHome();
     m_cellsMatchPositions = false;  // the integration moved everything
@@ -140,12 +140,15 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     cudaStream_t s = stream();
     m_refreshable = m_accelerationMatchesX && gpuCount() == 1;
     m_accelerationMatchesX = false;  // until refreshAccelerations or a full pass
-    if (m_refreshable) {
+    // Walls at once (resolveWallImpacts): the particles that move are those it flags, so neither the
+    // copy of X that tells the refresh who moved nor the round's active flags are needed.
+    m_wallsAtOnce = m_pairsClear && m_refreshable && !m_logContacts;
+    if (m_refreshable && !m_wallsAtOnce) {
         m_xBeforeCollisions.resize(n);
         cudaCheck(cudaMemcpyAsync(m_xBeforeCollisions.data(), home().x.data(), n * sizeof(Vec3<Real>), cudaMemcpyDeviceToDevice, s),
                   "positions before collisions");
     }
-    cudaCheck(cudaMemsetAsync(m_active.data(), 1, n, s), "memset");
+    if (!m_wallsAtOnce) cudaCheck(cudaMemsetAsync(m_active.data(), 1, n, s), "memset");
     // The impact rows are zero but for the particles that had an event in the last stage (flagged in
     // m_hasContactAcceleration, the only rows resolveKernel writes): clear those, not 14 rows of n
     // doubles (1.1 GB at 10^7 particles). After a change of n, everything.
@@ -171,23 +174,29 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
 }
 
 // Walls only, one GPU, the end-of-step accelerations at hand (m_refreshable: A matched X when the stage
-// began; the rounds would compute the same rows by the same pass), no contact log: one kernel and one
+// began; the rounds would compute the same rows by the same pass), no contact log (m_wallsAtOnce,
+// decided by beginCollisions): one kernel and one
 // wait for the impacts, their tally and whether the contact listing can find anything, instead of two
 // rounds, the tally and the listing, four waits (an LJ fluid of 10^6 in a walled box: a few hundred
 // wall hits a step).
 template <class Real>
 int CudaDevice<Real>::resolveWallImpacts() {
-    if (!m_pairsClear || !m_refreshable || m_logging || gpuCount() != 1) return -1;
+    if (!m_wallsAtOnce) return -1;
     cudaStream_t s = stream();
-    m_wallStats.resize(2);
-    gpu::launchResolveWallImpacts(collisionArgs(), home().acceleration.data(), Real(m_screenGap), m_wallStats.data(), s);
+    m_wallStats.resize(3);
+    // The lists were checked at X by the step's force pass (m_listAtX): they stay valid if no moved
+    // particle went past half the skin, and the refresh after the stage then needs no check of its own.
+    const bool listsChecked = m_listAtX;
+    const Vec3<Real>* built = listsChecked ? home().list.builtPositions() : nullptr;
+    const Real halfSkin2 = Real(0.25 * m_model.skin * m_model.skin);
+    gpu::launchResolveWallImpacts(collisionArgs(), home().acceleration.data(), Real(m_screenGap), built, halfSkin2, m_wallStats.data(), s);
     unsigned long long* words = m_hostWords.resize(kHostWords);
     cudaCheck(cudaMemcpyAsync(words, m_kindCounts.data(), 3 * sizeof(unsigned long long), cudaMemcpyDeviceToHost, s), "counts");
-    cudaCheck(cudaMemcpyAsync(words + 3, m_wallStats.data(), 2 * sizeof(unsigned int), cudaMemcpyDeviceToHost, s), "wall impacts");
+    cudaCheck(cudaMemcpyAsync(words + 3, m_wallStats.data(), 3 * sizeof(unsigned int), cudaMemcpyDeviceToHost, s), "wall impacts");
     const int blocks = queuePartialSums(m_impactRows.data(), kImpulseRows + 1, m_hasContactAcceleration.data());
     sync();
     const std::vector<double> sums = hostPartialSums(kImpulseRows + 1, blocks);
-    unsigned int stats[2];
+    unsigned int stats[3];
     std::memcpy(stats, words + 3, sizeof stats);
     m_wallTally = CollisionTally{};
     m_wallTally.pairCollisions = int64_t(words[0]);
@@ -196,10 +205,11 @@ int CudaDevice<Real>::resolveWallImpacts() {
         m_wallTally.dissipated = sums[size_t(kImpulseRows)];
         m_wallTally.impulses = impulseSumsOf(sums);
     }
-    m_wallTallyPending = m_wallsResolvedAtOnce = true;
+    m_wallTallyPending = m_wallsResolvedAtOnce = m_wallsOnlyMoved = true;
     m_wallContactsPossible = stats[1] != 0;
     m_eventsApplied = true;
     homeChanged();
+    m_listAtX = built != nullptr && stats[2] == 0;
     m_cellsMatchPositions = false;
     return int(stats[0]) + 1;
 }
@@ -384,6 +394,7 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     const bool warm = m_firstListing && m_warmValid;
     m_firstListing = false;  // a listing again in this step starts cold: this one's impulses are applied
     if (total == 0) return 0;
+    m_wallsOnlyMoved = false;  // the relaxation may move particles the wall impacts did not
     m_contactPartner.resize(size_t(total));
     m_contactLambda.resize(size_t(total));
     m_contactImpulses.resize(size_t(kImpulseRows) * size_t(m_n));

@@ -222,6 +222,8 @@ private:
     DeviceBuffer<unsigned int> m_wallStats;
     CollisionTally m_wallTally;
     bool m_wallTallyPending = false, m_wallsResolvedAtOnce = false, m_wallContactsPossible = true;
+    bool m_wallsAtOnce = false;  // this stage resolves its walls at once (beginCollisions decides)
+    bool m_wallsOnlyMoved = false;  // and only its flagged particles moved (no contact relaxation followed)
     // The walls-only view: one cell holding nobody ({0, 0}), and particles in index order (the
     // searches take their particles in the view's order).
     DeviceBuffer<int32_t> m_emptyCellStart, m_indexOrder;

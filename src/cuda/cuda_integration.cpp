@@ -110,13 +110,19 @@ bool CudaDevice<Real>::refreshAccelerations() {
     }
     Replica<Real>& r = home();
     if (!useLists()) return refreshAllPairs();
-    if (r.list.update(r.x.data(), m_n, 0, m_n, m_box, m_model.cutoff, m_model.skin, stream())) {
+    if (m_wallsResolvedAtOnce && !m_wallsOnlyMoved) {  // no copy of X tells who the relaxation moved
+        forcePass(-1);
+        return true;
+    }
+    if (!m_listAtX && r.list.update(r.x.data(), m_n, 0, m_n, m_box, m_model.cutoff, m_model.skin, stream())) {
         forcePass(-1);
         return true;
     }
     gpu::ForceArgs<Real> f = forceArgs(0, r.x.data(), r.acceleration.data());
     r.list.fill(f);
-    f.rowMask = r.list.touchMoved(r.x.data(), m_xBeforeCollisions.data(), stream());
+    // Who moved: the particles the walls-at-once stage flagged, else those whose position changed.
+    f.rowMask = m_wallsOnlyMoved ? r.list.touchFlagged(m_hasContactAcceleration.data(), stream())
+                                 : r.list.touchMoved(r.x.data(), m_xBeforeCollisions.data(), stream());
     gpu::launchForces(f, stream());
     m_accelerationMatchesX = true;
     return true;

@@ -42,6 +42,8 @@ public:
         return true;
     }
     void invalidate() { m_valid = false; }
+    // Each row's position at the last build (rows of every particle: indexed by particle), or null.
+    const Vec3<Real>* builtPositions() const { return m_valid ? m_xBuilt.data() : nullptr; }
     int64_t builds() const { return m_builds; }
 
     // The list fields of a force pass over the same rows.
@@ -56,7 +58,15 @@ public:
     // must be every particle: one GPU), for a force pass over those rows only (ForceArgs::rowMask).
     const unsigned char* touchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, cudaStream_t stream) {
         m_touched.resize(size_t(std::max<int64_t>(m_end - m_begin, 1)));
-        gpu::launchTouchMoved(x, xBefore, m_end - m_begin, m_rowOf.data(), m_neighbours.data(), m_count.data(), m_touched.data(), stream);
+        gpu::launchTouchMoved(x, xBefore, nullptr, m_end - m_begin, m_rowOf.data(), m_neighbours.data(), m_count.data(), m_touched.data(),
+                              stream);
+        return m_touched.data();
+    }
+    // The same for the particles p with moved[p] != 0.
+    const unsigned char* touchFlagged(const char* moved, cudaStream_t stream) {
+        m_touched.resize(size_t(std::max<int64_t>(m_end - m_begin, 1)));
+        gpu::launchTouchMoved<Real>(nullptr, nullptr, moved, m_end - m_begin, m_rowOf.data(), m_neighbours.data(),
+                              m_count.data(), m_touched.data(), stream);
         return m_touched.data();
     }
 
