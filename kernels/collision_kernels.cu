@@ -37,7 +37,8 @@ __global__ void findEventsKernel(CollisionArgs<Real> a) {
 // The wall event e of particle i (its partner a wall code), resolved with the particle's acceleration
 // at the end of the step: moves and turns it, returns the collision kind and what the tally adds.
 template <class Real>
-__device__ int resolveWallOf(const CollisionArgs<Real>& a, int64_t i, const CollisionEvent& e, Vec3<Real> acceleration, double* loss, double* impulse, int* impulseRow, bool* atCentre, ImpactDetail<Real>* logged) {
+__device__ int resolveWallOf(const CollisionArgs<Real>& a, int64_t i, const CollisionEvent& e, Vec3<Real> acceleration, double* loss,
+                             double* impulse, int* impulseRow, bool* atCentre, ImpactDetail<Real>* logged) {
     const int si = a.p.species[i];
     const int code = int(-1 - e.partner), axis = code / 2;
     Vec3<Real> x = a.p.x[i], v = a.p.v[i];
@@ -123,10 +124,8 @@ __global__ void resolveWallImpactsKernel(CollisionArgs<Real> a, const Vec3<Real>
         atomicMax(&stats[0], impacts);
         if (xBuilt && !(norm2(x - xBuilt[i]) <= halfSkin2)) stats[2] = 1u;
     }
-    const Real reach = (radius + contactGap) * Real(1 + kScreenMargin);
-    bool near = false;
-    for (int axis = 0; axis < 3; ++axis) near = near || !(x[axis] >= reach && x[axis] <= a.box[axis] - reach);
-    if (near) stats[1] = 1u;
+    const bool finite = isfinite(x.x) && isfinite(x.y) && isfinite(x.z);
+    if (!finite || deepestWallApproach(x, screenReach(radius, contactGap), a.box) > Real(0)) stats[1] = 1u;
 }
 
 // After resolution: a particle stays active when it had an event (resolved now or still pending).

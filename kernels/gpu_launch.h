@@ -10,6 +10,7 @@
 #include "butcher_tableau.h"
 #include "cell_list.h"
 #include "collision_resolution.h"
+#include "collision_screen.h"
 #include "contact_relaxation.h"
 #include "impulse_sums.h"
 #include "pair_potential.h"
@@ -83,17 +84,14 @@ struct ForceArgs {
     // Lists only, when set: the pass also screens the collision stage at these positions (Backend::
     // screenStage) into three words, which the caller sets to (0xffffffff, 0, 0) before:
     //   screen[0]: the smallest R^2 / reach^2 over the listed pairs as float bits (rounded down), reach =
-    //              (a_i + a_j + contactGap)(1 + kScreenMargin);
-    //   screen[1]: the largest wall depth (a_i + contactGap)(1 + kScreenMargin) - distance to a wall
-    //              over the particles, as float bits (rounded up), where positive; 0 where none is;
+    //              screenReach(a_i + a_j, contactGap) (collision_screen.h);
+    //   screen[1]: the largest deepestWallApproach(x, screenReach(a_i, contactGap)) over the particles, as
+    //              float bits (rounded up), where positive; 0 where none is;
     //   screen[2]: 1 when some position is not finite.
     unsigned int* screen;
     Vec3<Real> box;
     Real contactGap;
 };
-// The screen's relative margin on contact distances: far above the contact slack of either precision
-// (collision.h), so a pair the collision stage would see is never passed over.
-constexpr double kScreenMargin = 1e-3;
 template <class Real>
 void launchForces(const ForceArgs<Real>& args, cudaStream_t stream);
 // The particles whose position differs from xBefore: moved[i] = 1 (else 0) and their indices appended

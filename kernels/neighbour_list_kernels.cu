@@ -107,13 +107,8 @@ __global__ void listMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBuilt, i
 // never reports a pair farther or a wall nearer than they are.
 template <class Real>
 __device__ void screenRow(const ForceArgs<Real>& a, Vec3<Real> xi, Real ai, Real nearest) {
-    const Real wallReach = (ai + a.contactGap) * Real(1 + kScreenMargin);
-    Real depth = -Real(INFINITY);
-    bool finite = true;
-    for (int axis = 0; axis < 3; ++axis) {
-        finite = finite && isfinite(xi[axis]);
-        depth = fmax(depth, fmax(wallReach - xi[axis], xi[axis] - (a.box[axis] - wallReach)));
-    }
+    const Real depth = deepestWallApproach(xi, screenReach(ai, a.contactGap), a.box);
+    const bool finite = isfinite(xi.x) && isfinite(xi.y) && isfinite(xi.z);
     const float nearestF = sizeof(Real) == sizeof(float) ? float(nearest) : __double2float_rd(double(nearest));
     const float depthF = sizeof(Real) == sizeof(float) ? float(depth) : __double2float_ru(double(depth));
     const unsigned live = __activemask();
@@ -147,10 +142,9 @@ __global__ void listForceKernel(ForceArgs<Real> a) {
     const int32_t count = a.neighbourCount[row];
     // The collision screen (ForceArgs::screen): each pair's reach is its contact distance plus the gap, with a margin.
     const bool screen = a.screen != nullptr;
-    const Real grow = Real(1 + kScreenMargin);
-    const Real ai = a.table.radius[si];
-    const Real singleReach = (ai + ai + a.contactGap) * grow;
-    const Real singleInverse = Real(1) / (singleReach * singleReach);
+    const Real ai = screen ? a.table.radius[si] : Real(0);
+    const Real singleReach = screenReach(ai + ai, a.contactGap);
+    const Real singleInverse = screen ? Real(1) / (singleReach * singleReach) : Real(0);
     Real nearest = Real(INFINITY);  // smallest R^2 / reach^2 of the row
     Vec3<Real> force{0, 0, 0};
     double energy = 0;
@@ -167,7 +161,7 @@ __global__ void listForceKernel(ForceArgs<Real> a) {
         if (screen) {
             Real inverse = singleInverse;
             if (!kSingleSpecies) {
-                const Real reach = (ai + a.table.radius[sj] + a.contactGap) * grow;
+                const Real reach = screenReach(ai + a.table.radius[sj], a.contactGap);
                 inverse = Real(1) / (reach * reach);
             }
             nearest = fmin(nearest, r2 * inverse);

@@ -69,8 +69,14 @@ std::vector<ForceBenchmarkResult> runForceBenchmark(const ForceBenchmarkOptions&
                 choice.pairsOnce = pairsOnce;
                 const std::unique_ptr<Backend> backend = forcePassBackend(choice, scene);
                 if (deviceName.empty()) deviceName = backend->deviceName();
-                runForcePass(*backend, n);  // warm-up: page in buffers, spin up threads
+                // Warm-up (page in buffers, spin up threads); its evaluations tell which kernel runs.
+                const int64_t setUpEvaluations = backend->forceCounters().allPairsEvaluations;
+                const int64_t warmUpPairs = runForcePass(*backend, n);
                 const int64_t evaluations0 = backend->forceCounters().allPairsEvaluations;
+                const std::string kernel = evaluations0 - setUpEvaluations < warmUpPairs ? "pairs_once" : "ordered";
+                // pairs_once asked for where it does not apply runs the ordered kernel: measured once, as ordered.
+                if (!oneKernel && pairsOnce && kernel == "ordered" && std::find(kernels.begin(), kernels.end(), false) != kernels.end())
+                    continue;
                 using Clock = std::chrono::steady_clock;
                 const Clock::time_point start = Clock::now();
                 int64_t passes = 0, pairs = 0;
@@ -81,11 +87,6 @@ std::vector<ForceBenchmarkResult> runForceBenchmark(const ForceBenchmarkOptions&
                     seconds = std::chrono::duration<double>(Clock::now() - start).count();
                 } while (seconds < options.minSeconds);
                 const int64_t evaluations = backend->forceCounters().allPairsEvaluations - evaluations0;
-                const std::string kernel = evaluations < pairs ? "pairs_once" : "ordered";
-                // A kernel asked for but not applicable at this N ran the ordered kernel: recorded as such, once.
-                if (!oneKernel && pairsOnce && kernel == "ordered" &&
-                    std::find(kernels.begin(), kernels.end(), false) != kernels.end())
-                    continue;
                 results.push_back({precision, n, kernel, passes, seconds, double(pairs) / seconds, double(evaluations) / seconds});
                 std::fprintf(stderr,
                              "[corebox] bench forces: %s N = %lld, %s: %.3e pair interactions/s, %.3e evaluations/s (%lld passes, %.2f s)\n",

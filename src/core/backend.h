@@ -169,7 +169,8 @@ public:
     // What the backend knows, from the last force pass at the current positions, of the stage to come
     // (StageScreen), with `contactGap` the resting gap of the contact phase. Quiet: the stage is
     // skipped, and the backend leaves itself as an empty stage would (no contact log, no warm start).
-    // WallsOnly: the stage runs and the backend's searches skip the pairs. Full (the default: a
+    // WallsOnly: no pair can meet in this stage; the stage runs with resolveWallImpacts (or rounds that
+    // search walls alone). Full (the default: a
     // backend that cannot tell): the whole stage. One host wait instead of the stage's searches.
     virtual StageScreen screenStage(double /*contactGap*/) { return StageScreen::Full; }
     // ---- a posteriori collision stage, 1: impact rounds (DESIGN.md sec. 2) ----

@@ -94,21 +94,16 @@ StageScreen CudaDevice<Real>::screenStage(double contactGap) {
     cudaCheck(cudaMemcpyAsync(words, m_screen.data(), 3 * sizeof(unsigned int), cudaMemcpyDeviceToHost, stream()), "screen");
     sync();
     if (words[2] != 0) return StageScreen::Full;  // not finite: the stage and the health check say where
-    const double grow = 1 + gpu::kScreenMargin;
-    const double largestReach = (2 * m_model.maxRadius() + contactGap) * grow;
     const double smallestRadius = m_model.radius.empty() ? 0.0 : *std::min_element(m_model.radius.begin(), m_model.radius.end());
-    const double smallestReach = (2 * smallestRadius + contactGap) * grow;
-    double clearance = m_model.cutoff - largestReach;
-    if (words[0] != 0xffffffffu) {
-        float nearest = 0;
-        std::memcpy(&nearest, &words[0], sizeof nearest);
-        clearance = std::min(clearance, smallestReach * (std::sqrt(double(nearest)) - 1));
-    }
+    float nearest = -1;  // no pair listed
+    if (words[0] != 0xffffffffu) std::memcpy(&nearest, &words[0], sizeof nearest);
+    const double clearance = pairClearanceBound(double(nearest), screenReach(2 * smallestRadius, contactGap),
+                                                screenReach(2 * m_model.maxRadius(), contactGap), m_model.cutoff);
     if (!(clearance > 0)) return StageScreen::Full;
     float depth = 0;
     std::memcpy(&depth, &words[1], sizeof depth);
     if (depth > 0) {
-        m_pairsClearNext = clearance > 8 * double(depth);
+        m_pairsClearNext = wallsCannotBringPairsTogether(clearance, double(depth));
         return m_pairsClearNext ? StageScreen::WallsOnly : StageScreen::Full;
     }
     m_listedThisStep = m_warmValid = false;  // nothing listed: no warm start for the next step
@@ -125,7 +120,7 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     m_screenPending = false;
     m_pairsClear = m_pairsClearNext;
     m_pairsClearNext = false;
-    m_wallTallyPending = m_wallsResolvedAtOnce = m_wallsAtOnce = m_wallsOnlyMoved = false;
+    m_wallsAtOnce = m_wallsOnlyMoved = false;
     m_wallContactsPossible = true;
     gatherToHome();
     m_cellsMatchPositions = false;  // the integration moved everything
@@ -205,7 +200,7 @@ int CudaDevice<Real>::resolveWallImpacts() {
         m_wallTally.dissipated = sums[size_t(kImpulseRows)];
         m_wallTally.impulses = impulseSumsOf(sums);
     }
-    m_wallTallyPending = m_wallsResolvedAtOnce = m_wallsOnlyMoved = true;
+    m_wallsOnlyMoved = true;
     m_wallContactsPossible = stats[1] != 0;
     m_eventsApplied = true;
     homeChanged();
@@ -275,10 +270,7 @@ void CudaDevice<Real>::applyEvents() {
 template <class Real>
 CollisionTally CudaDevice<Real>::collisionTally() {
     CollisionTally t;
-    if (m_wallTallyPending) {  // read with resolveWallImpacts' wait
-        m_wallTallyPending = false;
-        return m_wallTally;
-    }
+    if (m_wallsAtOnce) return m_wallTally;  // read with resolveWallImpacts' wait
     // Nothing resolved since beginCollisions zeroed the counters: nothing to read back.
     if (!m_eventsApplied) return t;
     // The counts, the losses and the impulses come back with one wait: the loss is the last of the
@@ -368,7 +360,7 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     gatherToHome();
     cudaStream_t s = stream();
     m_resting = RestingContact<Real>{Real(resting.speed), Real(resting.gap)};
-    if (m_wallsResolvedAtOnce && !m_wallContactsPossible && resting.gap <= m_screenGap) {
+    if (m_wallsAtOnce && !m_wallContactsPossible && resting.gap <= m_screenGap) {
         // No pair within reach (the screen) and no particle near a wall after the impacts: nothing to
         // list, and nothing for the next step's warm start (as a listing of zero contacts leaves it).
         m_listedThisStep = false;

@@ -217,13 +217,14 @@ private:
     // events can move two particles): the searches see walls only, through an empty cell list, and
     // skip building one. m_pairsClearNext: from screenStage to the stage's beginCollisions.
     bool m_pairsClear = false, m_pairsClearNext = false;
-    // resolveWallImpacts: its tally, read with its one wait (collisionTally returns it), and whether
-    // some particle ended near a wall (else the contact listing has nothing to find).
+    // This stage resolves its walls at once (beginCollisions decides; the core then calls
+    // resolveWallImpacts instead of the rounds): its tally, read with its one wait (collisionTally
+    // returns it), whether some particle ended near a wall (else the contact listing has nothing to
+    // find), and whether only the particles it flagged moved (no contact relaxation followed).
+    bool m_wallsAtOnce = false;
     DeviceBuffer<unsigned int> m_wallStats;
     CollisionTally m_wallTally;
-    bool m_wallTallyPending = false, m_wallsResolvedAtOnce = false, m_wallContactsPossible = true;
-    bool m_wallsAtOnce = false;  // this stage resolves its walls at once (beginCollisions decides)
-    bool m_wallsOnlyMoved = false;  // and only its flagged particles moved (no contact relaxation followed)
+    bool m_wallContactsPossible = true, m_wallsOnlyMoved = false;
     // The walls-only view: one cell holding nobody ({0, 0}), and particles in index order (the
     // searches take their particles in the view's order).
     DeviceBuffer<int32_t> m_emptyCellStart, m_indexOrder;

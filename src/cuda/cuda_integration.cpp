@@ -55,7 +55,7 @@ void CudaDevice<Real>::forcePass(int stage) {
     // Lists hold every pair closer than the cutoff: the screen sees every pair within reach only if
     // the largest reach is below it.
     const bool screen = stage < 0 && gpuCount() == 1 && useLists() && m_screenGap >= 0 &&
-                        (2 * m_model.maxRadius() + m_screenGap) * (1 + gpu::kScreenMargin) < m_model.cutoff;
+                        screenReach(2 * m_model.maxRadius(), m_screenGap) < m_model.cutoff;
     std::vector<void*> buffers;
     for (auto& r : m_replicas) buffers.push_back(positions(*r));
     m_exchange->share(buffers, sizeof(Vec3<Real>));
@@ -79,8 +79,10 @@ void CudaDevice<Real>::forcePass(int stage) {
             f.peers.chunk = m_partition.chunk();
             for (int j = 0; j < gpuCount(); ++j) f.peers.x[j] = positions(*m_replicas[size_t(j)]);
         }
-        if (!useLists() && m_model.anyPairForce)
-            m_allPairsEvaluations += gpu::pairsOnceApplies(f) ? gpu::allPairsEvaluations<Real>(m_n, true) : f.end > f.begin ? (f.end - f.begin) * (m_n - 1) : 0;
+        if (!useLists() && m_model.anyPairForce) {
+            if (gpu::pairsOnceApplies(f)) m_allPairsEvaluations += gpu::allPairsEvaluations<Real>(m_n, true);
+            else m_allPairsEvaluations += std::max<int64_t>(f.end - f.begin, 0) * (m_n - 1);  // the slice's rows against all others
+        }
         if (k == 0) launchTimedForces(f);
         else gpu::launchForces(f, slice(k).stream);
     });
@@ -110,7 +112,7 @@ bool CudaDevice<Real>::refreshAccelerations() {
     }
     Replica<Real>& r = home();
     if (!useLists()) return refreshAllPairs();
-    if (m_wallsResolvedAtOnce && !m_wallsOnlyMoved) {  // no copy of X tells who the relaxation moved
+    if (m_wallsAtOnce && !m_wallsOnlyMoved) {  // no copy of X tells who the relaxation moved
         forcePass(-1);
         return true;
     }

@@ -57,20 +57,19 @@ public:
     // Marks the rows whose sums read a particle that moved since xBefore (the lists' own rows, which
     // must be every particle: one GPU), for a force pass over those rows only (ForceArgs::rowMask).
     const unsigned char* touchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, cudaStream_t stream) {
+        return touch(x, xBefore, nullptr, stream);
+    }
+    // The same for the particles p with moved[p] != 0.
+    const unsigned char* touchFlagged(const char* moved, cudaStream_t stream) { return touch(nullptr, nullptr, moved, stream); }
+
+private:
+    const unsigned char* touch(const Vec3<Real>* x, const Vec3<Real>* xBefore, const char* moved, cudaStream_t stream) {
         m_touched.resize(size_t(std::max<int64_t>(m_end - m_begin, 1)));
-        gpu::launchTouchMoved(x, xBefore, nullptr, m_end - m_begin, m_rowOf.data(), m_neighbours.data(), m_count.data(), m_touched.data(),
+        gpu::launchTouchMoved(x, xBefore, moved, m_end - m_begin, m_rowOf.data(), m_neighbours.data(), m_count.data(), m_touched.data(),
                               stream);
         return m_touched.data();
     }
-    // The same for the particles p with moved[p] != 0.
-    const unsigned char* touchFlagged(const char* moved, cudaStream_t stream) {
-        m_touched.resize(size_t(std::max<int64_t>(m_end - m_begin, 1)));
-        gpu::launchTouchMoved<Real>(nullptr, nullptr, moved, m_end - m_begin, m_rowOf.data(), m_neighbours.data(),
-                              m_count.data(), m_touched.data(), stream);
-        return m_touched.data();
-    }
 
-private:
     unsigned int readFlag(cudaStream_t stream) {
         unsigned int* host = m_hostFlag.resize(1);
         cudaCheck(cudaMemcpyAsync(host, m_flag.data(), sizeof(unsigned int), cudaMemcpyDeviceToHost, stream), "list flag read-back");
