@@ -24,6 +24,19 @@ COREBOX_HD inline Real realAbs(Real x) {
     return std::fabs(x);
 }
 
+// keep ? value : 0 without a branch: the device selects (one instruction); on the host a compiler
+// may turn the select into a jump, which costs a misprediction when `keep` follows no pattern (a
+// neighbour list's pairs inside and beyond the cutoff), so it multiplies by 0 or 1 instead (exact for
+// a finite value; a zero may come out as -0, which adds to any sum as +0 does).
+template <class Real>
+COREBOX_HD inline Real keepOrZero(bool keep, Real value) {
+#if defined(__CUDA_ARCH__)
+    return keep ? value : Real(0);
+#else
+    return value * Real(keep);
+#endif
+}
+
 // a * b + c as one fused operation on the device (one instruction in the force loop); the host
 // keeps the plain expression, since std::fma is a slow library call without hardware FMA flags.
 template <class Real>

@@ -56,22 +56,24 @@ inline void computeCutoffShift(double sigma2, double eps4, double mixing, double
 }
 
 // Force on i from j divided by R (multiply by r_i - r_j) and, if energy != nullptr, the pair energy.
-// Pairs beyond the cutoff contribute nothing.
+// Pairs beyond the cutoff contribute nothing. Every pair is computed and the result then kept or
+// zeroed (keepOrZero): no branch on the distance, which a neighbour list (a third of its pairs beyond
+// r_c in an LJ liquid) would mispredict on the CPU. A NaN distance counts as inside, so it propagates.
 template <class Real>
 COREBOX_HD inline Real pairForceOverR(const PairCoefficients<Real>& p, Real r2, Real* energy) {
-    if (p.eps4 == Real(0) || (p.cutoff2 > Real(0) && r2 >= p.cutoff2)) {
-        if (energy) *energy = 0;
-        return 0;
+    const bool cut = p.cutoff2 > Real(0);
+    const bool inside = p.eps4 != Real(0) && !(cut && r2 >= p.cutoff2);
+    Real u = 0;
+    Real f = ljForceOverR(p.sigma2, p.eps4, p.mixing, r2, energy ? &u : nullptr);
+    if (cut && p.shift == int(CutoffShift::Force)) {
+        const Real r = realSqrt(r2);
+        u += -p.energyShift + (r - p.cutoff) * p.forceAtCutoff;
+        f -= p.forceAtCutoff / r;
+    } else if (cut && p.shift == int(CutoffShift::Energy)) {
+        u -= p.energyShift;
     }
-    Real f = ljForceOverR(p.sigma2, p.eps4, p.mixing, r2, energy);
-    if (p.shift == int(CutoffShift::None) || p.cutoff2 == Real(0)) return f;
-    if (p.shift == int(CutoffShift::Energy)) {
-        if (energy) *energy -= p.energyShift;
-        return f;
-    }
-    const Real r = realSqrt(r2);
-    if (energy) *energy += -p.energyShift + (r - p.cutoff) * p.forceAtCutoff;
-    return f - p.forceAtCutoff / r;
+    if (energy) *energy = keepOrZero(inside, u);
+    return keepOrZero(inside, f);
 }
 
 }  // namespace corebox

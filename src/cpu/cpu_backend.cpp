@@ -12,6 +12,7 @@
 #include "errors.h"
 #include "host_cell_list.h"
 #include "host_info.h"
+#include "list_forces.h"
 #include "pair_table.h"
 #include "rk_stage.h"
 #include "verlet_list.h"
@@ -51,6 +52,7 @@ public:
         for (const Vec3<double>& g : model.acceleration) m_field.push_back(vec3Cast<Real>(g));
         m_boxLength = vec3Cast<Real>(model.box);
         m_useList = model.anyPairForce && model.forces == ForceModel::NeighbourList && model.cutoff > 0;
+        m_screenReachGap = -1;  // the screen's reaches follow the radii and the box
         forgetForces();
         m_contacts.clear();  // no warm start across a change of masses or radii
         m_candidatesValid = false;
@@ -84,10 +86,14 @@ public:
 
     // ---- integration ----
     void computeAccelerations() override {
-        accelerations(m_x, m_acceleration.data(), nullptr);
+        // The end-of-step pass with lists also screens the collision stage to come (screenStage), with
+        // the resting gap the last stage asked for.
+        const bool screen = m_useList && m_screenGap >= 0 && screenReach(2 * m_model.maxRadius(), m_screenGap) < m_model.cutoff;
+        accelerations(m_x, m_acceleration.data(), nullptr, screen);
         ++m_counters.fullPasses;
         m_accelerationMatchesX = true;
         m_accelerationIncremental = false;
+        m_screenPending = screen;
     }
 
     std::vector<Vec3<double>> cachedAccelerations() const override {
@@ -103,6 +109,7 @@ public:
         for (size_t i = 0; i < a.size(); ++i) m_acceleration[i] = vec3Cast<Real>(a[i]);
         m_accelerationMatchesX = true;
         m_accelerationIncremental = true;
+        m_screenPending = false;
     }
 
     void kick(double h) override {
@@ -131,7 +138,6 @@ public:
     }
 
     void stageForces(int stage) override {
-        m_pairsMatchX = false;
         accelerations(m_xStage, m_kv.data() + size_t(stage) * m_x.size(), nullptr);
         ++m_counters.fullPasses;
     }
@@ -167,10 +173,10 @@ public:
     }
 
     // The collision stage changed the positions of a few particles (every change is against the copy
-    // taken at beginCollisions). Lists: the pairs of the moved particles are evaluated again and every
-    // particle they touch gathers its sum again, in the full pass's order, so A is bit for bit what a
-    // full pass would give. All pairs: each moved particle sums again over everyone, and everyone else
-    // exchanges the old pair force of each moved partner for the new one (O(N M)).
+    // taken at beginCollisions). Lists: every pair of a moved particle exchanges its old force for the
+    // new one in both particles (O(M x partners)). All pairs: each moved particle sums again over
+    // everyone, and everyone else exchanges the old pair force of each moved partner for the new one
+    // (O(N M)). Either way A may differ from a force pass in the last bits (checkpoints carry it).
     bool refreshAccelerations() override {
         if (!m_refreshable || m_xBeforeCollisions.size() != m_x.size()) return false;
         const int64_t n = size();
@@ -219,6 +225,66 @@ public:
         return c;
     }
 
+    // ---- collision stage, 0: the screen ----
+    // From the end-of-step list pass (list_forces.h), with kernels/collision_screen.h's bounds: no pair
+    // or wall within reach, the stage is skipped (left as an empty stage leaves it: no contacts, no log);
+    // walls only, they are resolved at once (resolveWallImpacts) instead of by rounds of searches.
+    StageScreen screenStage(double contactGap) override {
+        const bool screened = m_screenPending && m_accelerationMatchesX && contactGap == m_screenGap;
+        m_screenGap = contactGap;
+        m_screenPending = false;
+        m_pairsClear = false;
+        if (!screened || !m_screen.finite) return StageScreen::Full;  // not finite: the stage and the health check say where
+        const double smallestRadius = *std::min_element(m_model.radius.begin(), m_model.radius.end());
+        const double clearance = pairClearanceBound(m_screen.nearest, screenReach(2 * smallestRadius, contactGap),
+                                                    screenReach(2 * m_model.maxRadius(), contactGap), m_model.cutoff);
+        if (!(clearance > 0)) return StageScreen::Full;
+        if (m_screen.deepestWallDepth > 0) {
+            m_pairsClear = wallsCannotBringPairsTogether(clearance, m_screen.deepestWallDepth);
+            return m_pairsClear ? StageScreen::WallsOnly : StageScreen::Full;
+        }
+        m_contacts.clear();
+        m_log.clear();
+        return StageScreen::Quiet;
+    }
+
+    // After a WallsOnly screen: each particle's wall impacts in turn, in parallel. Particles that cannot
+    // meet each other have independent sequences, and the rounds would take each particle's walls in
+    // this order with the same end-of-step acceleration (A matched X when the stage began): the rounds'
+    // result, without their searches.
+    int resolveWallImpacts() override {
+        if (!m_wallsAtOnce) return -1;
+        const int64_t n = size();
+        parallelFor(m_threads, n, [&](int64_t i) {
+            const Real radius = m_radius[size_t(m_species[size_t(i)])];
+            int impacts = 0, walls = 0;
+            // At most one impact per wall plane: a rebound puts the centre inside on that axis.
+            for (int k = 0; k < 2 * 3; ++k) {
+                CollisionEvent e = noEvent();
+                considerWalls(m_x[size_t(i)], m_v[size_t(i)], radius, m_boxLength, m_window, e);
+                if (!isValid(e)) break;
+                walls += resolveWallOf(i, e, m_acceleration[size_t(i)]) == kWallCollision;
+                ++impacts;
+            }
+            m_kind[size_t(i)] = impacts;
+            m_active[size_t(i)] = char(walls);
+            // Pairs cannot be within the contact gap (the screen); a wall may be.
+            bool close = false;
+            for (int axis = 0; axis < 3; ++axis) {
+                close = close || wallClearance(m_x[size_t(i)][axis], radius, m_boxLength[axis], 0) < m_nearGap ||
+                        wallClearance(m_x[size_t(i)][axis], radius, m_boxLength[axis], 1) < m_nearGap;
+            }
+            m_near[size_t(i)] = close ? 1 : 0;
+        });
+        int most = 0;
+        for (int64_t i = 0; i < n; ++i) {
+            most = std::max(most, m_kind[size_t(i)]);
+            m_tally.wallCollisions += m_active[size_t(i)];
+        }
+        m_nearValid = true;
+        return most + 1;
+    }
+
     // ---- collision stage, 1: impact rounds ----
     void beginCollisions(const ImpactWindow<double>& window) override {
         const size_t n = m_x.size();
@@ -236,7 +302,10 @@ public:
         m_nearGap = Real(window.restingSpeed * window.maxRewind);  // >= the resting gap listContacts uses (maxRewind > dt)
         m_round = 0;
         m_candidatesValid = m_candidatesValid && candidatesStillHold();  // the integration moved everyone
-        m_refreshable = m_accelerationMatchesX && (!m_useList || m_pairsMatchX);
+        m_refreshable = m_accelerationMatchesX;
+        m_buildsAtStage = m_list.builds();
+        m_wallsAtOnce = m_pairsClear && m_refreshable && !m_logContacts;
+        m_pairsClear = false;
         if (m_refreshable) m_xBeforeCollisions = m_x;
         m_accelerationMatchesX = false;  // until refreshAccelerations or a full pass
         m_log.clear();
@@ -629,18 +698,9 @@ public:
     double pairVirial() override {
         if (!m_model.anyPairForce) return 0;
         const int64_t n = size();
-        if (m_useList) {  // every pair from both sides in ascending order, as the force gather
+        if (m_useList) {  // every pair from both sides in ascending order, as the force pass
             updateList(m_x);
-            return 0.5 * deterministicSum<double>(m_threads, n, [&](int64_t i) {
-                const Vec3<Real> xi = m_x[size_t(i)];
-                const PairCoefficients<Real>* row = &m_pairs[size_t(m_species[size_t(i)]) * m_mass.size()];
-                double w = 0;
-                m_list.forEachPartner(i, [&](int64_t j, int64_t) {
-                    const Real r2 = norm2(xi - m_x[size_t(j)]);
-                    w += double(pairForceOverR(row[m_species[size_t(j)]], r2, static_cast<Real*>(nullptr))) * double(r2);
-                });
-                return w;
-            });
+            return listPairVirial(m_list, listInputs(m_x), m_listScratch, n);
         }
         // Every pair from both sides, as the force pass: half of sum_i sum_j r_ij . F_ij.
         return 0.5 * deterministicSum<double>(m_threads, n, [&](int64_t i) {
@@ -781,10 +841,10 @@ private:
         return m_invMass[size_t(m_species[size_t(i)])] * force + m_field[size_t(m_species[size_t(i)])];
     }
 
-    void accelerations(const std::vector<Vec3<Real>>& x, Vec3<Real>* out, double* pairEnergy) {
+    void accelerations(const std::vector<Vec3<Real>>& x, Vec3<Real>* out, double* pairEnergy, bool screen = false) {
         const Clock::time_point start = Clock::now();
         if (m_useList) {
-            listAccelerations(x, out, pairEnergy);
+            listAccelerations(x, out, pairEnergy, screen);
         } else {
             parallelFor(m_threads, int64_t(x.size()), [&](int64_t i) {
                 out[size_t(i)] = accelerationOf(i, x, pairEnergy ? &pairEnergy[i] : nullptr);
@@ -794,123 +854,103 @@ private:
         m_forceSeconds += secondsBetween(start, Clock::now());
     }
 
-    // Neighbour-list pass: every listed pair evaluated once into its slot, then each particle gathers
-    // its own slots and then its incoming ones (verlet_list.h), in a fixed order.
-    void listAccelerations(const std::vector<Vec3<Real>>& x, Vec3<Real>* out, double* pairEnergy) {
+    ListPassInputs<Real> listInputs(const std::vector<Vec3<Real>>& x) const {
+        return ListPassInputs<Real>{x.data(), m_species.data(), m_pairs.data(), int(m_mass.size()), m_invMass.data(), m_field.data(), m_threads};
+    }
+
+    // Neighbour-list pass (list_forces.h); with `screen`, the collision screen of these positions.
+    void listAccelerations(const std::vector<Vec3<Real>>& x, Vec3<Real>* out, double* pairEnergy, bool screen) {
         updateList(x);
+        const ListPassInputs<Real> in = listInputs(x);
         const int64_t n = int64_t(x.size());
-        m_pairForce.resize(size_t(m_list.pairCount()));
-        if (pairEnergy) m_pairEnergy.resize(size_t(m_list.pairCount()));
-        const size_t speciesCount = m_mass.size();
-        parallelFor(m_threads, n, [&](int64_t r) {  // rows in memory order
-            const int64_t i = m_list.particleAt(r);
-            const Vec3<Real> xi = x[size_t(i)];
-            const PairCoefficients<Real>* row = &m_pairs[size_t(m_species[size_t(i)]) * speciesCount];
-            const int64_t end = m_list.rowEnd(i);
-            for (int64_t k = m_list.rowBegin(i); k < end; ++k) {
-                const int32_t j = m_list.partner(k);
-                const Vec3<Real> d = xi - x[size_t(j)];
-                const Real r2 = norm2(d);
-                if (pairEnergy) {
-                    Real u = 0;
-                    m_pairForce[size_t(k)] = pairForceOverR(row[m_species[size_t(j)]], r2, &u) * d;
-                    m_pairEnergy[size_t(k)] = double(u);
-                } else {
-                    m_pairForce[size_t(k)] = pairForceOverR(row[m_species[size_t(j)]], r2, static_cast<Real*>(nullptr)) * d;
-                }
-            }
-        });
-        parallelFor(m_threads, n, [&](int64_t r) {
-            const int64_t i = m_list.particleAt(r);
-            out[size_t(i)] = gatherSlots(i, pairEnergy ? &pairEnergy[i] : nullptr);
-        });
-        m_pairsMatchX = &x == &m_x;
-    }
-
-    void evaluateSlot(const std::vector<Vec3<Real>>& x, int64_t i, int64_t k, bool withEnergy) {
-        const int32_t j = m_list.partner(k);
-        const PairCoefficients<Real>& p = m_pairs[size_t(m_species[size_t(i)]) * m_mass.size() + size_t(m_species[size_t(j)])];
-        Real u = 0;
-        const Vec3<Real> d = x[size_t(i)] - x[size_t(j)];
-        m_pairForce[size_t(k)] = pairForceOverR(p, norm2(d), withEnergy ? &u : nullptr) * d;
-        if (withEnergy) m_pairEnergy[size_t(k)] = double(u);
-    }
-
-    Vec3<Real> gatherSlots(int64_t i, double* pairEnergy) const {
-        Vec3<Real> force{0, 0, 0};
-        double energy = 0;
-        // Each pair's force on its owner is stored; its partner takes it negated (exactly: the pair's
-        // value from the partner's side is f (xj - xi) = -(f (xi - xj))), so no position is read here.
-        const int64_t end = m_list.gatherEnd(i);
-        for (int64_t e = m_list.gatherBegin(i); e < end; ++e) {
-            const int64_t entry = m_list.gatherEntry(e);
-            const size_t k = size_t(entry >> 1);
-            const Real sign = Real(1 - 2 * (entry & 1));
-            force += sign * m_pairForce[k];
-            if (pairEnergy) energy += m_pairEnergy[k];
+        const ListScreenReach<Real>* reach = screen ? &screenReaches() : nullptr;
+        const bool single = m_mass.size() == 1;
+        ListScreen found;
+        if (pairEnergy) {
+            found = single ? listForcePass<Real, true, true>(m_list, in, m_listScratch, n, out, pairEnergy, reach)
+                           : listForcePass<Real, true, false>(m_list, in, m_listScratch, n, out, pairEnergy, reach);
+        } else {
+            found = single ? listForcePass<Real, false, true>(m_list, in, m_listScratch, n, out, nullptr, reach)
+                           : listForcePass<Real, false, false>(m_list, in, m_listScratch, n, out, nullptr, reach);
         }
-        if (pairEnergy) *pairEnergy = energy;
-        return m_invMass[size_t(m_species[size_t(i)])] * force + m_field[size_t(m_species[size_t(i)])];
+        if (screen) m_screen = found;
     }
 
-    // a_i from the list's pairs of i, evaluated afresh (one particle, no slot written): the collision
-    // stage's accelerations of the particles it resolves.
+    // The screen's reaches at the gap of the last stage (kernels/collision_screen.h), kept while the gap,
+    // the radii and the box stay.
+    const ListScreenReach<Real>& screenReaches() {
+        if (m_screenReachGap == m_screenGap) return m_screenReach;
+        const size_t s = m_mass.size();
+        m_screenReach.inverseReach2.resize(s * s);
+        m_screenReach.wallReach.resize(s);
+        for (size_t a = 0; a < s; ++a) {
+            m_screenReach.wallReach[a] = Real(screenReach(double(m_radius[a]), m_screenGap));
+            for (size_t b = 0; b < s; ++b) {
+                const double reach = screenReach(double(m_radius[a]) + double(m_radius[b]), m_screenGap);
+                m_screenReach.inverseReach2[a * s + b] = Real(1.0 / (reach * reach));
+            }
+        }
+        m_screenReach.box = m_boxLength;
+        m_screenReachGap = m_screenGap;
+        return m_screenReach;
+    }
+
+    // a_i from the list's pairs of i by ascending partner (one particle: the bits of a full pass), for
+    // the collision stage's accelerations of the particles it resolves.
     Vec3<Real> listAccelerationOf(int64_t i, const std::vector<Vec3<Real>>& x) const {
         const Vec3<Real> xi = x[size_t(i)];
         const PairCoefficients<Real>* row = &m_pairs[size_t(m_species[size_t(i)]) * m_mass.size()];
         Vec3<Real> force{0, 0, 0};
-        auto add = [&](int64_t j) {
+        std::vector<int32_t> partners;
+        m_list.forEachPartner(i, partners, [&](int64_t j) {
             const Vec3<Real> r = xi - x[size_t(j)];
             force += pairForceOverR(row[m_species[size_t(j)]], norm2(r), static_cast<Real*>(nullptr)) * r;
-        };
-        m_list.forEachPartner(i, [&](int64_t j, int64_t) { add(j); });
+        });
         return m_invMass[size_t(m_species[size_t(i)])] * force + m_field[size_t(m_species[size_t(i)])];
     }
 
-    // Lists: the slots of the moved particles' pairs again, then the gathers of every particle they
-    // touch. A rebuild (the collision moves pushed someone past half the skin) means new slots: a full pass.
+    // Lists: each pair of a moved particle changes by F(now) - F(before), added to both particles; a
+    // pair of two moved particles once, from the lower index. Moved particles by ascending index, each
+    // one's partners by ascending index: the same bits on every run and thread count. A rebuild since
+    // the stage began (the moves pushed someone past half the skin) means a full pass.
     bool refreshFromList() {
-        if (updateList(m_x)) {
+        if (updateList(m_x) || m_list.builds() != m_buildsAtStage) {
             computeAccelerations();
             return true;
         }
         m_isMoved.assign(m_x.size(), 0);
-        m_touched.clear();
-        auto touch = [&](int64_t i) {
-            if (!m_isMoved[size_t(i)]) m_touched.push_back(i);
-            m_isMoved[size_t(i)] = 1;
-        };
+        for (int64_t i : m_moved) m_isMoved[size_t(i)] = 1;
+        const size_t s = m_mass.size();
+        int64_t touched = int64_t(m_moved.size());
         for (int64_t i : m_moved) {
-            touch(i);
-            for (int64_t k = m_list.rowBegin(i); k < m_list.rowEnd(i); ++k) {
-                evaluateSlot(m_x, i, k, false);
-                touch(m_list.partner(k));
-            }
-            for (int64_t q = m_list.inBegin(i); q < m_list.inEnd(i); ++q) {
-                evaluateSlot(m_x, m_list.inOwner(q), m_list.inSlot(q), false);
-                touch(m_list.inOwner(q));
-            }
+            const size_t si = size_t(m_species[size_t(i)]);
+            m_list.forEachPartner(i, m_partnerScratch, [&](int64_t j) {
+                if (m_isMoved[size_t(j)] == 1 && j < i) return;  // taken from j's side
+                const size_t sj = size_t(m_species[size_t(j)]);
+                const PairCoefficients<Real>& p = m_pairs[si * s + sj];
+                const Vec3<Real> now = m_x[size_t(i)] - m_x[size_t(j)];
+                const Vec3<Real> was = m_xBeforeCollisions[size_t(i)] - m_xBeforeCollisions[size_t(j)];
+                const Vec3<Real> change = pairForceOverR(p, norm2(now), static_cast<Real*>(nullptr)) * now -
+                                          pairForceOverR(p, norm2(was), static_cast<Real*>(nullptr)) * was;
+                m_acceleration[size_t(i)] += m_invMass[si] * change;
+                m_acceleration[size_t(j)] -= m_invMass[sj] * change;
+                if (m_isMoved[size_t(j)] == 0) {
+                    m_isMoved[size_t(j)] = 2;
+                    ++touched;
+                }
+            });
         }
-        parallelFor(m_threads, int64_t(m_touched.size()), [&](int64_t t) {
-            const int64_t i = m_touched[size_t(t)];
-            m_acceleration[size_t(i)] = gatherSlots(i, nullptr);
-        });
-        m_counters.refreshedParticles += int64_t(m_touched.size());
-        m_pairsMatchX = true;
+        m_accelerationIncremental = true;
+        m_counters.refreshedParticles += touched;
         return true;
     }
 
-    // A rebuild renumbers the slots: the pair values held no longer belong to them.
-    bool updateList(const std::vector<Vec3<Real>>& x) {
-        if (!m_list.update(x, m_boxLength, m_model.cutoff, m_model.skin, m_threads)) return false;
-        m_pairsMatchX = false;
-        return true;
-    }
+    bool updateList(const std::vector<Vec3<Real>>& x) { return m_list.update(x, m_boxLength, m_model.cutoff, m_model.skin, m_threads); }
 
-    // The positions changed outside a force pass: cached accelerations and pair slots no longer match them.
+    // The positions changed outside a force pass: the cached accelerations and the screen no longer match them.
     void forgetForces() {
         m_accelerationMatchesX = false;
-        m_pairsMatchX = false;
+        m_screenPending = false;
     }
 
     // Earliest event of particle i against its grid neighbours: an active particle looks at every
@@ -987,7 +1027,7 @@ private:
         const CollisionEvent e = m_events[size_t(i)];
         if (!isValid(e)) return kNoCollision;
         const size_t si = size_t(m_species[size_t(i)]);
-        const Real eParticle = Real(m_model.restitution), eWall = Real(m_model.wallRestitution);
+        const Real eParticle = Real(m_model.restitution);
         const Real elasticBelow = Real(m_model.elasticBelowSpeed);
         if (e.partner >= 0) {
             const int64_t j = e.partner;
@@ -998,11 +1038,18 @@ private:
                                     m_window.maxRewind, eParticle, elasticBelow, &m_loss[size_t(i)], &m_impulses[size_t(i)].pairVirial,
                                     m_logContacts ? &m_detail[size_t(i)] : nullptr);
         }
+        return resolveWallOf(i, e, m_contactAcceleration[size_t(i)]);
+    }
+
+    // Particle i's wall event e, with its end-of-step acceleration a; returns the CollisionKind applied.
+    int resolveWallOf(int64_t i, const CollisionEvent& e, const Vec3<Real>& a) {
+        const size_t si = size_t(m_species[size_t(i)]);
         const int code = int(-1 - e.partner), axis = code / 2;
         double impulse = 0;
-        const int kind = resolveWallEvent(m_x[size_t(i)][axis], m_v[size_t(i)][axis], m_contactAcceleration[size_t(i)][axis], m_mass[si],
-                                          m_radius[si], m_boxLength[axis], code % 2, e.key, m_window.maxRewind, eWall, elasticBelow,
-                                          &m_loss[size_t(i)], &impulse, m_logContacts ? &m_detail[size_t(i)] : nullptr);
+        const int kind = resolveWallEvent(m_x[size_t(i)][axis], m_v[size_t(i)][axis], a[axis], m_mass[si], m_radius[si], m_boxLength[axis],
+                                          code % 2, e.key, m_window.maxRewind, Real(m_model.wallRestitution),
+                                          Real(m_model.elasticBelowSpeed), &m_loss[size_t(i)], &impulse,
+                                          m_logContacts ? &m_detail[size_t(i)] : nullptr);
         if (m_logContacts) m_detail[size_t(i)].normal[axis] = code % 2 == 0 ? Real(1) : Real(-1);  // into the box
         m_impulses[size_t(i)].addWall(code, impulse, atWallCentre(m_x[size_t(i)], m_radius[si], m_boxLength, axis));
         return kind;
@@ -1074,15 +1121,25 @@ private:
     // Forces: the neighbour list and its per-slot pair values, what still matches m_x, the counters.
     bool m_useList = false;
     VerletList<Real> m_list;
-    std::vector<Vec3<Real>> m_pairForce;  // per list slot: (F / R) (x_owner - x_partner), the force on the owner
-    std::vector<double> m_pairEnergy;  // per list slot: U of the pair (energies() only)
+    ListPassScratch<Real> m_listScratch;
+    std::vector<int32_t> m_partnerScratch;
+    int64_t m_buildsAtStage = 0;          // the list's builds when the collision stage began
     bool m_accelerationMatchesX = false;  // m_acceleration = a(m_x)
-    bool m_pairsMatchX = false;           // m_pairForce holds the pairs of m_x (lists)
     bool m_listMatchesX = false;          // the list is within the skin of m_x (inside applyEvents)
-    bool m_accelerationIncremental = false;  // A holds an all-pairs update, not a force pass's bits (checkpoints carry it)
-    bool m_refreshable = false;           // both held at beginCollisions: refreshAccelerations may update
+    bool m_accelerationIncremental = false;  // A holds an update after collisions, not a force pass's bits (checkpoints carry it)
+    bool m_refreshable = false;           // A matched X at beginCollisions: refreshAccelerations may update
+    // The collision screen (screenStage): found by the last end-of-step list pass, at the gap the last
+    // stage asked for; whether it still describes X; whether this stage's pairs are clear; whether
+    // this stage resolves its walls at once.
+    ListScreen m_screen;
+    double m_screenGap = -1;
+    bool m_screenPending = false;
+    bool m_pairsClear = false;
+    bool m_wallsAtOnce = false;
+    ListScreenReach<Real> m_screenReach;
+    double m_screenReachGap = -1;
     std::vector<Vec3<Real>> m_xBeforeCollisions;
-    std::vector<int64_t> m_moved, m_touched;
+    std::vector<int64_t> m_moved;
     std::vector<char> m_isMoved;
     ForceCounters m_counters;
 

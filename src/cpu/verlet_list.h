@@ -2,21 +2,25 @@
 //
 // Design note.
 // - Built on the one grid (src/core/host_cell_list.h) with cells at least r_c + skin wide, so every
-//   pair within reach lies in adjacent cells. Particle i lists the later particles of its own cell and
-//   those of the 13 cells of the half-shell stencil closer than r_c + skin: a half list, every pair
-//   once (Newton's third law), found by one walk over half the neighbourhood.
+//   pair within reach lies in adjacent cells. Half lists: row i holds the partners j > i closer than
+//   r_c + skin at the build, by ascending index; every pair once (Newton's third law).
 // - Rebuilt when some particle has moved more than skin / 2 since the last build (then no pair can
 //   have come from beyond r_c + skin to within r_c), never on a schedule; also when the reach, the
-//   particle count or the box changed.
-// - Layout: compressed rows, placed in memory in the cell list's order (particleAt). Row i holds its
-//   partners by ascending index, slots rowBegin(i) .. rowEnd(i). The transposed index lists, for every j, the slots of the pairs whose partner it
-//   is, by ascending owner index. The force pass evaluates each pair once into its slot; then every
-//   particle gathers its own and its incoming slots merged by ascending partner index
-//   (forEachPartner; the merged order is kept per particle as a gather plan, built with the list), so
-//   no two threads write one particle and a particle's sum depends neither on
-//   the thread count nor on when the list was built: a pair's value is the same from either side,
-//   and a listed pair beyond the cutoff adds an exact zero. That is what lets a run restarted from a
-//   checkpoint, whose list is built afresh, go on bit for bit.
+//   particle count, the box or the thread count changed.
+// - The pass writes each pair's force straight into both of its particles, and yet every particle sums
+//   its pairs in one order, by ascending partner index, whatever the thread count and whenever the
+//   list was built (a listed pair beyond the cutoff adds an exact zero). That is what lets 1 and 2
+//   threads give the same bits, and a run restarted from a checkpoint, whose list is built afresh, go
+//   on bit for bit. How: the particles are cut into chunks, contiguous runs of the grid's order (slabs
+//   of space), one per thread, and a chunk writes only its own particles. It walks (walkChunk), by
+//   ascending owner index, its own rows and the incoming pairs: those whose owner lies in another
+//   chunk and whose partner lies in it. A particle k thus takes -F_ik from every owner i < k by
+//   ascending i, then adds its own row by ascending partner: ascending partner index throughout. A
+//   pair across two chunks is evaluated in both; slabs are thick against r_c + skin, so that is a few
+//   per cent of the pairs.
+// - Measured against the layout before (2 cores, fp64, the LJ fluid of `corebox bench md` at N =
+//   32000): pair values written into per-pair slots, then gathered per particle through a merge plan,
+//   took 11 ms a pass, most of it moving 60 MB of slots and plans; the direct writes need no slots.
 #pragma once
 
 #include <omp.h>
@@ -34,11 +38,17 @@ namespace corebox {
 template <class Real>
 class VerletList {
 public:
+    // A row entry: the partner's slot, with the top bit set when the partner lies in another chunk
+    // (its chunk adds the pair from its incoming list).
+    static constexpr uint32_t kOtherChunk = 0x80000000u;
+    static int64_t slotOf(uint32_t entry) { return int64_t(entry & ~kOtherChunk); }
+    static bool inThisChunk(uint32_t entry) { return (entry & kOtherChunk) == 0; }
+
     // Makes the list valid for positions x; returns true when it was rebuilt.
     bool update(const std::vector<Vec3<Real>>& x, const Vec3<Real>& box, double cutoff, double skin, int threads) {
         const int64_t n = int64_t(x.size());
         const bool sameGeometry = m_valid && n == int64_t(m_xBuilt.size()) && cutoff == m_cutoff && skin == m_skin &&
-                                  box.x == m_box.x && box.y == m_box.y && box.z == m_box.z;
+                                  box.x == m_box.x && box.y == m_box.y && box.z == m_box.z && chunksFor(n, threads) == chunkCount();
         if (sameGeometry && maxDisplacement2(x, threads) <= 0.25 * skin * skin) return false;
         build(x, box, cutoff, skin, threads);
         return true;
@@ -47,42 +57,56 @@ public:
 
     int64_t builds() const { return m_builds; }
     int64_t pairCount() const { return int64_t(m_partner.size()); }
-    // Rows, incoming lists and gather plans lie in memory in the cell list's order (particleAt(r) is the
-    // r-th particle of that order): the slots a particle gathers belong to its spatial neighbours and
-    // lie near its own, and loops over r walk memory in order.
-    int64_t particleAt(int64_t r) const { return m_order[size_t(r)]; }
-    int64_t rowBegin(int64_t i) const { return m_rowStart[size_t(m_rank[size_t(i)])]; }
-    int64_t rowEnd(int64_t i) const { return m_rowStart[size_t(m_rank[size_t(i)]) + 1]; }
-    int32_t partner(int64_t slot) const { return m_partner[size_t(slot)]; }
-    // Pairs whose partner is j: entries inBegin(j) .. inEnd(j) of inSlot / inOwner.
-    int64_t inBegin(int64_t j) const { return m_inStart[size_t(m_rank[size_t(j)])]; }
-    int64_t inEnd(int64_t j) const { return m_inStart[size_t(m_rank[size_t(j)]) + 1]; }
-    int64_t inSlot(int64_t k) const { return m_inSlot[size_t(k)]; }
-    int32_t inOwner(int64_t k) const { return m_inOwner[size_t(k)]; }
+    int64_t chunkCount() const { return int64_t(m_chunkBegin.size()) - 1; }
 
-    // The gather plan of i: entries gatherBegin(i) .. gatherEnd(i) of gatherEntry, one per listed
-    // partner by ascending index: 2 * slot for an own pair, 2 * slot + 1 for an incoming one.
-    int64_t gatherBegin(int64_t i) const { return rowBegin(i) + inBegin(i); }
-    int64_t gatherEnd(int64_t i) const { return rowEnd(i) + inEnd(i); }
-    int64_t gatherEntry(int64_t e) const { return m_gather[size_t(e)]; }
+    // Slots: the particles in the grid's order at the build, where a pass keeps its per-particle values
+    // (a chunk's particles are the contiguous slots chunkBegin .. chunkEnd, which no other chunk writes).
+    int64_t particleAt(int64_t slot) const { return m_order[size_t(slot)]; }
+    int64_t slotOf(int64_t particle) const { return m_slot[size_t(particle)]; }
+    int64_t chunkBegin(int64_t chunk) const { return m_chunkBegin[size_t(chunk)]; }
+    int64_t chunkEnd(int64_t chunk) const { return m_chunkBegin[size_t(chunk) + 1]; }
 
-    // fn(j, slot) for every listed partner j of i, own and incoming, by ascending j.
-    template <class Fn>
-    void forEachPartner(int64_t i, Fn&& fn) const {
-        int64_t k = rowBegin(i), q = inBegin(i);
-        const int64_t kEnd = rowEnd(i), qEnd = inEnd(i);
-        while (k < kEnd || q < qEnd) {
-            if (q == qEnd || (k < kEnd && m_partner[size_t(k)] < m_inOwner[size_t(q)])) {
-                fn(int64_t(m_partner[size_t(k)]), k);
-                ++k;
+    // The chunk's pairs by ascending owner index: ownRow(slot, begin, end) for each of its particles,
+    // with the row's entries (slotOf, inThisChunk) by ascending partner index, and incoming(ownerSlot,
+    // partnerSlot) for each pair whose owner lies in another chunk and whose partner in this one. Add
+    // a pair to the partner only when inThisChunk.
+    template <class OwnRow, class Incoming>
+    void walkChunk(int64_t chunk, OwnRow&& ownRow, Incoming&& incoming) const {
+        int64_t p = m_chunkBegin[size_t(chunk)], q = m_inBegin[size_t(chunk)];
+        const int64_t pEnd = m_chunkBegin[size_t(chunk) + 1], qEnd = m_inBegin[size_t(chunk) + 1];
+        const uint32_t* row = m_partner.data();
+        while (p < pEnd || q < qEnd) {
+            if (q == qEnd || (p < pEnd && m_member[size_t(p)] < m_inOwner[size_t(q)])) {
+                ownRow(int64_t(m_slot[size_t(m_member[size_t(p)])]), row + m_rowStart[size_t(p)], row + m_rowStart[size_t(p) + 1]);
+                ++p;
             } else {
-                fn(int64_t(m_inOwner[size_t(q)]), m_inSlot[size_t(q)]);
+                incoming(int64_t(m_inOwnerSlot[size_t(q)]), int64_t(m_inPartnerSlot[size_t(q)]));
                 ++q;
             }
         }
     }
 
+    // fn(j) for every listed partner j of i, own and incoming, by ascending j: the pairs within reach at
+    // the build, found again from the build's grid (a few hundred candidates; for the particles a
+    // collision stage resolves, not for whole passes). `scratch` holds the partners meanwhile.
+    template <class Fn>
+    void forEachPartner(int64_t i, std::vector<int32_t>& scratch, Fn&& fn) const {
+        scratch.clear();
+        const Vec3<Real> xi = m_xBuilt[size_t(i)];
+        const CellListView grid = m_grid.view();
+        forEachNeighbourCell(grid.geometry, cellCoords(grid.geometry, xi), [&](int cell) {
+            for (int32_t k = grid.cellStart[cell]; k < grid.cellStart[cell + 1]; ++k) {
+                if (grid.sorted[k] != i && norm2(xi - m_xCell[size_t(k)]) < m_reach2) scratch.push_back(grid.sorted[k]);
+            }
+        });
+        std::sort(scratch.begin(), scratch.end());
+        for (int32_t j : scratch) fn(int64_t(j));
+    }
+
 private:
+    // One chunk below a few thousand particles: waking a thread team costs more than the pairs.
+    static int64_t chunksFor(int64_t n, int threads) { return n >= 2 * kReductionChunk ? std::max(1, threads) : 1; }
+
     double maxDisplacement2(const std::vector<Vec3<Real>>& x, int threads) const {
         const int64_t n = int64_t(x.size());
         double worst = 0;
@@ -96,91 +120,53 @@ private:
         return worst;
     }
 
-    // fn(j) for the partners of i: later particles of i's own cell, then every particle of the 13
-    // cells after it in the half-shell stencil (each pair of adjacent cells once), within reach.
-    template <class Fn>
-    void forPartners(const std::vector<Vec3<Real>>& x, int64_t i, Real reach2, Fn&& fn) const {
-        const CellListView grid = m_grid.view();
-        const Vec3<Real> xi = x[size_t(i)];
-        const CellCoords c = cellCoords(grid.geometry, xi);
-        auto visit = [&](int key, bool ownCell) {
-            for (int32_t k = grid.cellStart[key]; k < grid.cellStart[key + 1]; ++k) {
-                const int64_t j = grid.sorted[k];
-                if (ownCell && j <= i) continue;
-                if (norm2(xi - x[size_t(j)]) < reach2) fn(j);
-            }
-        };
-        visit(cellKey(grid.geometry, c), true);
-        for (const CellCoords& d : kHalfShell) {
-            const CellCoords n{c.x + d.x, c.y + d.y, c.z + d.z};
-            if (n.x < 0 || n.y < 0 || n.z < 0 || n.x >= grid.geometry.dims[0] || n.y >= grid.geometry.dims[1] || n.z >= grid.geometry.dims[2])
-                continue;
-            visit(cellKey(grid.geometry, n), false);
-        }
-    }
-
-    // The 13 neighbour offsets after (0, 0, 0) in (z, y, x) order: with their mirror images, all 26.
-    static constexpr CellCoords kHalfShell[13] = {{1, 0, 0},   {-1, 1, 0}, {0, 1, 0},  {1, 1, 0},  {-1, -1, 1}, {0, -1, 1}, {1, -1, 1},
-                                                  {-1, 0, 1},  {0, 0, 1},  {1, 0, 1},  {-1, 1, 1}, {0, 1, 1},   {1, 1, 1}};
-
-    // One walk: each fixed chunk of particles (its size independent of the thread count) collects its
-    // rows, then the chunks are copied into place after the prefix sum.
+    // Each chunk, in parallel: its particles by ascending index, their rows (the 27 cells around each,
+    // read from the slots' copy of the positions so that a cell's candidates stream), and the pairs it
+    // hands to other chunks, by ascending owner. Then the rows are copied into place and each chunk's
+    // incoming pairs are gathered from the others, by ascending owner.
     void build(const std::vector<Vec3<Real>>& x, const Vec3<Real>& box, double cutoff, double skin, int threads) {
         const int64_t n = int64_t(x.size());
         const double reach = cutoff + skin;
-        const Real reach2 = Real(reach * reach);
+        m_reach2 = Real(reach * reach);
         m_grid.build(x, box, reach);
         const CellListView grid = m_grid.view();
+        const int64_t chunks = chunksFor(n, threads);
+        m_xCell.resize(size_t(n));
         m_order.assign(grid.sorted, grid.sorted + n);
-        m_rank.resize(size_t(n));
-        for (int64_t r = 0; r < n; ++r) m_rank[size_t(m_order[size_t(r)])] = int32_t(r);
+        m_slot.resize(size_t(n));
+        m_member.resize(size_t(n));
+        m_chunkBegin.resize(size_t(chunks) + 1);
+        for (int64_t c = 0; c <= chunks; ++c) m_chunkBegin[size_t(c)] = n * c / chunks;
         m_rowStart.assign(size_t(n) + 1, 0);
-        const int64_t chunks = (n + kReductionChunk - 1) / kReductionChunk;
-        m_chunkPartners.resize(size_t(chunks));
-#pragma omp parallel for schedule(dynamic) num_threads(threads) if (chunks > 1)
-        for (int64_t chunk = 0; chunk < chunks; ++chunk) {
-            std::vector<int32_t>& partners = m_chunkPartners[size_t(chunk)];
-            partners.clear();
-            const int64_t end = std::min(n, (chunk + 1) * kReductionChunk);
-            for (int64_t r = chunk * kReductionChunk; r < end; ++r) {
-                const size_t before = partners.size();
-                forPartners(x, m_order[size_t(r)], reach2, [&](int64_t j) { partners.push_back(int32_t(j)); });
-                std::sort(partners.begin() + std::ptrdiff_t(before), partners.end());
-                m_rowStart[size_t(r) + 1] = int64_t(partners.size() - before);
+        m_chunkRows.resize(size_t(chunks));
+        m_handed.resize(size_t(chunks * chunks));
+#pragma omp parallel num_threads(threads) if (chunks > 1)
+        {
+#pragma omp for schedule(static)
+            for (int64_t k = 0; k < n; ++k) {
+                const int32_t i = grid.sorted[k];
+                m_xCell[size_t(k)] = x[size_t(i)];
+                m_slot[size_t(i)] = int32_t(k);
             }
+#pragma omp for schedule(static, 1)
+            for (int64_t c = 0; c < chunks; ++c) buildChunk(c, x, grid);
         }
-        for (int64_t r = 0; r < n; ++r) m_rowStart[size_t(r) + 1] += m_rowStart[size_t(r)];
+        for (int64_t p = 0; p < n; ++p) m_rowStart[size_t(p) + 1] += m_rowStart[size_t(p)];
         m_partner.resize(size_t(m_rowStart[size_t(n)]));
-#pragma omp parallel for schedule(static) num_threads(threads) if (chunks > 1)
-        for (int64_t chunk = 0; chunk < chunks; ++chunk) {
-            const std::vector<int32_t>& partners = m_chunkPartners[size_t(chunk)];
-            std::copy(partners.begin(), partners.end(), m_partner.begin() + m_rowStart[size_t(chunk * kReductionChunk)]);
+        m_inBegin.assign(size_t(chunks) + 1, 0);
+        for (int64_t c = 0; c < chunks; ++c) {
+            int64_t incoming = 0;
+            for (int64_t s = 0; s < chunks; ++s) incoming += int64_t(m_handed[size_t(s * chunks + c)].size() / 2);
+            m_inBegin[size_t(c) + 1] = m_inBegin[size_t(c)] + incoming;
         }
-        // Transpose by a counting sort (incoming lists by the partner's rank), filled from the owners in
-        // ascending index: ascending owner per partner.
-        m_inStart.assign(size_t(n) + 1, 0);
-        for (int32_t j : m_partner) ++m_inStart[size_t(m_rank[size_t(j)]) + 1];
-        for (int64_t r = 0; r < n; ++r) m_inStart[size_t(r) + 1] += m_inStart[size_t(r)];
-        m_inSlot.resize(m_partner.size());
-        m_inOwner.resize(m_partner.size());
-        m_fill.assign(m_inStart.begin(), m_inStart.end() - 1);
-        for (int64_t i = 0; i < n; ++i) {
-            for (int64_t k = rowBegin(i); k < rowEnd(i); ++k) {
-                const int64_t q = m_fill[size_t(m_rank[size_t(m_partner[size_t(k)])])]++;
-                m_inSlot[size_t(q)] = k;
-                m_inOwner[size_t(q)] = int32_t(i);
-            }
-        }
-        m_gather.resize(2 * m_partner.size());
-#pragma omp parallel for schedule(static) num_threads(threads) if (chunks > 1)
-        for (int64_t r = 0; r < n; ++r) {
-            const int64_t i = m_order[size_t(r)];
-            int64_t e = gatherBegin(i);
-            int64_t k = rowBegin(i), q = inBegin(i);
-            while (k < rowEnd(i) || q < inEnd(i)) {
-                if (q == inEnd(i) || (k < rowEnd(i) && m_partner[size_t(k)] < m_inOwner[size_t(q)])) m_gather[size_t(e++)] = 2 * k++;
-                else m_gather[size_t(e++)] = 2 * m_inSlot[size_t(q++)] + 1;
-            }
+        m_inOwner.resize(size_t(m_inBegin[size_t(chunks)]));
+        m_inOwnerSlot.resize(m_inOwner.size());
+        m_inPartnerSlot.resize(m_inOwner.size());
+#pragma omp parallel for schedule(static, 1) num_threads(threads) if (chunks > 1)
+        for (int64_t c = 0; c < chunks; ++c) {
+            const std::vector<uint32_t>& rows = m_chunkRows[size_t(c)];
+            std::copy(rows.begin(), rows.end(), m_partner.begin() + m_rowStart[size_t(m_chunkBegin[size_t(c)])]);
+            gatherIncoming(c);
         }
         m_xBuilt = x;
         m_box = box;
@@ -190,13 +176,100 @@ private:
         ++m_builds;
     }
 
-    CellList m_grid;
-    std::vector<int64_t> m_rowStart, m_inStart, m_inSlot, m_fill, m_gather;
-    std::vector<int32_t> m_partner, m_inOwner;
-    std::vector<int32_t> m_order, m_rank;  // the cell list's order of the particles, and each one's place in it
-    std::vector<std::vector<int32_t>> m_chunkPartners;  // build scratch, kept to reuse its memory
+    void buildChunk(int64_t c, const std::vector<Vec3<Real>>& x, const CellListView& grid) {
+        const int64_t chunks = chunkCount();
+        const int64_t begin = m_chunkBegin[size_t(c)], end = m_chunkBegin[size_t(c) + 1];
+        std::copy(grid.sorted + begin, grid.sorted + end, m_member.begin() + begin);
+        std::sort(m_member.begin() + begin, m_member.begin() + end);
+        std::vector<uint32_t>& rows = m_chunkRows[size_t(c)];
+        rows.clear();
+        std::vector<uint64_t> found(1024);  // (partner index, partner slot) of one row
+        for (int64_t s = 0; s < chunks; ++s) m_handed[size_t(c * chunks + s)].clear();
+        for (int64_t p = begin; p < end; ++p) {
+            const int32_t i = m_member[size_t(p)];
+            const Vec3<Real> xi = x[size_t(i)];
+            // Every candidate is written and kept only when it qualifies (no branch on the test, which
+            // follows no pattern: a third of the later candidates are within reach).
+            size_t count = 0;
+            forEachNeighbourCell(grid.geometry, cellCoords(grid.geometry, xi), [&](int cell) {
+                const int32_t first = grid.cellStart[cell], last = grid.cellStart[cell + 1];
+                if (found.size() < count + size_t(last - first)) found.resize(2 * (count + size_t(last - first)));
+                uint64_t* out = found.data();
+                for (int32_t k = first; k < last; ++k) {
+                    const int32_t j = grid.sorted[k];
+                    out[count] = (uint64_t(uint32_t(j)) << 32) | uint32_t(k);
+                    count += size_t((j > i) & (norm2(xi - m_xCell[size_t(k)]) < m_reach2));
+                }
+            });
+            std::sort(found.begin(), found.begin() + std::ptrdiff_t(count));  // by partner index
+            for (size_t e = 0; e < count; ++e) {
+                const uint32_t slot = uint32_t(found[e]);
+                if (slot >= uint32_t(begin) && slot < uint32_t(end)) {
+                    rows.push_back(slot);
+                    continue;
+                }
+                rows.push_back(slot | kOtherChunk);
+                const int64_t other = int64_t(std::upper_bound(m_chunkBegin.begin() + 1, m_chunkBegin.end(), int64_t(slot)) - m_chunkBegin.begin()) - 1;
+                std::vector<int32_t>& handed = m_handed[size_t(c * chunks + other)];
+                handed.push_back(i);
+                handed.push_back(int32_t(slot));
+            }
+            m_rowStart[size_t(p) + 1] = int64_t(count);
+        }
+    }
+
+    // Chunk c's incoming pairs: each other chunk's handed pairs are by ascending owner already; merged.
+    void gatherIncoming(int64_t c) {
+        const int64_t chunks = chunkCount();
+        int64_t out = m_inBegin[size_t(c)];
+        std::vector<Incoming> scratch;
+        for (int64_t s = 0; s < chunks; ++s) {
+            const std::vector<int32_t>& handed = m_handed[size_t(s * chunks + c)];
+            for (size_t e = 0; e < handed.size(); e += 2, ++out) {
+                m_inOwner[size_t(out)] = handed[e];
+                m_inOwnerSlot[size_t(out)] = m_slot[size_t(handed[e])];
+                m_inPartnerSlot[size_t(out)] = handed[e + 1];
+            }
+            if (s > 0) mergeByOwner(m_inBegin[size_t(c)], out - int64_t(handed.size() / 2), out, scratch);
+        }
+    }
+
+    // The runs [first, middle) and [middle, last) are each by ascending owner: one run after the merge
+    // (the owners of two chunks differ, so the order within an owner's pairs is kept as it was).
+    struct Incoming {
+        int32_t owner, ownerSlot, partnerSlot;
+    };
+    void mergeByOwner(int64_t first, int64_t middle, int64_t last, std::vector<Incoming>& scratch) {
+        if (first == middle || middle == last) return;
+        scratch.resize(size_t(last - first));
+        int64_t a = first, b = middle, out = 0;
+        while (a < middle || b < last) {
+            const bool takeA = b == last || (a < middle && m_inOwner[size_t(a)] < m_inOwner[size_t(b)]);
+            const int64_t from = takeA ? a++ : b++;
+            scratch[size_t(out++)] = Incoming{m_inOwner[size_t(from)], m_inOwnerSlot[size_t(from)], m_inPartnerSlot[size_t(from)]};
+        }
+        for (int64_t e = 0; e < out; ++e) {
+            m_inOwner[size_t(first + e)] = scratch[size_t(e)].owner;
+            m_inOwnerSlot[size_t(first + e)] = scratch[size_t(e)].ownerSlot;
+            m_inPartnerSlot[size_t(first + e)] = scratch[size_t(e)].partnerSlot;
+        }
+    }
+
+    CellList m_grid;                    // at the build's positions
+    std::vector<Vec3<Real>> m_xCell;    // the build's positions by slot
+    std::vector<int32_t> m_order;       // the particle of each slot
+    std::vector<int32_t> m_slot;        // the slot of each particle
+    std::vector<int64_t> m_chunkBegin;  // chunks + 1 offsets into the slots and m_member
+    std::vector<int32_t> m_member;      // each chunk's particles, by ascending index
+    std::vector<int64_t> m_rowStart;    // by place in m_member: the row's entries in m_partner
+    std::vector<uint32_t> m_partner;
+    std::vector<int64_t> m_inBegin;     // chunks + 1 offsets into the incoming pairs
+    std::vector<int32_t> m_inOwner, m_inOwnerSlot, m_inPartnerSlot;  // the incoming pairs, by ascending owner
+    std::vector<std::vector<uint32_t>> m_chunkRows;  // build scratch, kept to reuse its memory
+    std::vector<std::vector<int32_t>> m_handed;      // build scratch: (owner, partner) from chunk s to chunk c at s * chunks + c
     std::vector<Vec3<Real>> m_xBuilt;
     Vec3<Real> m_box{0, 0, 0};
+    Real m_reach2 = 0;
     double m_cutoff = 0, m_skin = 0;
     bool m_valid = false;
     int64_t m_builds = 0;

@@ -113,10 +113,13 @@ TEST_P(NeighbourList, ForcesAndEnergiesEqualAllPairs) {
     const ForceCase cases[] = {
         {{9, 9, 9}, 2.5, CutoffShift::Force},     {{14, 7.5, 6.2}, 1.6, CutoffShift::None},
         {{20, 11, 3.1}, 3.3, CutoffShift::Energy}, {{8, 8, 8}, 4.5, CutoffShift::Force},  // cutoff beyond half the box
+        {{24, 17, 15}, 2.5, CutoffShift::None},
     };
     uint64_t seed = 1;
     for (const ForceCase& c : cases) {
-        const Scene scene = twoSpecies(c, 400);
+        // The last box is large enough for the CPU's list to cut its particles into several chunks.
+        const int64_t n = c.box[0] > 20 ? 2400 : 400;
+        const Scene scene = twoSpecies(c, n);
         SCOPED_TRACE("box " + std::to_string(c.box[0]) + " x " + std::to_string(c.box[1]) + " x " + std::to_string(c.box[2]) +
                      ", cutoff " + std::to_string(c.cutoff));
         const ParticleState state = awkwardState(scene, seed++);
@@ -246,18 +249,30 @@ TEST(NeighbourListCpu, CollisionStepsCostNoSecondForcePass) {
     }
 }
 
-TEST(NeighbourListCpu, SameStateOnOneAndTwoThreads) {
+// The list pass cuts the particles into one chunk per thread (src/cpu/verlet_list.h) from a few
+// thousand particles on, and every particle still sums its pairs in one order: 1, 2 and 3 threads
+// (one, two and three chunks, pairs across chunks evaluated in both) give the same bits, with
+// collisions, wall hits and list rebuilds on the way.
+TEST(NeighbourListCpu, SameStateOnOneTwoAndThreeThreads) {
     Scene scene = collidingGas(ForceModel::NeighbourList);
+    scene.species[0].count = 5000;
+    scene.box.size = {26, 24, 22};
     scene.species[0].sigma = 0.9;
     scene.interaction.restitution = 0.9;
     auto hashOf = [&](int threads) {
         auto sim = makeSimulation("cpu", scene, threads);
-        for (int s = 0; s < 120; ++s) sim->step();
+        int64_t collisions = 0;
+        for (int s = 0; s < 60; ++s) {
+            const StepReport r = sim->step();
+            collisions += r.pairCollisions + r.wallCollisions;
+        }
         EXPECT_GT(sim->backend().forceCounters().listBuilds, 1);
+        EXPECT_GT(collisions, 60);
         return stateHash(sim->state());
     };
     const uint64_t one = hashOf(1);
     EXPECT_EQ(one, hashOf(2));
+    EXPECT_EQ(one, hashOf(3));
     EXPECT_EQ(one, hashOf(1));
 }
 
