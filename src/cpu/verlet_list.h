@@ -139,6 +139,7 @@ private:
         for (int64_t c = 0; c <= chunks; ++c) m_chunkBegin[size_t(c)] = n * c / chunks;
         m_rowStart.assign(size_t(n) + 1, 0);
         m_chunkRows.resize(size_t(chunks));
+        m_chunkScratch.resize(size_t(chunks));
         m_handed.resize(size_t(chunks * chunks));
 #pragma omp parallel num_threads(threads) if (chunks > 1)
         {
@@ -176,34 +177,43 @@ private:
         ++m_builds;
     }
 
+    // The rows are found in the grid's order (consecutive particles walk mostly the same cells, which
+    // stay in cache: twice as fast as walking them by index) into scratch, then laid out by index.
     void buildChunk(int64_t c, const std::vector<Vec3<Real>>& x, const CellListView& grid) {
         const int64_t chunks = chunkCount();
         const int64_t begin = m_chunkBegin[size_t(c)], end = m_chunkBegin[size_t(c) + 1];
         std::copy(grid.sorted + begin, grid.sorted + end, m_member.begin() + begin);
         std::sort(m_member.begin() + begin, m_member.begin() + end);
-        std::vector<uint32_t>& rows = m_chunkRows[size_t(c)];
-        rows.clear();
-        std::vector<uint64_t> found(1024);  // (partner index, partner slot) of one row
-        for (int64_t s = 0; s < chunks; ++s) m_handed[size_t(c * chunks + s)].clear();
-        for (int64_t p = begin; p < end; ++p) {
-            const int32_t i = m_member[size_t(p)];
+        ChunkScratch& scratch = m_chunkScratch[size_t(c)];
+        scratch.start.assign(size_t(end - begin) + 1, 0);
+        size_t count = 0;  // entries of found in use (its size is room)
+        for (int64_t k = begin; k < end; ++k) {
+            const int32_t i = grid.sorted[k];
             const Vec3<Real> xi = x[size_t(i)];
             // Every candidate is written and kept only when it qualifies (no branch on the test, which
             // follows no pattern: a third of the later candidates are within reach).
-            size_t count = 0;
+            const size_t rowBegin = count;
             forEachNeighbourCell(grid.geometry, cellCoords(grid.geometry, xi), [&](int cell) {
                 const int32_t first = grid.cellStart[cell], last = grid.cellStart[cell + 1];
-                if (found.size() < count + size_t(last - first)) found.resize(2 * (count + size_t(last - first)));
-                uint64_t* out = found.data();
-                for (int32_t k = first; k < last; ++k) {
-                    const int32_t j = grid.sorted[k];
-                    out[count] = (uint64_t(uint32_t(j)) << 32) | uint32_t(k);
-                    count += size_t((j > i) & (norm2(xi - m_xCell[size_t(k)]) < m_reach2));
+                if (scratch.found.size() < count + size_t(last - first)) scratch.found.resize(2 * (count + size_t(last - first)));
+                uint64_t* out = scratch.found.data();
+                for (int32_t q = first; q < last; ++q) {
+                    const int32_t j = grid.sorted[q];
+                    out[count] = (uint64_t(uint32_t(j)) << 32) | uint32_t(q);
+                    count += size_t((j > i) & (norm2(xi - m_xCell[size_t(q)]) < m_reach2));
                 }
             });
-            std::sort(found.begin(), found.begin() + std::ptrdiff_t(count));  // by partner index
-            for (size_t e = 0; e < count; ++e) {
-                const uint32_t slot = uint32_t(found[e]);
+            std::sort(scratch.found.begin() + std::ptrdiff_t(rowBegin), scratch.found.begin() + std::ptrdiff_t(count));  // by partner index
+            scratch.start[size_t(k - begin) + 1] = int64_t(count);
+        }
+        std::vector<uint32_t>& rows = m_chunkRows[size_t(c)];
+        rows.clear();
+        for (int64_t s = 0; s < chunks; ++s) m_handed[size_t(c * chunks + s)].clear();
+        for (int64_t p = begin; p < end; ++p) {
+            const int32_t i = m_member[size_t(p)];
+            const int64_t k = m_slot[size_t(i)] - begin;
+            for (int64_t e = scratch.start[size_t(k)]; e < scratch.start[size_t(k) + 1]; ++e) {
+                const uint32_t slot = uint32_t(scratch.found[size_t(e)]);
                 if (slot >= uint32_t(begin) && slot < uint32_t(end)) {
                     rows.push_back(slot);
                     continue;
@@ -214,7 +224,7 @@ private:
                 handed.push_back(i);
                 handed.push_back(int32_t(slot));
             }
-            m_rowStart[size_t(p) + 1] = int64_t(count);
+            m_rowStart[size_t(p) + 1] = scratch.start[size_t(k) + 1] - scratch.start[size_t(k)];
         }
     }
 
@@ -266,6 +276,11 @@ private:
     std::vector<int64_t> m_inBegin;     // chunks + 1 offsets into the incoming pairs
     std::vector<int32_t> m_inOwner, m_inOwnerSlot, m_inPartnerSlot;  // the incoming pairs, by ascending owner
     std::vector<std::vector<uint32_t>> m_chunkRows;  // build scratch, kept to reuse its memory
+    struct ChunkScratch {
+        std::vector<uint64_t> found;  // (partner index, partner slot) of the rows, in the grid's order
+        std::vector<int64_t> start;   // by slot from the chunk's first: each row's first entry in found
+    };
+    std::vector<ChunkScratch> m_chunkScratch;
     std::vector<std::vector<int32_t>> m_handed;      // build scratch: (owner, partner) from chunk s to chunk c at s * chunks + c
     std::vector<Vec3<Real>> m_xBuilt;
     Vec3<Real> m_box{0, 0, 0};

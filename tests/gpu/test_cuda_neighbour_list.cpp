@@ -136,9 +136,10 @@ TEST(CudaAllPairs, ACollisionStepCostsNoSecondForcePass) {
 
 // The collision screen (CudaDevice::screenStage): the list pass at the end of each Verlet step tells
 // whether anything is near contact. Steps with nothing near skip the stage, steps with only wall hits
-// resolve them at once (resolveWallImpacts); the run is the CPU's (whose stage always searches
-// everything) to 1e-9, with the same collision counts and wall pressure. About one particle a step hits a wall here (Poisson), so both kinds of
-// screened step occur.
+// resolve them at once (resolveWallImpacts); the run is the CPU's to 1e-9, with the same collision
+// counts and wall pressure (the CPU screens too; NeighbourListCpu.TheCollisionScreenKeepsTheFullStagesResult
+// holds it to a stage that searches everything). About one particle a step hits a wall here (Poisson),
+// so both kinds of screened step occur.
 TEST(CudaNeighbourList, TheCollisionScreenSkipsQuietStepsAndKeepsTheCpuResult) {
     COREBOX_REQUIRE_GPU();
     Scene scene = liquid(ForceModel::NeighbourList, Precision::Fp64);
@@ -146,13 +147,13 @@ TEST(CudaNeighbourList, TheCollisionScreenSkipsQuietStepsAndKeepsTheCpuResult) {
     const int steps = 100;
     Simulation gpu(scene, backendFor("cuda", Precision::Fp64), makeInitialState(scene));
     Simulation cpu(scene, backendFor("cpu", Precision::Fp64), makeInitialState(scene));
-    int quiet = 0, wallsOnly = 0;
+    int quiet = 0, wallsOnly = 0, cpuScreened = 0;
     int64_t gpuPairs = 0, gpuWalls = 0, cpuPairs = 0, cpuWalls = 0;
     for (int k = 0; k < steps; ++k) {
         const StepReport g = gpu.step(), c = cpu.step();
         quiet += g.screen == StageScreen::Quiet ? 1 : 0;
         wallsOnly += g.screen == StageScreen::WallsOnly ? 1 : 0;
-        EXPECT_EQ(c.screen, StageScreen::Full) << "the CPU has no screen";
+        cpuScreened += c.screen != StageScreen::Full ? 1 : 0;
         gpuPairs += g.pairCollisions;
         gpuWalls += g.wallCollisions;
         cpuPairs += c.pairCollisions;
@@ -162,6 +163,7 @@ TEST(CudaNeighbourList, TheCollisionScreenSkipsQuietStepsAndKeepsTheCpuResult) {
     RecordProperty("walls_only_steps", wallsOnly);
     EXPECT_GT(quiet, 0);
     EXPECT_GT(wallsOnly, 0);
+    EXPECT_GT(cpuScreened, steps / 2);
     EXPECT_GT(gpuWalls, 0);
     EXPECT_EQ(gpuPairs, cpuPairs);
     EXPECT_EQ(gpuWalls, cpuWalls);

@@ -276,6 +276,53 @@ TEST(NeighbourListCpu, SameStateOnOneTwoAndThreeThreads) {
     EXPECT_EQ(one, hashOf(1));
 }
 
+// The CPU's collision screen (its end-of-step list pass, kernels/collision_screen.h): a step with
+// nothing near contact skips the stage, one with wall hits alone resolves them at once. The run equals
+// the same scene with all pairs, whose stage searches everything every step: the same collision
+// counts, wall pressure to 1e-9, states to 1e-9 (the force sums differ in order only).
+TEST(NeighbourListCpu, TheCollisionScreenKeepsTheFullStagesResult) {
+    auto liquid = [](ForceModel forces) {
+        Scene scene;
+        SpeciesDef a;
+        a.count = 1500;
+        a.radius = 0.42;
+        scene.species = {a};
+        scene.interaction.cutoff = 2.5;
+        scene.interaction.forces = forces;
+        const double side = std::cbrt(1500 / 0.7);
+        scene.box.size = {side * 1.3, side, side / 1.3};
+        scene.integrator.method = Method::Verlet;
+        scene.integrator.dt = 2e-3;
+        scene.thermostat.kind = ThermostatKind::None;
+        scene.init.temperature = 2.0;
+        scene.init.seed = 21;
+        return scene;
+    };
+    auto lists = makeSimulation("cpu", liquid(ForceModel::NeighbourList));
+    auto all = makeSimulation("cpu", liquid(ForceModel::AllPairs));
+    int quiet = 0, wallsOnly = 0;
+    int64_t walls = 0;
+    for (int k = 0; k < 100; ++k) {
+        const StepReport l = lists->step(), a = all->step();
+        EXPECT_EQ(a.screen, StageScreen::Full);
+        quiet += l.screen == StageScreen::Quiet ? 1 : 0;
+        wallsOnly += l.screen == StageScreen::WallsOnly ? 1 : 0;
+        EXPECT_EQ(l.pairCollisions, a.pairCollisions) << "step " << k;
+        EXPECT_EQ(l.wallCollisions, a.wallCollisions) << "step " << k;
+        walls += a.wallCollisions;
+    }
+    EXPECT_GT(quiet, 0);
+    EXPECT_GT(wallsOnly, 0);
+    EXPECT_GT(walls, 0);
+    const ObservablesRow l = lists->observe(), a = all->observe();
+    EXPECT_GT(a.pressureWall, 0);
+    EXPECT_NEAR(l.pressureWall, a.pressureWall, 1e-9 * a.pressureWall);
+    const ParticleState sl = lists->state(), sa = all->state();
+    double worst = 0;
+    for (size_t i = 0; i < sl.size(); ++i) worst = std::max(worst, std::sqrt(norm2(sl.position[i] - sa.position[i])));
+    EXPECT_LT(worst, 1e-9 * lists->scene().box.size[0]);
+}
+
 // A live edit of the cutoff re-chooses the model, and the observables rows say which one ran.
 TEST(NeighbourListCpu, LiveCutoffEditsSwitchTheModel) {
     Scene scene = collidingGas(ForceModel::Auto);
