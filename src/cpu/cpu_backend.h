@@ -5,9 +5,11 @@
 //
 // Forces follow the model's choice (force_model.h). All pairs: each pair evaluated from both sides,
 // the same arithmetic as the GPU tiles, so CPU and GPU differ only by rounding order, never by
-// formula. Neighbour lists (verlet_list.h): half lists, each pair evaluated once (Newton's third law)
-// and gathered by both particles in a fixed order. After a collision stage the cached accelerations
-// are refreshed for the moved particles and their partners only (refreshAccelerations).
+// formula. Neighbour lists (verlet_list.h, list_forces.h): half lists, each pair evaluated once
+// (Newton's third law) and added to both particles, every particle's sum by ascending partner index.
+// The end-of-step list pass also screens the collision stage (screenStage): steps with nothing near
+// contact skip it, steps with wall hits alone resolve them at once. After a collision stage the
+// cached accelerations are updated for the moved particles' pairs only (refreshAccelerations).
 #pragma once
 
 #include <memory>
