@@ -255,32 +255,24 @@ public:
     int resolveWallImpacts() override {
         if (!m_wallsAtOnce) return -1;
         const int64_t n = size();
-        parallelFor(m_threads, n, [&](int64_t i) {
+        int most = 0;  // the most impacts of one particle
+        int64_t walls = 0;
+#pragma omp parallel for schedule(static) num_threads(m_threads) reduction(max : most) reduction(+ : walls) if (n >= kParallelThreshold)
+        for (int64_t i = 0; i < n; ++i) {
             const Real radius = m_radius[size_t(m_species[size_t(i)])];
-            int impacts = 0, walls = 0;
+            int impacts = 0;
             // At most one impact per wall plane: a rebound puts the centre inside on that axis.
-            for (int k = 0; k < 2 * 3; ++k) {
+            for (; impacts < 2 * 3; ++impacts) {
                 CollisionEvent e = noEvent();
                 considerWalls(m_x[size_t(i)], m_v[size_t(i)], radius, m_boxLength, m_window, e);
                 if (!isValid(e)) break;
-                walls += resolveWallOf(i, e, m_acceleration[size_t(i)]) == kWallCollision;
-                ++impacts;
+                walls += resolveWallOf(i, e, m_acceleration[size_t(i)]) == kWallCollision ? 1 : 0;
             }
-            m_kind[size_t(i)] = impacts;
-            m_active[size_t(i)] = char(walls);
+            most = std::max(most, impacts);
             // Pairs cannot be within the contact gap (the screen); a wall may be.
-            bool close = false;
-            for (int axis = 0; axis < 3; ++axis) {
-                close = close || wallClearance(m_x[size_t(i)][axis], radius, m_boxLength[axis], 0) < m_nearGap ||
-                        wallClearance(m_x[size_t(i)][axis], radius, m_boxLength[axis], 1) < m_nearGap;
-            }
-            m_near[size_t(i)] = close ? 1 : 0;
-        });
-        int most = 0;
-        for (int64_t i = 0; i < n; ++i) {
-            most = std::max(most, m_kind[size_t(i)]);
-            m_tally.wallCollisions += m_active[size_t(i)];
+            m_near[size_t(i)] = nearAWall(m_x[size_t(i)], radius) ? 1 : 0;
         }
+        m_tally.wallCollisions += walls;
         m_nearValid = true;
         return most + 1;
     }
@@ -986,10 +978,17 @@ private:
             considerPair(xi, vi, ai, xj, m_v[size_t(j)], aj, j, m_window, best);
         });
         considerWalls(xi, vi, ai, m_boxLength, m_window, best);
-        for (int axis = 0; axis < 3 && !close; ++axis)
-            close = wallClearance(xi[axis], ai, m_boxLength[axis], 0) < m_nearGap || wallClearance(xi[axis], ai, m_boxLength[axis], 1) < m_nearGap;
-        near = close ? 1 : 0;
+        near = close || nearAWall(xi, ai) ? 1 : 0;
         return best;
+    }
+
+    // Whether a particle of this radius at x is within the near gap of a wall.
+    bool nearAWall(const Vec3<Real>& x, Real radius) const {
+        for (int axis = 0; axis < 3; ++axis) {
+            if (wallClearance(x[axis], radius, m_boxLength[axis], 0) < m_nearGap || wallClearance(x[axis], radius, m_boxLength[axis], 1) < m_nearGap)
+                return true;
+        }
+        return false;
     }
 
     struct Contact {

@@ -79,8 +79,7 @@ ListScreen listForcePass(const VerletList<Real>& list, const ListPassInputs<Real
     Vec3<Real>* const force = scratch.force.data();
     int32_t* const speciesOf = scratch.species.data();
     double* const energy = scratch.value.data();
-    std::vector<Real> nearestOf(static_cast<size_t>(chunks), std::numeric_limits<Real>::infinity());
-    std::vector<char> listedIn(static_cast<size_t>(chunks), 0);
+    std::vector<double> nearestOf(static_cast<size_t>(chunks), -1.0);  // by chunk, as ListScreen::nearest
     std::vector<ListScreen> wallsOf;
 #pragma omp parallel num_threads(in.threads) if (chunks > 1)
     {
@@ -124,7 +123,7 @@ ListScreen listForcePass(const VerletList<Real>& list, const ListPassInputs<Real
                     Vec3<Real> fa = force[a];
                     double ua = kEnergy ? energy[a] : 0.0;
                     for (const uint32_t* e = begin; e < end; ++e) {
-                        const int64_t b = List::slotOf(*e);
+                        const int64_t b = List::entrySlot(*e);
                         Real u = 0;
                         const Vec3<Real> fd = pairValue(a, b, u);
                         fa += fd;
@@ -142,8 +141,7 @@ ListScreen listForcePass(const VerletList<Real>& list, const ListPassInputs<Real
                     force[b] -= pairValue(a, b, u);
                     if (kEnergy) energy[b] += double(u);
                 });
-            nearestOf[size_t(c)] = nearest;
-            listedIn[size_t(c)] = listed;
+            if (listed) nearestOf[size_t(c)] = double(nearest);
         }
         // The results by particle, and the screen's walls: each thread a fixed run of particles.
 #pragma omp single
@@ -166,8 +164,8 @@ ListScreen listForcePass(const VerletList<Real>& list, const ListPassInputs<Real
         wallsOf[size_t(omp_get_thread_num())] = walls;
     }
     ListScreen total;
-    for (int64_t c = 0; c < chunks; ++c) {
-        if (listedIn[size_t(c)]) total.nearest = std::min(total.nearest < 0 ? double(nearestOf[size_t(c)]) : total.nearest, double(nearestOf[size_t(c)]));
+    for (double nearest : nearestOf) {
+        if (nearest >= 0) total.nearest = total.nearest < 0 ? nearest : std::min(total.nearest, nearest);
     }
     for (const ListScreen& w : wallsOf) {
         total.deepestWallDepth = std::max(total.deepestWallDepth, w.deepestWallDepth);
@@ -198,7 +196,7 @@ double listPairVirial(const VerletList<Real>& list, const ListPassInputs<Real>& 
             [&](int64_t a, const uint32_t* begin, const uint32_t* end) {
                 double wa = w[a];
                 for (const uint32_t* e = begin; e < end; ++e) {
-                    const int64_t b = List::slotOf(*e);
+                    const int64_t b = List::entrySlot(*e);
                     const double value = pairValue(a, b);
                     wa += value;
                     if (List::inThisChunk(*e)) w[b] += value;
