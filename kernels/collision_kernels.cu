@@ -4,6 +4,7 @@
 // resolution moves particles.
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
+#include "step_check.cuh"
 
 namespace corebox::gpu {
 namespace {
@@ -95,12 +96,10 @@ __global__ void resolveKernel(CollisionArgs<Real> a) {
     if (kind != kNoCollision && logged) a.log[atomicAdd(&a.counters[2], 1u)] = ImpactRecord<Real>{i, e.partner, a.logRound, detail};
 }
 
-// Walls only: each particle's wall impacts in turn (launchResolveWallImpacts).
+// Walls only: particle i's wall impacts in turn (launchResolveWallImpacts).
 template <class Real>
-__global__ void resolveWallImpactsKernel(CollisionArgs<Real> a, const Vec3<Real>* acceleration, Real contactGap, const Vec3<Real>* xBuilt,
-                                         Real halfSkin2, unsigned int* stats) {
-    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i >= a.p.n) return;
+__device__ void resolveWallsOf(const CollisionArgs<Real>& a, int64_t i, const Vec3<Real>* acceleration, Real contactGap,
+                               const Vec3<Real>* xBuilt, Real halfSkin2, unsigned int* stats) {
     const int si = a.p.species[i];
     const Real radius = a.table.radius[si];
     unsigned impacts = 0;
@@ -126,6 +125,35 @@ __global__ void resolveWallImpactsKernel(CollisionArgs<Real> a, const Vec3<Real>
     }
     const bool finite = isfinite(x.x) && isfinite(x.y) && isfinite(x.z);
     if (!finite || deepestWallApproach(x, screenReach(radius, contactGap), a.box) > Real(0)) stats[1] = 1u;
+}
+
+template <class Real>
+__global__ void resolveWallImpactsKernel(CollisionArgs<Real> a, const Vec3<Real>* acceleration, Real contactGap, const Vec3<Real>* xBuilt,
+                                         Real halfSkin2, unsigned int* stats) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i < a.p.n) resolveWallsOf(a, i, acceleration, contactGap, xBuilt, halfSkin2, stats);
+}
+
+// The one-wait step's stage (launchStageWalls): the verdict read from the screen by every thread, the
+// stage opened and its walls resolved where it is WallsOnly, then the step check of each particle.
+template <class Real>
+__global__ void stageWallsKernel(CollisionArgs<Real> a, const Vec3<Real>* acceleration, Real contactGap, const Vec3<Real>* xBuilt,
+                                 Real halfSkin2, StageOpening<Real> o) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.p.n) return;
+    StepWords* w = o.words;
+    const unsigned screen[3] = {w->screen[0], w->screen[1], w->screen[2]};
+    const StageScreen verdict = screenVerdict(screen, o.scales);
+    if (i == 0) w->stage = unsigned(verdict);
+    o.touched[i] = 0;
+    if (verdict == StageScreen::WallsOnly) {
+        if (a.hasContactAcceleration[i]) {  // as beginCollisions clears the rows the last stage wrote
+            for (int r = 0; r <= kImpulseRows; ++r) a.impulses[size_t(r) * size_t(a.p.n) + size_t(i)] = 0;
+            a.hasContactAcceleration[i] = 0;
+        }
+        resolveWallsOf(a, i, acceleration, contactGap, xBuilt, halfSkin2, w->wallStats);
+    }
+    checkParticle(HealthArgs<Real>{a.p, a.box, w->healthCounts, w->healthExamples}, a.table, i, o.kineticRow);
 }
 
 // After resolution: a particle stays active when it had an event (resolved now or still pending).
@@ -159,15 +187,24 @@ void launchUpdateActive(const CollisionArgs<Real>& a, cudaStream_t stream) {
 template <class Real>
 void launchResolveWallImpacts(const CollisionArgs<Real>& a, const Vec3<Real>* acceleration, Real contactGap, const Vec3<Real>* xBuilt,
                               Real halfSkin2, unsigned int* stats, cudaStream_t stream) {
-    cudaMemsetAsync(stats, 0, 3 * sizeof(unsigned int), stream);
     if (a.p.n <= 0) return;
     resolveWallImpactsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, acceleration, contactGap, xBuilt, halfSkin2, stats);
     checkLaunch("wall impacts kernel");
 }
 
+template <class Real>
+void launchStageWalls(const CollisionArgs<Real>& a, const Vec3<Real>* acceleration, Real contactGap, const Vec3<Real>* xBuilt,
+                      Real halfSkin2, const StageOpening<Real>& opening, cudaStream_t stream) {
+    if (a.p.n <= 0) return;
+    stageWallsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, acceleration, contactGap, xBuilt, halfSkin2, opening);
+    checkLaunch("stage walls kernel");
+}
+
 #define COREBOX_INSTANTIATE(Real)                                                                                  \
     template void launchResolveWallImpacts<Real>(const CollisionArgs<Real>&, const Vec3<Real>*, Real, const Vec3<Real>*, Real, unsigned int*, \
                                                  cudaStream_t);                                                                   \
+    template void launchStageWalls<Real>(const CollisionArgs<Real>&, const Vec3<Real>*, Real, const Vec3<Real>*, Real,              \
+                                         const StageOpening<Real>&, cudaStream_t);                                                                   \
     template void launchFindEvents<Real>(const CollisionArgs<Real>&, cudaStream_t);                                \
     template void launchResolve<Real>(const CollisionArgs<Real>&, cudaStream_t);                                  \
     template void launchUpdateActive<Real>(const CollisionArgs<Real>&, cudaStream_t);

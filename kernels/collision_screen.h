@@ -17,6 +17,11 @@ namespace corebox {
 
 constexpr double kScreenMargin = 1e-3;
 
+// What a backend's screen of the collision stage found (Backend::screenStage): nothing near contact
+// (the stage skipped), only particles at walls with every pair too far to meet in the stage (walls
+// searched alone), or something else or nothing known (the whole stage).
+enum class StageScreen : unsigned { Full, WallsOnly, Quiet };
+
 // What the screen counts as near: a contact distance (a_i + a_j, or a_i for a wall) plus the contact
 // phase's resting gap, widened by the margin.
 template <class Real>
@@ -41,18 +46,45 @@ COREBOX_HD inline Real deepestWallApproach(Vec3<Real> x, Real reach, Vec3<Real> 
 // A lower bound on every pair's clearance beyond its reach: the listed pairs' smallest R^2 / reach^2
 // (nearestRatio; < 0 when no pair was listed) scaled by the smallest reach, and, for the pairs not
 // listed (farther than the cutoff), the cutoff less the largest reach.
-inline double pairClearanceBound(double nearestRatio, double smallestReach, double largestReach, double cutoff) {
+COREBOX_HD inline double pairClearanceBound(double nearestRatio, double smallestReach, double largestReach, double cutoff) {
     const double unlisted = cutoff - largestReach;
     if (nearestRatio < 0) return unlisted;
-    const double listed = smallestReach * (std::sqrt(nearestRatio) - 1);
+    const double listed = smallestReach * (sqrt(nearestRatio) - 1);
     return listed < unlisted ? listed : unlisted;
 }
 
 // Whether no pair can meet while walls are resolved: a wall impact moves its particle back by at most
 // (1 + e_w) times its depth on each axis, the contact phase by its depth, so two particles close by at
 // most 8 times the deepest wall depth.
-inline bool wallsCannotBringPairsTogether(double clearance, double deepestWallDepth) {
+COREBOX_HD inline bool wallsCannotBringPairsTogether(double clearance, double deepestWallDepth) {
     return clearance > 8 * deepestWallDepth;
+}
+
+// The screen's three words as a list pass leaves them (gpu_launch.h ForceArgs::screen: the nearest
+// listed pair's R^2 / reach^2 and the deepest wall approach as float bits, a non-finite flag) read into
+// a verdict, the same on the host and on the device: smallest and largest radius of the species, the
+// lists' cutoff, the contact phase's resting gap.
+struct ScreenScales {
+    double smallestRadius, largestRadius, cutoff, contactGap;
+};
+COREBOX_HD inline float floatOfBits(unsigned bits) {
+#if defined(__CUDA_ARCH__)
+    return __uint_as_float(bits);
+#else
+    float f;
+    __builtin_memcpy(&f, &bits, sizeof f);
+    return f;
+#endif
+}
+COREBOX_HD inline StageScreen screenVerdict(const unsigned words[3], const ScreenScales& s) {
+    if (words[2] != 0) return StageScreen::Full;  // not finite: the stage and the health check say where
+    const double nearest = words[0] != 0xffffffffu ? double(floatOfBits(words[0])) : -1.0;  // -1: no pair listed
+    const double clearance = pairClearanceBound(nearest, screenReach(2 * s.smallestRadius, s.contactGap),
+                                                screenReach(2 * s.largestRadius, s.contactGap), s.cutoff);
+    if (!(clearance > 0)) return StageScreen::Full;
+    const double depth = double(floatOfBits(words[1]));
+    if (depth > 0) return wallsCannotBringPairsTogether(clearance, depth) ? StageScreen::WallsOnly : StageScreen::Full;
+    return StageScreen::Quiet;
 }
 
 }  // namespace corebox

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <string>
 
+#include "gpu_launch.h"
 #include "errors.h"  // DeviceError: a failed launch is a device error (exit code 4), like any CUDA failure
 
 namespace corebox::gpu {
@@ -24,6 +25,11 @@ inline int multiprocessorCount() {
         return sms > 0 ? sms : 1;
     }();
     return count;
+}
+
+// StageGate (gpu_launch.h): whether a gated launch does its work.
+__device__ inline bool gateOpen(const StageGate& g) {
+    return !g.stage || (((g.stages >> *g.stage) & 1u) != 0u && (!g.clear || *g.clear == 0u));
 }
 
 // Launch errors (bad configuration) surface at once; asynchronous faults at the next sync, where

@@ -37,6 +37,16 @@ struct SpeciesTable {
     int count;  // S
 };
 
+// A launch that runs only when the collision stage the device decided for this step (StepWords::stage,
+// launchStageWalls) is one of `stages` (bit 1 << StageScreen) and, when `clear` is set, *clear is 0.
+// Null `stage`: always (every launch outside the one-wait step).
+struct StageGate {
+    const unsigned int* stage = nullptr;
+    unsigned int stages = 0;
+    const unsigned int* clear = nullptr;
+};
+constexpr unsigned int stageBit(StageScreen s) { return 1u << unsigned(s); }
+
 // ---- forces (force_kernels.cu) ----
 // Most GPUs one simulation spreads over (the size of PeerSources below, passed by value to kernels).
 constexpr int kMaxGpus = 64;
@@ -91,6 +101,11 @@ struct ForceArgs {
     unsigned int* screen;
     Vec3<Real> box;
     Real contactGap;
+    // Lists only, when set: each row's particle is kicked with its new acceleration, kickV[i - begin] +=
+    // kickH a_i (verletKick, as launchVerletKick would after the pass: Backend::accelerateAndKick).
+    Vec3<Real>* kickV;
+    Real kickH;
+    StageGate gate;  // lists only: the pass runs when the gate is open
 };
 template <class Real>
 void launchForces(const ForceArgs<Real>& args, cudaStream_t stream);
@@ -152,7 +167,8 @@ void launchListVirialRows(const ForceArgs<Real>& lists, double* row, cudaStream_
 // read in index order (coalesced), the lists only for the moved.
 template <class Real>
 void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, const char* moved, int64_t rows, const int32_t* rowOf,
-                      const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched, cudaStream_t stream);
+                      const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched, cudaStream_t stream,
+                      StageGate gate = {}, bool touchedCleared = false);
 // *moved = 1 when some row of x[begin, end) is farther than halfSkin from xBuilt (row-indexed) or not
 // finite; reset to 0 by the launch.
 template <class Real>
@@ -282,6 +298,7 @@ void launchUpdateActive(const CollisionArgs<Real>& args, cudaStream_t stream);
 // farther than sqrt(halfSkin2) from xBuilt (its position at the neighbour lists' build, indexed by
 // particle; null: not checked): the lists may no longer hold its partners. No contact log (the caller
 // runs the rounds then).
+// The caller zeroes the stats before.
 template <class Real>
 void launchResolveWallImpacts(const CollisionArgs<Real>& args, const Vec3<Real>* acceleration, Real contactGap, const Vec3<Real>* xBuilt,
                               Real halfSkin2, unsigned int* stats, cudaStream_t stream);
@@ -342,7 +359,9 @@ void launchPairVirialRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table
 // partials (rows x blocks); returns the number of blocks. With a mask, only the entries i with
 // mask[i] != 0 are read, the others taken as zero: the same sums where they are zero, without reading
 // them (the collision stage's impulse rows: a few hundred particles of 10^7 have events).
-int launchBlockSums(const double* values, int rows, int64_t n, double* partials, cudaStream_t stream, const char* mask = nullptr);
+// With maskedRows >= 0, the mask applies to the first maskedRows rows only.
+int launchBlockSums(const double* values, int rows, int64_t n, double* partials, cudaStream_t stream, const char* mask = nullptr,
+                    int maskedRows = -1);
 // values[r * n + i] = 0 for every row r and every i with mask[i] != 0.
 void launchClearMaskedRows(double* values, int rows, int64_t n, const char* mask, cudaStream_t stream);
 int blockSumBlocks(int64_t n);
@@ -368,6 +387,57 @@ struct HealthArgs {
 };
 template <class Real>
 void launchHealth(const HealthArgs<Real>& args, cudaStream_t stream);
+
+// ---- the one-wait step (step_kernels.cu, src/cuda/cuda_step.cpp) ----
+// Everything the host reads at the end of a step, in one block of device memory (one copy back).
+struct StepWords {
+    unsigned long long kindCounts[3];    // CollisionArgs::kindCounts: pair, wall
+    unsigned long long healthCounts[3];  // HealthArgs::counts
+    long long healthExamples[5];         // HealthArgs::examples
+    unsigned int screen[3];              // ForceArgs::screen
+    unsigned int wallStats[3];           // launchResolveWallImpacts' stats
+    unsigned int stage;                  // the StageScreen the device read from the screen (launchOpenStage)
+    unsigned int listForecast;           // StepCheckArgs: 1 when the next kick-drift takes some row past half the skin
+};
+// Zeroes the words, the screen's nearest ratio set to "none" (0xffffffff): before a screening pass.
+void launchResetStepWords(StepWords* words, cudaStream_t stream);
+// The one-wait step's stage in one pass (collision_kernels.cu): every thread reads the screen into a
+// verdict (screenVerdict, collision_screen.h: the host's reading, on the device; thread 0 records it
+// in words->stage) and clears its row of `touched`; where the verdict is WallsOnly, it opens the
+// stage as beginCollisions does (the impact rows of the particles the last stage flagged zeroed, the
+// flags cleared) and resolves its particle's walls as launchResolveWallImpacts (stats in
+// words->wallStats); then it checks its particle (health words, kineticRow).
+template <class Real>
+struct StageOpening {
+    StepWords* words;
+    ScreenScales scales;
+    unsigned char* touched;  // a list row per particle (one GPU), for the refresh's launchTouchMoved
+    double* kineticRow;
+};
+template <class Real>
+void launchStageWalls(const CollisionArgs<Real>& args, const Vec3<Real>* acceleration, Real contactGap, const Vec3<Real>* xBuilt,
+                      Real halfSkin2, const StageOpening<Real>& opening, cudaStream_t stream);
+// The end of a step: with health.counts set, each particle's health (launchHealth) and kinetic energy
+// (into kineticRow, launchKineticRow); with xBuilt set, the lists' forecast: *moves = 1 when
+// x + dt (v + h a) (the next kickDrift's arithmetic) lies farther than sqrt(limit2) from xBuilt.
+template <class Real>
+struct StepCheckArgs {
+    HealthArgs<Real> health;
+    SpeciesTable<Real> table;
+    double* kineticRow;
+    const Vec3<Real>* acceleration;
+    const Vec3<Real>* xBuilt;
+    Real h, dt, limit2;
+    unsigned int* moves;
+};
+template <class Real>
+void launchStepCheck(const StepCheckArgs<Real>& args, cudaStream_t stream);
+// v += h a, then x += dt v (verletKick, verletDrift) in one pass; with snapshotX set, (x, v) are
+// copied there first (Backend::keepSnapshot); with reset set, the step words are reset as
+// launchResetStepWords does.
+template <class Real>
+void launchKickDrift(Vec3<Real>* x, Vec3<Real>* v, const Vec3<Real>* a, int64_t n, Real h, Real dt, Vec3<Real>* snapshotX,
+                     Vec3<Real>* snapshotV, StepWords* reset, cudaStream_t stream);
 
 // ---- interop (interop_kernels.cu) ----
 // Writes the renderer's instances (particle_instance.h) into device memory: a mapped GL buffer or a

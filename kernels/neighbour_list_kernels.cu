@@ -22,6 +22,7 @@
 
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
+#include "rk_stage.h"
 
 namespace corebox::gpu {
 namespace {
@@ -129,7 +130,7 @@ __device__ void screenRow(const ForceArgs<Real>& a, Vec3<Real> xi, Real ai, Real
 template <class Real, bool kEnergy, bool kSingleSpecies>
 __global__ void listForceKernel(ForceArgs<Real> a) {
     const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (k >= a.end - a.begin) return;
+    if (k >= a.end - a.begin || !gateOpen(a.gate)) return;
     const int64_t rows = a.listRows;
     if (a.rowMask && !a.rowIndex && !a.rowMask[k]) return;  // a coalesced byte per row, nothing else read
     const int64_t i = a.rowIndex ? int64_t(a.rowIndex[a.begin + k]) : int64_t(a.rowParticle[k]);
@@ -167,7 +168,13 @@ __global__ void listForceKernel(ForceArgs<Real> a) {
             nearest = fmin(nearest, r2 * inverse);
         }
     }
-    a.acceleration[out] = a.table.invMass[si] * force + a.table.field[si];
+    const Vec3<Real> acceleration = a.table.invMass[si] * force + a.table.field[si];
+    a.acceleration[out] = acceleration;
+    if (a.kickV) {
+        Vec3<Real> v = a.kickV[out];
+        verletKick(v, acceleration, a.kickH);
+        a.kickV[out] = v;
+    }
     if (kEnergy) a.pairEnergy[out] = energy;
     if (screen) screenRow(a, xi, ai, nearest);
 }
@@ -200,9 +207,9 @@ __global__ void rowOrderKernel(const int32_t* sorted, int64_t n, int64_t begin, 
 
 template <class Real>
 __global__ void touchMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBefore, const char* moved, int64_t rows, const int32_t* rowOf,
-                                 const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched) {
+                                 const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched, StageGate gate) {
     const int64_t p = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (p >= rows) return;
+    if (p >= rows || !gateOpen(gate)) return;
     if (moved) {
         if (!moved[p]) return;
     } else {
@@ -234,10 +241,11 @@ void launchListRowOrder(const CellListView& cells, int64_t n, int64_t begin, int
 
 template <class Real>
 void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, const char* moved, int64_t rows, const int32_t* rowOf,
-                      const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched, cudaStream_t stream) {
+                      const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched, cudaStream_t stream,
+                      StageGate gate, bool touchedCleared) {
     if (rows <= 0) return;
-    cudaMemsetAsync(touched, 0, size_t(rows), stream);
-    touchMovedKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(x, xBefore, moved, rows, rowOf, neighbours, neighbourCount, touched);
+    if (!touchedCleared) cudaMemsetAsync(touched, 0, size_t(rows), stream);
+    touchMovedKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(x, xBefore, moved, rows, rowOf, neighbours, neighbourCount, touched, gate);
     checkLaunch("touched rows kernel");
 }
 
@@ -293,9 +301,9 @@ template void launchBuildNeighbourList<double>(const NeighbourListArgs<double>&,
 template void launchListVirialRows<float>(const ForceArgs<float>&, double*, cudaStream_t);
 template void launchListVirialRows<double>(const ForceArgs<double>&, double*, cudaStream_t);
 template void launchTouchMoved<float>(const Vec3<float>*, const Vec3<float>*, const char*, int64_t, const int32_t*, const int32_t*,
-                                      const int32_t*, unsigned char*, cudaStream_t);
+                                      const int32_t*, unsigned char*, cudaStream_t, StageGate, bool);
 template void launchTouchMoved<double>(const Vec3<double>*, const Vec3<double>*, const char*, int64_t, const int32_t*, const int32_t*,
-                                       const int32_t*, unsigned char*, cudaStream_t);
+                                       const int32_t*, unsigned char*, cudaStream_t, StageGate, bool);
 template void launchListMoved<float>(const Vec3<float>*, const Vec3<float>*, int64_t, int64_t, float, unsigned int*, cudaStream_t);
 template void launchListMoved<double>(const Vec3<double>*, const Vec3<double>*, int64_t, int64_t, double, unsigned int*, cudaStream_t);
 template void launchListForces<float>(const ForceArgs<float>&, cudaStream_t);

@@ -11,9 +11,10 @@ namespace {
 constexpr int kReduceBlock = 256;
 constexpr int kItemsPerThread = 8;
 
-__global__ void blockSumsKernel(const double* values, int64_t n, double* partials, int blocks, const char* mask) {
+__global__ void blockSumsKernel(const double* values, int64_t n, double* partials, int blocks, const char* mask, int maskedRows) {
     __shared__ double cache[kReduceBlock];
     const int row = blockIdx.y;
+    if (maskedRows >= 0 && row >= maskedRows) mask = nullptr;
     const double* v = values + size_t(row) * size_t(n);
     const int64_t base = int64_t(blockIdx.x) * kReduceBlock * kItemsPerThread;
     double sum = 0;
@@ -81,9 +82,9 @@ __global__ void clearMaskedRowsKernel(double* values, int rows, int64_t n, const
 
 int blockSumBlocks(int64_t n) { return int((n + int64_t(kReduceBlock) * kItemsPerThread - 1) / (int64_t(kReduceBlock) * kItemsPerThread)); }
 
-int launchBlockSums(const double* values, int rows, int64_t n, double* partials, cudaStream_t stream, const char* mask) {
+int launchBlockSums(const double* values, int rows, int64_t n, double* partials, cudaStream_t stream, const char* mask, int maskedRows) {
     const int blocks = std::max(blockSumBlocks(n), 1);
-    blockSumsKernel<<<dim3(unsigned(blocks), unsigned(rows)), kReduceBlock, 0, stream>>>(values, n, partials, blocks, mask);
+    blockSumsKernel<<<dim3(unsigned(blocks), unsigned(rows)), kReduceBlock, 0, stream>>>(values, n, partials, blocks, mask, maskedRows);
     checkLaunch("block sums kernel");
     return blocks;
 }

@@ -142,6 +142,16 @@ public:
     virtual void computeAccelerations() = 0;  // A = a(X)
     virtual void kick(double h) = 0;          // V += h A
     virtual void drift(double dt) = 0;        // X += dt V
+    // kick(h) then drift(dt), and computeAccelerations() then kick(h): the same arithmetic, in one pass
+    // over the particles where a backend fuses them (a GPU launch each, not two).
+    virtual void kickDrift(double h, double dt) {
+        kick(h);
+        drift(dt);
+    }
+    virtual void accelerateAndKick(double h) {
+        computeAccelerations();
+        kick(h);
+    }
     // Stage s of an explicit RK step from (X, V): (Xs, Vs) = y0 + dt sum_{j<s} a_sj K_j, Kx_s = Vs.
     virtual void rkStage(int stage, double dt) = 0;
     virtual void stageForces(int stage) = 0;  // Kv_s = a(Xs)
@@ -172,7 +182,10 @@ public:
     // WallsOnly: no pair can meet in this stage; the stage runs with resolveWallImpacts (or rounds that
     // search walls alone). Full (the default: a
     // backend that cannot tell): the whole stage. One host wait instead of the stage's searches.
-    virtual StageScreen screenStage(double /*contactGap*/) { return StageScreen::Full; }
+    // `window` is the one the stage's beginCollisions will be given: a backend may resolve an easy stage
+    // (and queue the end-of-step check) within the screen's wait, and the calls that follow then return
+    // what it found.
+    virtual StageScreen screenStage(const ImpactWindow<double>& /*window*/, double /*contactGap*/) { return StageScreen::Full; }
     // ---- a posteriori collision stage, 1: impact rounds (DESIGN.md sec. 2) ----
     // Every particle active; counts and losses zeroed. The window says which overlaps are impacts of
     // this step (collision_resolution.h).

@@ -38,15 +38,16 @@ CollisionSettings collisionSettingsFor(const InteractionDef& interaction, double
 void resolveCollisions(Backend& backend, const CollisionSettings& settings, StepReport& report) {
     // 0. The backend's screen of the positions in its last force pass. Nothing near contact: the round
     // that would find nothing is the screen itself.
-    report.screen = backend.screenStage(settings.restingSpeed * settings.dt);
+    // A contact that began at the very start of the step rewinds by dt up to rounding (in fp32, the
+    // rounding of a position against a depth of v dt): a tenth of a step of room keeps it an impact.
+    const ImpactWindow<double> window{1.1 * settings.dt, settings.restingSpeed};
+    report.screen = backend.screenStage(window, settings.restingSpeed * settings.dt);
     if (report.screen == StageScreen::Quiet) {
         report.rounds = 1;
         return;
     }
     // 1. Impacts.
-    // A contact that began at the very start of the step rewinds by dt up to rounding (in fp32, the
-    // rounding of a position against a depth of v dt): a tenth of a step of room keeps it an impact.
-    backend.beginCollisions(ImpactWindow<double>{1.1 * settings.dt, settings.restingSpeed});
+    backend.beginCollisions(window);
     bool settled = false;
     if (report.screen == StageScreen::WallsOnly) {  // no pair can meet: the walls at once, no round-by-round waits
         const int rounds = backend.resolveWallImpacts();

@@ -42,16 +42,33 @@ void IntegrationDriver::integrate(Backend& backend, StepReport& report) {
 // pass when a drift (or anything outside the driver) moved them since the last one. Verlet's kick at
 // the end of a step is the next step's first: one force pass per step unless something moved the
 // particles in between.
+// A kick right after a force pass, and a drift right after a kick, go to the backend as one call
+// (Backend::accelerateAndKick, kickDrift): the same arithmetic in fewer passes.
 void IntegrationDriver::compositionStep(Backend& backend, double dt) {
-    for (const CompositionOp& op : m_composition.ops) {
+    const std::vector<CompositionOp>& ops = m_composition.ops;
+    for (size_t k = 0; k < ops.size(); ++k) {
+        const CompositionOp& op = ops[k];
         if (op.kind == CompositionOp::Drift) {
             backend.drift(op.weight * dt);
             m_accelerationsValid = false;
             continue;
         }
+        const double h = op.weight * dt;
+        const bool driftNext = k + 1 < ops.size() && ops[k + 1].kind == CompositionOp::Drift;
+        if (!m_accelerationsValid && !driftNext) {
+            backend.accelerateAndKick(h);
+            m_accelerationsValid = true;
+            continue;
+        }
         if (!m_accelerationsValid) backend.computeAccelerations();
         m_accelerationsValid = true;
-        backend.kick(op.weight * dt);
+        if (!driftNext) {
+            backend.kick(h);
+            continue;
+        }
+        backend.kickDrift(h, ops[k + 1].weight * dt);
+        m_accelerationsValid = false;
+        ++k;
     }
 }
 

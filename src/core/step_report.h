@@ -4,14 +4,10 @@
 
 #include <cstdint>
 
+#include "collision_screen.h"  // StageScreen
 #include "impulse_sums.h"
 
 namespace corebox {
-
-// What a backend's screen of the collision stage found (Backend::screenStage): nothing near contact
-// (the stage skipped), only particles at walls with every pair too far to meet in the stage (walls
-// searched alone), or something else or nothing known (the whole stage).
-enum class StageScreen { Full, WallsOnly, Quiet };
 
 struct StepReport {
     double dt = 0;                 // the step actually taken (adaptive dp5 may shrink it)

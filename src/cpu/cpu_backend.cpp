@@ -229,7 +229,7 @@ public:
     // From the end-of-step list pass (list_forces.h), with kernels/collision_screen.h's bounds: no pair
     // or wall within reach, the stage is skipped (left as an empty stage leaves it: no contacts, no log);
     // walls only, they are resolved at once (resolveWallImpacts) instead of by rounds of searches.
-    StageScreen screenStage(double contactGap) override {
+    StageScreen screenStage(const ImpactWindow<double>& /*window*/, double contactGap) override {
         const bool screened = m_screenPending && m_accelerationMatchesX && contactGap == m_screenGap;
         m_screenGap = contactGap;
         m_screenPending = false;

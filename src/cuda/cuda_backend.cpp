@@ -64,6 +64,7 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
         m_replicas.back()->device = s.device;
     }
     m_pairsOnce = options.pairsOnce;
+    m_fusedSteps = options.fusedSteps;
     const Exchange exchange = options.exchange != Exchange::Auto ? options.exchange
                               : fastestExchange(options.gpus, peerAccessProblem(devicesOf(options)).empty());
     m_exchange = std::make_unique<PeerExchange>(m_partition, exchange);
@@ -72,9 +73,7 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
     m_counters.resize(3);
     // findEvents reads all three back, the log's count even when no step has logged.
     cudaCheck(cudaMemset(m_counters.data(), 0, 3 * sizeof(unsigned int)), "memset");
-    m_kindCounts.resize(3);
-    m_healthCounts.resize(3);
-    m_healthExamples.resize(5);
+    sizeStepBuffers();
 }
 
 template <class Real>
@@ -128,6 +127,8 @@ void CudaDevice<Real>::setTableau(const ButcherTableau& tableau) {
 
 template <class Real>
 void CudaDevice<Real>::setState(const ParticleState& state) {
+    beforeStateChange();
+    m_kickDriftKnown = false;
     sync();
     m_accelerationMatchesX = false;
     m_listAtX = false;
@@ -153,12 +154,17 @@ void CudaDevice<Real>::setState(const ParticleState& state) {
     m_hostSpecies = state.species;
     for (auto* b : {&m_contactAcceleration, &m_snapshotX, &m_snapshotV}) b->resize(size_t(m_n));
     m_homeForceScratch.resize(gpu::forceScratchBytes<Real>(m_n, m_n));
+    sizeStepBuffers();
     m_homeCurrent = m_slicesCurrent = true;
     m_cellsMatchPositions = false;
 }
 
 template <class Real>
 void CudaDevice<Real>::keepSnapshot() {
+    if (m_fusedSteps && gpuCount() == 1) {  // taken by the next kickDrift's kernel, or before any other change
+        m_snapshotPending = true;
+        return;
+    }
     gatherToHome();
     const size_t bytes = size_t(m_n) * sizeof(Vec3<Real>);
     cudaCheck(cudaMemcpyAsync(m_snapshotX.data(), home().x.data(), bytes, cudaMemcpyDeviceToDevice, stream()), "snapshot");
@@ -221,6 +227,7 @@ double CudaDevice<Real>::kineticEnergy() {
 
 template <class Real>
 void CudaDevice<Real>::scaleVelocities(double alpha) {
+    beforeStateChange();
     gatherToHome();
     gpu::launchScale(home().v.data(), m_n, Real(alpha), stream());
     homeChanged();
@@ -258,29 +265,16 @@ HealthReport CudaDevice<Real>::health() {
 }
 
 template <class Real>
-StepCheck CudaDevice<Real>::checkStep() {
-    // The kinetic row's block partials and the health counts, read back with one wait.
-    gatherToHome();
-    m_rows.resize(size_t(m_n));
-    gpu::launchKineticRow(arrays(), table(), m_rows.data(), stream());
-    const int blocks = queuePartialSums(m_rows.data(), 1);
-    queueHealth();
-    sync();
-    StepCheck check;
-    check.kinetic = hostPartialSums(1, blocks)[0];
-    check.health = healthReport();
-    return check;
-}
-
-template <class Real>
 void CudaDevice<Real>::queueHealth() {
     gatherToHome();
-    cudaCheck(cudaMemsetAsync(m_healthCounts.data(), 0, 3 * sizeof(unsigned long long), stream()), "memset");
-    gpu::launchHealth(gpu::HealthArgs<Real>{arrays(), m_box, m_healthCounts.data(), m_healthExamples.data()}, stream());
-    cudaCheck(cudaMemcpyAsync(m_hostWords.resize(kHostWords) + kHealthWord, m_healthCounts.data(), 3 * sizeof(unsigned long long),
+    gpu::StepWords* w = stepWords();
+    m_wordsFresh = false;
+    cudaCheck(cudaMemsetAsync(w->healthCounts, 0, sizeof w->healthCounts, stream()), "memset");
+    gpu::launchHealth(gpu::HealthArgs<Real>{arrays(), m_box, w->healthCounts, w->healthExamples}, stream());
+    cudaCheck(cudaMemcpyAsync(m_hostWords.resize(kHostWords) + kHealthWord, w->healthCounts, sizeof w->healthCounts,
                               cudaMemcpyDeviceToHost, stream()),
               "health");
-    cudaCheck(cudaMemcpyAsync(m_hostHealthExamples.resize(5), m_healthExamples.data(), 5 * sizeof(long long), cudaMemcpyDeviceToHost, stream()),
+    cudaCheck(cudaMemcpyAsync(m_hostHealthExamples.resize(5), w->healthExamples, sizeof w->healthExamples, cudaMemcpyDeviceToHost, stream()),
               "health");
 }
 

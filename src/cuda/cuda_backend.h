@@ -20,6 +20,10 @@ struct CudaBackendOptions {
     // All pairs on one GPU: evaluate each pair once with Newton's third law where it pays
     // (kernels/pairs_once_kernels.cu); false: every ordered pair (the report's kernel, for comparison).
     bool pairsOnce = true;
+    // One GPU: a Verlet step's launches fused and its screened collision stage decided on the device,
+    // with one host wait a step (cuda_device.h, the one-wait step); false: every operation on its own
+    // (the same bits, for comparison and tests).
+    bool fusedSteps = true;
 };
 
 // Number of usable CUDA devices; 0 when there is no driver or no GPU (never throws).

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -38,7 +39,7 @@ gpu::CollisionArgs<Real> CudaDevice<Real>::collisionArgs() {
     a.hasContactAcceleration = m_hasContactAcceleration.data();
     a.needList = m_needList.data();
     a.counters = m_counters.data();
-    a.kindCounts = m_kindCounts.data();
+    a.kindCounts = stepWords()->kindCounts;
     a.impulses = m_impactRows.data();
     a.loss = m_impactRows.data() + size_t(kImpulseRows) * size_t(m_n);
     a.restitution = Real(m_model.restitution);
@@ -82,30 +83,24 @@ CellListView CudaDevice<Real>::emptyCells() {
 //   - otherwise the whole stage.
 // An LJ fluid of 10^6 particles in a walled box on an H200 spent about 1 ms a step in the stage, most
 // of it in the per-round cell lists, for a few hundred wall hits a step. The first call only learns the
-// gap the screen is to use.
+// gap the screen is to use. With fused steps the device reads the screen itself and resolves a quiet or
+// walls-only stage within the same wait (resolveOnDevice, cuda_step.cpp).
 template <class Real>
-StageScreen CudaDevice<Real>::screenStage(double contactGap) {
+StageScreen CudaDevice<Real>::screenStage(const ImpactWindow<double>& window, double contactGap) {
     const bool screened = m_screenPending && m_accelerationMatchesX && contactGap == m_screenGap;
     m_screenGap = contactGap;
     m_screenPending = false;
     m_pairsClearNext = false;
+    m_speculated = false;
     if (!screened) return StageScreen::Full;
+    if (canResolveOnDevice()) return resolveOnDevice(window);
     unsigned int* words = reinterpret_cast<unsigned int*>(m_hostWords.resize(kHostWords));
-    cudaCheck(cudaMemcpyAsync(words, m_screen.data(), 3 * sizeof(unsigned int), cudaMemcpyDeviceToHost, stream()), "screen");
+    cudaCheck(cudaMemcpyAsync(words, stepWords()->screen, 3 * sizeof(unsigned int), cudaMemcpyDeviceToHost, stream()), "screen");
     sync();
-    if (words[2] != 0) return StageScreen::Full;  // not finite: the stage and the health check say where
     const double smallestRadius = m_model.radius.empty() ? 0.0 : *std::min_element(m_model.radius.begin(), m_model.radius.end());
-    float nearest = -1;  // no pair listed
-    if (words[0] != 0xffffffffu) std::memcpy(&nearest, &words[0], sizeof nearest);
-    const double clearance = pairClearanceBound(double(nearest), screenReach(2 * smallestRadius, contactGap),
-                                                screenReach(2 * m_model.maxRadius(), contactGap), m_model.cutoff);
-    if (!(clearance > 0)) return StageScreen::Full;
-    float depth = 0;
-    std::memcpy(&depth, &words[1], sizeof depth);
-    if (depth > 0) {
-        m_pairsClearNext = wallsCannotBringPairsTogether(clearance, double(depth));
-        return m_pairsClearNext ? StageScreen::WallsOnly : StageScreen::Full;
-    }
+    const StageScreen verdict = screenVerdict(words, ScreenScales{smallestRadius, m_model.maxRadius(), m_model.cutoff, contactGap});
+    if (verdict == StageScreen::WallsOnly) m_pairsClearNext = true;
+    if (verdict != StageScreen::Quiet) return verdict;
     m_listedThisStep = m_warmValid = false;  // nothing listed: no warm start for the next step
     m_logging = m_logContacts;
     m_logBound = 0;
@@ -117,6 +112,11 @@ StageScreen CudaDevice<Real>::screenStage(double contactGap) {
 
 template <class Real>
 void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
+    // A stage the device resolved within the screen's wait began there (resolveOnDevice): what follows
+    // is the host's side of it.
+    const bool resolved = m_speculated;
+    if (resolved && (window.maxRewind != m_speculatedWindow.maxRewind || window.restingSpeed != m_speculatedWindow.restingSpeed))
+        throw std::logic_error("beginCollisions: the window differs from the one screenStage was given");
     m_screenPending = false;
     m_pairsClear = m_pairsClearNext;
     m_pairsClearNext = false;
@@ -130,7 +130,7 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     m_active.resize(n);
     m_hasContactAcceleration.resize(n);
     m_needList.resize(n);
-    m_impactRows.resize(size_t(kImpulseRows + 1) * n);
+    m_impactRows.resize(size_t(kImpulseRows + 2) * n);  // the last row: the one-wait step's kinetic row (cuda_step.cpp)
     m_eventsApplied = false;
     cudaStream_t s = stream();
     m_refreshable = m_accelerationMatchesX && gpuCount() == 1;
@@ -138,6 +138,16 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     // Walls at once (resolveWallImpacts): the particles that move are those it flags, so neither the
     // copy of X that tells the refresh who moved nor the round's active flags are needed.
     m_wallsAtOnce = m_pairsClear && m_refreshable && !m_logContacts;
+    if (resolved) {
+        m_impactRowsN = m_n;
+        m_logging = false;
+        m_logBound = 0;
+        m_logRound = 0;
+        m_stepDt = window.maxRewind / 1.1;
+        beginWarmStart();
+        return;
+    }
+    m_wordsFresh = false;  // the rounds count into the step words
     if (m_refreshable && !m_wallsAtOnce) {
         m_xBeforeCollisions.resize(n);
         cudaCheck(cudaMemcpyAsync(m_xBeforeCollisions.data(), home().x.data(), n * sizeof(Vec3<Real>), cudaMemcpyDeviceToDevice, s),
@@ -151,13 +161,18 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     else cudaCheck(cudaMemsetAsync(m_impactRows.data(), 0, size_t(kImpulseRows + 1) * n * sizeof(double), s), "memset");
     m_impactRowsN = m_n;
     cudaCheck(cudaMemsetAsync(m_hasContactAcceleration.data(), 0, n, s), "memset");
-    cudaCheck(cudaMemsetAsync(m_kindCounts.data(), 0, 3 * sizeof(unsigned long long), s), "memset");
+    cudaCheck(cudaMemsetAsync(stepWords()->kindCounts, 0, sizeof stepWords()->kindCounts, s), "memset");
     m_logging = m_logContacts;
     m_logBound = 0;
     m_logRound = 0;
     m_stepDt = window.maxRewind / 1.1;  // collision_rounds.cpp: the window is 1.1 dt
     if (m_logging) cudaCheck(cudaMemsetAsync(m_counters.data() + 2, 0, sizeof(unsigned int), s), "memset");
-    // The last listing's rows become the warm start of this step's first listing.
+    beginWarmStart();
+}
+
+// The last listing's rows become the warm start of this step's first listing.
+template <class Real>
+void CudaDevice<Real>::beginWarmStart() {
     m_warmValid = m_listedThisStep;
     if (m_warmValid) {
         std::swap(m_contactStart, m_warmStart);
@@ -177,22 +192,35 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
 template <class Real>
 int CudaDevice<Real>::resolveWallImpacts() {
     if (!m_wallsAtOnce) return -1;
+    if (m_speculated) {  // resolved within the screen's wait (cuda_step.cpp)
+        m_speculated = false;
+        const bool listAtX = m_listAtX;
+        homeChanged();
+        m_listAtX = listAtX;
+        const int rounds = readResolvedWalls();
+        m_wallsOnlyMoved = true;
+        m_eventsApplied = true;
+        m_cellsMatchPositions = false;
+        return rounds;
+    }
+    beforeStateChange();
     cudaStream_t s = stream();
-    m_wallStats.resize(3);
+    unsigned int* stats = stepWords()->wallStats;
+    cudaCheck(cudaMemsetAsync(stats, 0, 3 * sizeof(unsigned int), s), "memset");
     // The lists were checked at X by the step's force pass (m_listAtX): they stay valid if no moved
     // particle went past half the skin, and the refresh after the stage then needs no check of its own.
     const bool listsChecked = m_listAtX;
     const Vec3<Real>* built = listsChecked ? home().list.builtPositions() : nullptr;
     const Real halfSkin2 = Real(0.25 * m_model.skin * m_model.skin);
-    gpu::launchResolveWallImpacts(collisionArgs(), home().acceleration.data(), Real(m_screenGap), built, halfSkin2, m_wallStats.data(), s);
+    gpu::launchResolveWallImpacts(collisionArgs(), home().acceleration.data(), Real(m_screenGap), built, halfSkin2, stats, s);
     unsigned long long* words = m_hostWords.resize(kHostWords);
-    cudaCheck(cudaMemcpyAsync(words, m_kindCounts.data(), 3 * sizeof(unsigned long long), cudaMemcpyDeviceToHost, s), "counts");
-    cudaCheck(cudaMemcpyAsync(words + 3, m_wallStats.data(), 3 * sizeof(unsigned int), cudaMemcpyDeviceToHost, s), "wall impacts");
+    cudaCheck(cudaMemcpyAsync(words, stepWords()->kindCounts, 3 * sizeof(unsigned long long), cudaMemcpyDeviceToHost, s), "counts");
+    cudaCheck(cudaMemcpyAsync(words + 3, stats, 3 * sizeof(unsigned int), cudaMemcpyDeviceToHost, s), "wall impacts");
     const int blocks = queuePartialSums(m_impactRows.data(), kImpulseRows + 1, m_hasContactAcceleration.data());
     sync();
     const std::vector<double> sums = hostPartialSums(kImpulseRows + 1, blocks);
-    unsigned int stats[3];
-    std::memcpy(stats, words + 3, sizeof stats);
+    unsigned int read[3];
+    std::memcpy(read, words + 3, sizeof read);
     m_wallTally = CollisionTally{};
     m_wallTally.pairCollisions = int64_t(words[0]);
     m_wallTally.wallCollisions = int64_t(words[1]);
@@ -201,12 +229,12 @@ int CudaDevice<Real>::resolveWallImpacts() {
         m_wallTally.impulses = impulseSumsOf(sums);
     }
     m_wallsOnlyMoved = true;
-    m_wallContactsPossible = stats[1] != 0;
+    m_wallContactsPossible = read[1] != 0;
     m_eventsApplied = true;
     homeChanged();
-    m_listAtX = built != nullptr && stats[2] == 0;
+    m_listAtX = built != nullptr && read[2] == 0;
     m_cellsMatchPositions = false;
-    return int(stats[0]) + 1;
+    return int(read[0]) + 1;
 }
 
 template <class Real>
@@ -237,6 +265,7 @@ int64_t CudaDevice<Real>::findEvents(EventScope scope) {
 
 template <class Real>
 void CudaDevice<Real>::applyEvents() {
+    beforeStateChange();
     cudaStream_t s = stream();
     if (m_logging) {  // a record per particle with an event, at most
         reserveLog(m_logBound + m_eventCount);
@@ -276,7 +305,7 @@ CollisionTally CudaDevice<Real>::collisionTally() {
     // The counts, the losses and the impulses come back with one wait: the loss is the last of the
     // impact rows, summed with them in block order.
     unsigned long long* kinds = m_hostWords.resize(kHostWords);
-    cudaCheck(cudaMemcpyAsync(kinds, m_kindCounts.data(), 3 * sizeof(unsigned long long), cudaMemcpyDeviceToHost, stream()), "counts");
+    cudaCheck(cudaMemcpyAsync(kinds, stepWords()->kindCounts, 3 * sizeof(unsigned long long), cudaMemcpyDeviceToHost, stream()), "counts");
     const int blocks = queuePartialSums(m_impactRows.data(), kImpulseRows + 1, m_hasContactAcceleration.data());
     sync();
     const std::vector<double> sums = hostPartialSums(kImpulseRows + 1, blocks);
@@ -401,6 +430,7 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
 
 template <class Real>
 ContactResidual<double> CudaDevice<Real>::relaxContacts(int sweeps) {
+    beforeStateChange();
     if (m_warmPending) gpu::launchWarmStart(contactArgs(), stream());
     m_warmPending = false;
     gpu::launchRelaxContacts(contactArgs(), sweeps, stream());

@@ -81,6 +81,8 @@ public:
     ForceCounters forceCounters() const override;
     void kick(double h) override;
     void drift(double dt) override;
+    void kickDrift(double h, double dt) override;  // cuda_step.cpp
+    void accelerateAndKick(double h) override;     // cuda_step.cpp
     void rkStage(int stage, double dt) override;
     void stageForces(int stage) override;
     void rkSolution(int stages, double dt) override;
@@ -88,7 +90,7 @@ public:
     void acceptStage() override;
 
     // ---- collision rounds (cuda_collisions.cpp) ----
-    StageScreen screenStage(double contactGap) override;
+    StageScreen screenStage(const ImpactWindow<double>& window, double contactGap) override;
     int resolveWallImpacts() override;
     void beginCollisions(const ImpactWindow<double>& window) override;
     int64_t findEvents(EventScope scope) override;
@@ -153,8 +155,9 @@ private:
     // Every row on the home GPU alone (energies, contact accelerations): begin 0, end n.
     gpu::ForceArgs<Real> homeForceArgs(const Vec3<Real>* x, Vec3<Real>* out);
     // One force pass on every GPU: positions shared by the exchange, then each GPU's rows. `stage`:
-    // -1 for A = a(X), else Kv_stage = a(Xs).
-    void forcePass(int stage);
+    // -1 for A = a(X), else Kv_stage = a(Xs). With `kick`, a pass from lists also kicks V by
+    // kickH A (accelerateAndKick); returns whether it did.
+    bool forcePass(int stage, bool kick = false, double kickH = 0);
     // Forces from neighbour lists: the model asks for them and every GPU holds every position when it
     // computes (with direct access, DA, the peers' positions stay remote: all pairs then).
     bool useLists() const;
@@ -182,9 +185,70 @@ private:
     ImpulseSums sumImpulseRows(const DeviceBuffer<double>& rows);
     static ImpulseSums impulseSumsOf(const std::vector<double>& rowSums);  // kImpulseRows sums, in order
     gpu::CollisionArgs<Real> collisionArgs();
+    void beginWarmStart();  // beginCollisions: the last listing's rows become the warm start
     // Room for `records` contact log records, keeping those written so far (at most m_logBound).
     void reserveLog(size_t records);
     gpu::ContactArgs<Real> contactArgs();
+
+    // ---- the one-wait step (cuda_step.cpp) ----
+    // Design note. A Verlet step of a screened list model on one GPU costs the H200 far more in host
+    // round trips than in arithmetic (an LJ fluid of 64000 in a walled box: 0.28 ms a step, 0.04 of it
+    // the force pass, four waits and some thirty launches). So, with CudaBackendOptions::fusedSteps:
+    //   - keepSnapshot, kick and drift become one kernel (kickDrift) and the closing kick rides the
+    //     force pass (accelerateAndKick);
+    //   - screenStage does not wait for the screen to decide: the device reads it (launchOpenStage)
+    //     and gated launches (gpu::StageGate) resolve the walls at once, sum their tally, refresh the
+    //     accelerations of what they moved and check the step (health, kinetic energy), and one copy
+    //     brings every word back (StepWords and block partials, m_stepMail). The calls of the stage
+    //     that follow (beginCollisions, resolveWallImpacts, collisionTally, refreshAccelerations,
+    //     checkStep) find their results there; a stage the device cannot finish (Full, or wall
+    //     contacts to list) goes on on the host from where the device left it;
+    //   - the step check also forecasts the lists: whether the next kickDrift, whose arithmetic it
+    //     repeats, takes some row past half the skin; the next force pass then needs no displacement
+    //     check (and no wait) of its own.
+    // The kernels compute with the same functions as the separate launches, so a step gives the same
+    // bits either way (tests/gpu/test_cuda_neighbour_list.cpp compares both).
+    bool m_fusedSteps = true;
+    DeviceBuffer<double> m_stepMail;      // StepWords, then block partials: the impact rows' and the kinetic row's
+    PinnedBuffer<double> m_hostStepMail;  // its copy
+    gpu::StepWords* stepWords() { return reinterpret_cast<gpu::StepWords*>(m_stepMail.data()); }
+    const gpu::StepWords& hostStepWords() const { return *reinterpret_cast<const gpu::StepWords*>(m_hostStepMail.data()); }
+    static constexpr size_t kStepWordDoubles = (sizeof(gpu::StepWords) + sizeof(double) - 1) / sizeof(double);
+    void sizeStepBuffers();  // the mail and the impact rows (zero, none flagged) for m_n (setState)
+    // Every step word but the screen's is zero, and those are reset or a screening pass's (kickDrift
+    // resets them; anything else that counts into them clears this).
+    bool m_wordsFresh = false;
+    mutable bool m_snapshotPending = false;  // keepSnapshot waits for the next kickDrift (one GPU)
+    // What Verlet's last kickDrift did: the step the forecast repeats.
+    double m_kickDriftH = 0, m_kickDriftDt = 0;
+    bool m_kickDriftKnown = false;
+    // The lists' forecast: 1 after a step check computed it, 2 after the kickDrift it forecast.
+    struct ListForecast {
+        int stage = 0;
+        bool beyondHalfSkin = false;
+        int64_t builds = 0;
+    } m_forecast;
+    // The stage as the device resolved it within screenStage's wait (WallsOnly), until the calls of the
+    // stage have read it; whether its refresh of the accelerations ran (no moved row past half the skin).
+    bool m_speculated = false, m_speculatedRefresh = false;
+    ImpactWindow<double> m_speculatedWindow{0, 0};
+    int readResolvedWalls();  // the tally and stats of the walls resolveOnDevice resolved; returns the rounds
+    // The step check read with the screen (valid until X, V or A change).
+    bool m_checkCached = false;
+    StepCheck m_cachedCheck;
+    bool canResolveOnDevice() const;
+    StageScreen resolveOnDevice(const ImpactWindow<double>& window);
+    // The lists' forecast (StepCheckArgs with xBuilt set) when there is one to make, else no xBuilt;
+    // queueForecast queues it alone (returns whether).
+    gpu::StepCheckArgs<Real> forecastArgs();
+    bool queueForecast();
+    StepCheck stepCheckOf(const gpu::StepWords& words, const double* partials) const;
+    void readForecast(bool made, const gpu::StepWords& words);
+    // Every call that changes X, V or A calls this first: a deferred snapshot is taken, and what was
+    // read of the state (the cached check, the forecast, the speculated refresh) is forgotten; a force
+    // pass at X keeps the forecast, which it reads.
+    void beforeStateChange(bool forcePassAtX = false);
+    void takeSnapshot() const;  // the deferred one, if any
 
     DevicePartition m_partition;
     std::vector<std::unique_ptr<Replica<Real>>> m_replicas;  // [0]: the home GPU; pointees mutable (gathers in const calls)
@@ -206,8 +270,8 @@ private:
     int64_t m_allPairsEvaluations = 0;  // ForceCounters::allPairsEvaluations
     bool m_pairsOnce = true;            // CudaBackendOptions::pairsOnce
     // The collision screen (screenStage): the last full list pass at X wrote its three words
-    // (ForceArgs::screen) with m_screenGap; m_screenPending until X, the model or the state change.
-    DeviceBuffer<unsigned int> m_screen;
+    // (ForceArgs::screen, in StepWords) with m_screenGap; m_screenPending until X, the model or the
+    // state change.
     double m_screenGap = -1;  // the gap of the last quietStep call (< 0: none yet, no screen)
     bool m_screenPending = false;
     // One GPU: the lists were checked (and rebuilt if needed) at the current X by the last full pass;
@@ -222,7 +286,6 @@ private:
     // returns it), whether some particle ended near a wall (else the contact listing has nothing to
     // find), and whether only the particles it flagged moved (no contact relaxation followed).
     bool m_wallsAtOnce = false;
-    DeviceBuffer<unsigned int> m_wallStats;
     CollisionTally m_wallTally;
     bool m_wallContactsPossible = true, m_wallsOnlyMoved = false;
     // The walls-only view: one cell holding nobody ({0, 0}), and particles in index order (the
@@ -243,7 +306,7 @@ private:
     bool m_timingForces = false;  // between the Integrate and Collide marks
 
     DeviceBuffer<Vec3<Real>> m_scratch, m_contactAcceleration;
-    DeviceBuffer<Vec3<Real>> m_snapshotX, m_snapshotV;
+    mutable DeviceBuffer<Vec3<Real>> m_snapshotX, m_snapshotV;  // mutable: a deferred snapshot is taken when read
     DeviceBuffer<unsigned char> m_homeForceScratch;  // force passes over every row on the home GPU
     DeviceBuffer<int32_t> m_needList;
     DeviceCellList<Real> m_contactCells;
@@ -279,8 +342,6 @@ private:
     size_t m_logBound = 0;       // records written this step, at most
     int32_t m_logRound = 0;      // applyEvents calls this step
     double m_stepDt = 0;         // the step the impacts' times are within [tau]
-    DeviceBuffer<unsigned long long> m_kindCounts, m_healthCounts;
-    DeviceBuffer<long long> m_healthExamples;
     // Read-back mailboxes in page-locked memory: words (event counts, collision kinds, residual bits,
     // health counts at kHealthWord..), health examples, block partial sums.
     static constexpr size_t kHostWords = 16, kHealthWord = 8;
@@ -289,7 +350,7 @@ private:
     PinnedBuffer<double> m_hostPartials;
     DeviceBuffer<double> m_rows, m_partials, m_pairEnergy;
     // Impact rows: kImpulseRows x n (impulse_sums.h), then the kinetic energy each particle lost.
-    DeviceBuffer<double> m_impactRows;
+    DeviceBuffer<double> m_impactRows;  // and one row more: the one-wait step's kinetic row, summed with them
     int64_t m_impactRowsN = -1;  // n of the last stage: its rows are zero but where flagged (beginCollisions)
     DeviceBuffer<double> m_contactImpulses;  // kImpulseRows x n (impulse_sums.h)
     DeviceBuffer<ParticleInstance> m_instances;  // staging for host instance targets

@@ -12,20 +12,31 @@ template <class Real>
 gpu::ForceArgs<Real> CudaDevice<Real>::forceArgs(int k, const Vec3<Real>* x, Vec3<Real>* out) {
     Replica<Real>& r = *m_replicas[size_t(k)];
     const DeviceSlice& s = slice(k);
-    gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     s.begin, s.end, tableOf(r), m_model.anyPairForce, m_model.hasCutoff,
-                           out, nullptr,          r.forceScratch.data(), r.forceScratch.size(), {},                    nullptr,
-                           nullptr, nullptr, 0, nullptr, nullptr, nullptr, m_pairsOnce, nullptr, {0, 0, 0}, 0};
-    f.peers.count = 0;
+    gpu::ForceArgs<Real> f{};  // no list, no screen, no kick: set where used
+    f.x = x;
+    f.species = r.species.data();
+    f.n = m_n;
+    f.begin = s.begin;
+    f.end = s.end;
+    f.table = tableOf(r);
+    f.anyPairForce = m_model.anyPairForce;
+    f.hasCutoff = m_model.hasCutoff;
+    f.acceleration = out;
+    f.scratch = r.forceScratch.data();
+    f.scratchBytes = r.forceScratch.size();
+    f.pairsOnce = m_pairsOnce;
     return f;
 }
 
 template <class Real>
 gpu::ForceArgs<Real> CudaDevice<Real>::homeForceArgs(const Vec3<Real>* x, Vec3<Real>* out) {
-    Replica<Real>& r = home();
-    gpu::ForceArgs<Real> f{x,   r.species.data(), m_n,     0, m_n, table(), m_model.anyPairForce, m_model.hasCutoff,
-                           out, nullptr,          m_homeForceScratch.data(), m_homeForceScratch.size(), {}, nullptr,
-                           nullptr, nullptr, 0, nullptr, nullptr, nullptr, false, nullptr, {0, 0, 0}, 0};
-    f.peers.count = 0;
+    gpu::ForceArgs<Real> f = forceArgs(0, x, out);
+    f.begin = 0;
+    f.end = m_n;
+    f.table = table();
+    f.scratch = m_homeForceScratch.data();
+    f.scratchBytes = m_homeForceScratch.size();
+    f.pairsOnce = false;
     return f;
 }
 
@@ -48,7 +59,15 @@ void CudaDevice<Real>::launchTimedForces(const gpu::ForceArgs<Real>& args) {
 }
 
 template <class Real>
-void CudaDevice<Real>::forcePass(int stage) {
+bool CudaDevice<Real>::forcePass(int stage, bool kick, double kickH) {
+    // What the last step check forecast of the lists at these positions (cuda_step.cpp): the force pass
+    // right after the kickDrift it was made for needs no displacement check.
+    using Displacement = typename DeviceNeighbourList<Real>::Displacement;
+    Displacement known = Displacement::Unknown;
+    if (stage < 0 && m_forecast.stage == 2 && home().list.builds() == m_forecast.builds)
+        known = m_forecast.beyondHalfSkin ? Displacement::BeyondHalfSkin : Displacement::WithinHalfSkin;
+    m_forecast.stage = 0;
+    kick = kick && stage < 0 && useLists();
     scatterFromHome();
     // The positions: X for A = a(X), the stage positions Xs otherwise; every GPU's copy.
     auto positions = [&](Replica<Real>& r) { return stage < 0 ? r.x.data() : r.xStage.data(); };
@@ -63,14 +82,18 @@ void CudaDevice<Real>::forcePass(int stage) {
         Vec3<Real>* out = stage < 0 ? r.acceleration.data() : r.kv.data() + size_t(stage) * size_t(slice(k).size());
         gpu::ForceArgs<Real> f = forceArgs(k, positions(r), out);
         if (useLists()) {
-            r.list.update(positions(r), m_n, slice(k).begin, slice(k).end, m_box, m_model.cutoff, m_model.skin, slice(k).stream);
+            r.list.update(positions(r), m_n, slice(k).begin, slice(k).end, m_box, m_model.cutoff, m_model.skin, slice(k).stream,
+                          gpuCount() == 1 ? known : Displacement::Unknown);
             r.list.fill(f);
         }
-        if (screen) {  // this pass also screens the collision stage at X (screenStage)
-            m_screen.resize(3);
-            cudaCheck(cudaMemsetAsync(m_screen.data(), 0xff, sizeof(unsigned int), stream()), "memset");
-            cudaCheck(cudaMemsetAsync(m_screen.data() + 1, 0, 2 * sizeof(unsigned int), stream()), "memset");
-            f.screen = m_screen.data();
+        if (kick) {
+            f.kickV = r.v.data() + slice(k).begin;
+            f.kickH = Real(kickH);
+        }
+        if (screen) {  // this pass also screens the collision stage at X (screenStage), into fresh step words
+            if (!m_wordsFresh) gpu::launchResetStepWords(stepWords(), stream());
+            m_wordsFresh = true;
+            f.screen = stepWords()->screen;
             f.box = m_box;
             f.contactGap = Real(m_screenGap);
         }
@@ -93,6 +116,8 @@ void CudaDevice<Real>::forcePass(int stage) {
     m_screenPending = screen;
     m_listAtX = stage < 0 && gpuCount() == 1 && useLists();
     if (stage < 0) m_accelerationIncremental = false;
+    if (kick) m_homeCurrent = gpuCount() == 1;
+    return kick;
 }
 
 // The collision stage moved a few particles (against the copy taken at beginCollisions), on one GPU.
@@ -111,6 +136,12 @@ bool CudaDevice<Real>::refreshAccelerations() {
         return true;
     }
     Replica<Real>& r = home();
+    if (m_speculatedRefresh && m_wallsAtOnce && m_wallsOnlyMoved) {  // done within the screen's wait (cuda_step.cpp)
+        m_speculatedRefresh = false;
+        m_accelerationMatchesX = true;
+        return true;
+    }
+    beforeStateChange();
     if (!useLists()) return refreshAllPairs();
     if (m_wallsAtOnce && !m_wallsOnlyMoved) {  // no copy of X tells who the relaxation moved
         forcePass(-1);
@@ -189,6 +220,7 @@ std::vector<Vec3<double>> CudaDevice<Real>::cachedAccelerations() const {
 template <class Real>
 void CudaDevice<Real>::restoreAccelerations(const std::vector<Vec3<double>>& a) {
     if (gpuCount() != 1 || int64_t(a.size()) != m_n) return;  // never written for several GPUs
+    beforeStateChange();
     sync();
     std::vector<Vec3<Real>> values(a.size());
     for (size_t i = 0; i < a.size(); ++i) values[i] = vec3Cast<Real>(a[i]);
@@ -219,11 +251,13 @@ ForceCounters CudaDevice<Real>::forceCounters() const {
 
 template <class Real>
 void CudaDevice<Real>::computeAccelerations() {
+    beforeStateChange(true);
     forcePass(-1);
 }
 
 template <class Real>
 void CudaDevice<Real>::kick(double h) {
+    beforeStateChange();
     scatterFromHome();
     onEachGpu([&](int k, Replica<Real>& r) {
         const DeviceSlice& s = slice(k);
@@ -234,6 +268,7 @@ void CudaDevice<Real>::kick(double h) {
 
 template <class Real>
 void CudaDevice<Real>::drift(double dt) {
+    beforeStateChange();
     scatterFromHome();
     onEachGpu([&](int k, Replica<Real>& r) {
         const DeviceSlice& s = slice(k);
@@ -266,6 +301,7 @@ void CudaDevice<Real>::rkStage(int stage, double dt) {
 
 template <class Real>
 void CudaDevice<Real>::stageForces(int stage) {
+    beforeStateChange();
     forcePass(stage);
 }
 
@@ -301,6 +337,7 @@ double CudaDevice<Real>::rkErrorNorm(double dt, double tolerance) {
 
 template <class Real>
 void CudaDevice<Real>::acceptStage() {
+    beforeStateChange();
     for (auto& r : m_replicas) {
         std::swap(r->x, r->xStage);
         std::swap(r->v, r->vStage);

@@ -58,6 +58,7 @@ DeviceState CudaDevice<Real>::deviceState() {
 
 template <class Real>
 ParticleState CudaDevice<Real>::snapshot() const {
+    takeSnapshot();
     return download(m_snapshotX, m_snapshotV);
 }
 

@@ -1,8 +1,10 @@
 // One GPU's neighbour lists (kernels/neighbour_list_kernels.cu): for its rows [begin, end) over all n
 // positions, so that with several GPUs each builds the lists of its own slice from the gathered
-// positions. Lists of every particle run their rows in the cell list's order (launchListRowOrder). Rebuilt when some row has moved more than skin / 2 since the build (a flag read back
-// once per force pass), when the reach, the rows or the box changed, and again with more columns
-// when a row had more partners than the lists held.
+// positions. Lists of every particle run their rows in the cell list's order (launchListRowOrder).
+// Rebuilt when some row has moved more than skin / 2 since the build (a flag read back once per force
+// pass, unless the caller already knows: the one-wait step's forecast, src/cuda/cuda_step.cpp), when
+// the reach, the rows or the box changed, and again with more columns when a row had more partners
+// than the lists held.
 #pragma once
 
 #include <cuda_runtime_api.h>
@@ -20,13 +22,17 @@ namespace corebox {
 template <class Real>
 class DeviceNeighbourList {
 public:
-    // Makes the lists valid for x (all n positions, device memory of the current GPU) on `stream`;
-    // waits for the stream once (the displacement flag). Returns true when it rebuilt them.
+    // What the caller knows of the rows' displacement since the build at x: nothing (the lists check,
+    // waiting for the stream once), that no row moved past half the skin, or that one did.
+    enum class Displacement { Unknown, WithinHalfSkin, BeyondHalfSkin };
+    // Makes the lists valid for x (all n positions, device memory of the current GPU) on `stream`.
+    // Returns true when it rebuilt them.
     bool update(const Vec3<Real>* x, int64_t n, int64_t begin, int64_t end, const Vec3<Real>& box, double cutoff, double skin,
-                cudaStream_t stream) {
+                cudaStream_t stream, Displacement known = Displacement::Unknown) {
         const bool same = m_valid && n == m_n && begin == m_begin && end == m_end && cutoff == m_cutoff && skin == m_skin &&
                           box.x == m_box.x && box.y == m_box.y && box.z == m_box.z;
-        if (same) {
+        if (same && known == Displacement::WithinHalfSkin) return false;
+        if (same && known == Displacement::Unknown) {
             gpu::launchListMoved(x, m_xBuilt.data(), begin, end, Real(0.25 * skin * skin), m_flag.data(), stream);
             if (readFlag(stream) == 0) return false;
         }
@@ -60,13 +66,22 @@ public:
         return touch(x, xBefore, nullptr, stream);
     }
     // The same for the particles p with moved[p] != 0.
-    const unsigned char* touchFlagged(const char* moved, cudaStream_t stream) { return touch(nullptr, nullptr, moved, stream); }
+    // The same for the particles p with moved[p] != 0; nothing marked where the gate is closed. With
+    // touchedCleared, the caller already zeroed touchedRows() on the stream.
+    const unsigned char* touchFlagged(const char* moved, cudaStream_t stream, gpu::StageGate gate = {}, bool touchedCleared = false) {
+        return touch(nullptr, nullptr, moved, stream, gate, touchedCleared);
+    }
+    // The row mask the touch calls fill, a byte per row.
+    unsigned char* touchedRows() {
+        m_touched.resize(size_t(std::max<int64_t>(m_end - m_begin, 1)));
+        return m_touched.data();
+    }
 
 private:
-    const unsigned char* touch(const Vec3<Real>* x, const Vec3<Real>* xBefore, const char* moved, cudaStream_t stream) {
-        m_touched.resize(size_t(std::max<int64_t>(m_end - m_begin, 1)));
-        gpu::launchTouchMoved(x, xBefore, moved, m_end - m_begin, m_rowOf.data(), m_neighbours.data(), m_count.data(), m_touched.data(),
-                              stream);
+    const unsigned char* touch(const Vec3<Real>* x, const Vec3<Real>* xBefore, const char* moved, cudaStream_t stream,
+                               gpu::StageGate gate = {}, bool touchedCleared = false) {
+        gpu::launchTouchMoved(x, xBefore, moved, m_end - m_begin, m_rowOf.data(), m_neighbours.data(), m_count.data(), touchedRows(), stream,
+                              gate, touchedCleared);
         return m_touched.data();
     }
 

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <tuple>
 #include <memory>
 #include <string>
 
@@ -174,6 +176,55 @@ TEST(CudaNeighbourList, TheCollisionScreenSkipsQuietStepsAndKeepsTheCpuResult) {
     EXPECT_NEAR(gpuRow.pressureWall, cpuRow.pressureWall, 1e-9 * cpuRow.pressureWall);
     EXPECT_NEAR(gpuRow.pressureWallCentre, cpuRow.pressureWallCentre, 1e-9 * std::fabs(cpuRow.pressureWallCentre) + 1e-12);
     expectSameRun(SimRun{cpu.state(), cpuRow, cpu.forceChoice(), {}}, SimRun{gpu.state(), gpuRow, gpu.forceChoice(), {}}, scene.box.size[0]);
+}
+
+// The one-wait step (src/cuda/cuda_device.h): the fused launches and the stage decided on the device
+// give the bits of the step as separate operations, with each kind of stage met: quiet, walls only,
+// whole (hard B cores meet), lists rebuilt after a forecast (a thin skin); and the snapshot the
+// kick-drift kernel takes is the state before the step.
+TEST(CudaNeighbourList, TheOneWaitStepGivesTheBitsOfSeparateOperations) {
+    COREBOX_REQUIRE_GPU();
+    auto run = [](const Scene& scene, bool fused, int steps) {
+        CudaBackendOptions options;
+        options.precision = scene.integrator.precision;
+        options.fusedSteps = fused;
+        Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
+        std::map<StageScreen, int> screens;
+        int64_t pairs = 0, walls = 0;
+        for (int k = 0; k < steps; ++k) {
+            const StepReport r = sim.step();
+            ++screens[r.screen];
+            pairs += r.pairCollisions;
+            walls += r.wallCollisions;
+        }
+        const ObservablesRow row = sim.observe();
+        return std::make_tuple(stateHash(sim.state()), stateHash(sim.backend().snapshot()), screens, pairs, walls, row.kinetic,
+                               row.pressureWall, sim.backend().forceCounters().listBuilds);
+    };
+    for (Precision p : {Precision::Fp32, Precision::Fp64}) {
+        Scene screened = liquid(ForceModel::NeighbourList, p);
+        for (SpeciesDef& s : screened.species) s.radius = 0.42;
+        screened.interaction.skin = 0.1;
+        Scene colliding = liquid(ForceModel::NeighbourList, p);
+        colliding.species[1].epsilon = 0;
+        colliding.species[1].radius = 0.5;
+        for (const Scene& scene : {screened, colliding}) {
+            const auto fused = run(scene, true, 120), separate = run(scene, false, 120);
+            EXPECT_EQ(std::get<0>(fused), std::get<0>(separate)) << precisionName(p) << ": the state";
+            EXPECT_EQ(std::get<1>(fused), std::get<1>(separate)) << precisionName(p) << ": the snapshot";
+            EXPECT_EQ(std::get<2>(fused), std::get<2>(separate)) << precisionName(p) << ": the screens";
+            EXPECT_EQ(std::get<3>(fused), std::get<3>(separate));
+            EXPECT_EQ(std::get<4>(fused), std::get<4>(separate));
+            EXPECT_EQ(std::get<5>(fused), std::get<5>(separate)) << precisionName(p) << ": the kinetic energy";
+            EXPECT_EQ(std::get<6>(fused), std::get<6>(separate)) << precisionName(p) << ": the wall pressure";
+            EXPECT_GE(std::get<7>(fused), 3) << "the lists were rebuilt";
+        }
+        auto fused = run(screened, true, 120);
+        EXPECT_GT(std::get<2>(fused)[StageScreen::Quiet], 0);
+        EXPECT_GT(std::get<2>(fused)[StageScreen::WallsOnly], 0);
+        EXPECT_GT(std::get<4>(fused), 0) << "walls were hit";
+        EXPECT_GT(std::get<3>(run(colliding, true, 120)), 0) << "cores met";
+    }
 }
 
 TEST(CudaNeighbourList, RebuildsKeepTheCpuResult) {

@@ -1,0 +1,258 @@
+// The CUDA backend's one-wait step (design note in cuda_device.h): the fused kick-drift and
+// force-and-kick, the collision stage decided and resolved on the device within the screen's wait,
+// the step check read with it, and the lists' forecast.
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+
+#include "cuda_device.h"
+
+namespace corebox {
+
+template <class Real>
+void CudaDevice<Real>::sizeStepBuffers() {
+    const size_t blocks = size_t(std::max(gpu::blockSumBlocks(m_n), 1));
+    const size_t doubles = kStepWordDoubles + size_t(kImpulseRows + 2) * blocks;
+    if (m_stepMail.size() != doubles) {
+        m_stepMail.resize(doubles);
+        cudaCheck(cudaMemset(m_stepMail.data(), 0, doubles * sizeof(double)), "memset");
+    }
+    m_hostStepMail.resize(doubles);
+    m_wordsFresh = false;
+    // The impact rows zero and nobody flagged, as after a stage: the device may open the first one.
+    const size_t n = size_t(std::max<int64_t>(m_n, 1));
+    m_impactRows.resize(size_t(kImpulseRows + 2) * n);
+    m_hasContactAcceleration.resize(n);
+    cudaCheck(cudaMemset(m_impactRows.data(), 0, size_t(kImpulseRows + 2) * n * sizeof(double)), "memset");
+    cudaCheck(cudaMemset(m_hasContactAcceleration.data(), 0, n), "memset");
+    m_impactRowsN = m_n;
+}
+
+template <class Real>
+void CudaDevice<Real>::takeSnapshot() const {
+    if (!m_snapshotPending) return;
+    m_snapshotPending = false;
+    const size_t bytes = size_t(m_n) * sizeof(Vec3<Real>);
+    cudaCheck(cudaMemcpyAsync(m_snapshotX.data(), home().x.data(), bytes, cudaMemcpyDeviceToDevice, stream()), "snapshot");
+    cudaCheck(cudaMemcpyAsync(m_snapshotV.data(), home().v.data(), bytes, cudaMemcpyDeviceToDevice, stream()), "snapshot");
+}
+
+template <class Real>
+void CudaDevice<Real>::beforeStateChange(bool forcePassAtX) {
+    takeSnapshot();
+    m_checkCached = false;
+    if (!forcePassAtX) {
+        m_forecast.stage = 0;
+        m_wordsFresh = false;
+    }
+    m_speculatedRefresh = false;
+}
+
+template <class Real>
+void CudaDevice<Real>::kickDrift(double h, double dt) {
+    // The forecast was made for exactly this kick-drift: it survives it (and only it).
+    const bool forecastHolds = m_forecast.stage == 1 && m_kickDriftKnown && h == m_kickDriftH && dt == m_kickDriftDt;
+    const ListForecast forecast = m_forecast;
+    const bool snapshot = m_snapshotPending;
+    m_snapshotPending = false;  // taken by the kernel below
+    beforeStateChange();
+    if (forecastHolds) {
+        m_forecast = forecast;
+        m_forecast.stage = 2;
+    }
+    scatterFromHome();
+    const bool resetWords = m_fusedSteps && gpuCount() == 1;  // for the screening pass that follows
+    onEachGpu([&](int k, Replica<Real>& r) {
+        const DeviceSlice& s = slice(k);
+        gpu::launchKickDrift(r.x.data() + s.begin, r.v.data() + s.begin, r.acceleration.data(), s.size(), Real(h), Real(dt),
+                             snapshot ? m_snapshotX.data() : nullptr, snapshot ? m_snapshotV.data() : nullptr,
+                             resetWords ? stepWords() : nullptr, s.stream);
+    });
+    m_wordsFresh = resetWords;
+    m_kickDriftH = h;
+    m_kickDriftDt = dt;
+    m_kickDriftKnown = true;
+    m_accelerationMatchesX = false;
+    m_listAtX = false;
+    m_homeCurrent = gpuCount() == 1;
+}
+
+template <class Real>
+void CudaDevice<Real>::accelerateAndKick(double h) {
+    beforeStateChange(true);
+    if (!forcePass(-1, true, h)) kick(h);
+}
+
+// The stage on the device (design note in cuda_device.h): one GPU, the screen of the pass at X in
+// hand, no contact log, the impact rows of the last stage zero but where flagged.
+template <class Real>
+bool CudaDevice<Real>::canResolveOnDevice() const {
+    return m_fusedSteps && gpuCount() == 1 && !m_logContacts && m_impactRowsN == m_n && useLists() &&
+           home().list.builtPositions() != nullptr && m_listAtX && m_wordsFresh;
+}
+
+template <class Real>
+StageScreen CudaDevice<Real>::resolveOnDevice(const ImpactWindow<double>& window) {
+    beforeStateChange();  // the walls may move particles
+    cudaStream_t s = stream();
+    gpu::StepWords* w = stepWords();
+    Replica<Real>& r = home();
+    const double smallestRadius = m_model.radius.empty() ? 0.0 : *std::min_element(m_model.radius.begin(), m_model.radius.end());
+    // The verdict, the stage opened and the walls resolved (as beginCollisions and resolveWallImpacts
+    // would for WallsOnly), and each particle checked, in one pass.
+    m_window = ImpactWindow<Real>{Real(window.maxRewind), Real(window.restingSpeed)};
+    m_cellList = emptyCells();
+    m_logging = false;
+    const Real halfSkin2 = Real(0.25 * m_model.skin * m_model.skin);
+    const size_t n = size_t(m_n);
+    double* kineticRow = m_impactRows.data() + size_t(kImpulseRows + 1) * n;
+    const gpu::StageOpening<Real> opening{w, ScreenScales{smallestRadius, m_model.maxRadius(), m_model.cutoff, m_screenGap},
+                                          r.list.touchedRows(), kineticRow};
+    gpu::launchStageWalls(collisionArgs(), r.acceleration.data(), Real(m_screenGap), r.list.builtPositions(), halfSkin2, opening, s);
+    // The tally's rows (only the flagged particles') and the kinetic row, summed in one launch.
+    const int blocks = std::max(gpu::blockSumBlocks(m_n), 1);
+    gpu::launchBlockSums(m_impactRows.data(), kImpulseRows + 2, m_n, m_stepMail.data() + kStepWordDoubles, s, m_hasContactAcceleration.data(),
+                         kImpulseRows + 1);
+    // The refresh of the accelerations the walls changed, as refreshAccelerations would run it, when
+    // the lists still hold every moved particle's partners.
+    const gpu::StageGate refresh{&w->stage, gpu::stageBit(StageScreen::WallsOnly), &w->wallStats[2]};
+    gpu::ForceArgs<Real> f = forceArgs(0, r.x.data(), r.acceleration.data());
+    r.list.fill(f);
+    f.rowMask = r.list.touchFlagged(m_hasContactAcceleration.data(), s, refresh, true);
+    f.gate = refresh;
+    gpu::launchForces(f, s);
+    const bool forecast = queueForecast();
+    cudaCheck(cudaMemcpyAsync(m_hostStepMail.data(), m_stepMail.data(), m_stepMail.size() * sizeof(double), cudaMemcpyDeviceToHost, s),
+              "step words");
+    sync();
+
+    m_wordsFresh = false;
+    const gpu::StepWords& words = hostStepWords();
+    const StageScreen verdict = StageScreen(words.stage);
+    // The check read the state as the stage leaves it on the device: as it is now for Quiet and
+    // WallsOnly, as the integration left it for Full (which the rounds may yet change: beforeStateChange).
+    m_cachedCheck = stepCheckOf(words, m_hostStepMail.data() + kStepWordDoubles + size_t(kImpulseRows + 1) * size_t(blocks));
+    m_checkCached = true;
+    readForecast(forecast, words);
+    if (verdict == StageScreen::Quiet) {
+        m_listedThisStep = m_warmValid = false;  // nothing listed: no warm start for the next step
+        m_logging = m_logContacts;
+        m_logBound = 0;
+        m_logRound = 0;
+        m_eventsApplied = false;
+        m_cellsMatchPositions = false;
+        return verdict;
+    }
+    if (verdict == StageScreen::Full) return verdict;
+    // resolveWallImpacts reads the rest from the words.
+    m_pairsClearNext = true;
+    m_speculated = true;
+    m_speculatedWindow = window;
+    m_speculatedRefresh = words.wallStats[2] == 0;
+    return verdict;
+}
+
+// The walls' tally and stats as resolveOnDevice brought them back (still in m_hostStepMail: nothing is
+// copied back between the screen and the stage's calls), for resolveWallImpacts.
+template <class Real>
+int CudaDevice<Real>::readResolvedWalls() {
+    const gpu::StepWords& words = hostStepWords();
+    const int blocks = std::max(gpu::blockSumBlocks(m_n), 1);
+    std::vector<double> sums(size_t(kImpulseRows + 1), 0.0);
+    const double* partials = m_hostStepMail.data() + kStepWordDoubles;
+    for (int row = 0; row <= kImpulseRows; ++row)
+        for (int b = 0; b < blocks; ++b) sums[size_t(row)] += partials[size_t(row) * size_t(blocks) + size_t(b)];
+    m_wallTally = CollisionTally{};
+    m_wallTally.pairCollisions = int64_t(words.kindCounts[0]);
+    m_wallTally.wallCollisions = int64_t(words.kindCounts[1]);
+    if (m_wallTally.total() > 0) {
+        m_wallTally.dissipated = sums[size_t(kImpulseRows)];
+        m_wallTally.impulses = impulseSumsOf(sums);
+    }
+    m_wallContactsPossible = words.wallStats[1] != 0;
+    m_listAtX = m_listAtX && words.wallStats[2] == 0;
+    return int(words.wallStats[0]) + 1;
+}
+
+template <class Real>
+gpu::StepCheckArgs<Real> CudaDevice<Real>::forecastArgs() {
+    gpu::StepCheckArgs<Real> a{};
+    a.health.p = arrays();
+    a.health.box = m_box;
+    a.table = table();
+    // One GPU, lists built, Verlet's step known: the next kickDrift repeats the last.
+    Replica<Real>& r = home();
+    if (!(m_fusedSteps && gpuCount() == 1 && useLists() && m_kickDriftKnown && r.list.builtPositions() != nullptr)) return a;
+    a.acceleration = r.acceleration.data();
+    a.xBuilt = r.list.builtPositions();
+    a.h = Real(m_kickDriftH);
+    a.dt = Real(m_kickDriftDt);
+    // Below the lists' own test by far more than the rounding of a position, so that the forecast
+    // never says "within" where the check after the drift would say "beyond".
+    a.limit2 = Real(0.25 * m_model.skin * m_model.skin * (1 - 1e-3));
+    a.moves = &stepWords()->listForecast;
+    return a;
+}
+
+template <class Real>
+bool CudaDevice<Real>::queueForecast() {
+    const gpu::StepCheckArgs<Real> a = forecastArgs();
+    if (!a.xBuilt) return false;
+    gpu::launchStepCheck(a, stream());
+    return true;
+}
+
+template <class Real>
+StepCheck CudaDevice<Real>::stepCheckOf(const gpu::StepWords& words, const double* partials) const {
+    StepCheck check;
+    const int blocks = std::max(gpu::blockSumBlocks(m_n), 1);
+    for (int b = 0; b < blocks; ++b) check.kinetic += partials[b];
+    check.health.nonFinite = int64_t(words.healthCounts[0]);
+    check.health.outsideBox = int64_t(words.healthCounts[1]);
+    for (unsigned long long k = 0; k < std::min<unsigned long long>(words.healthCounts[2], 5); ++k)
+        check.health.examples.push_back(words.healthExamples[k]);
+    std::sort(check.health.examples.begin(), check.health.examples.end());
+    return check;
+}
+
+template <class Real>
+void CudaDevice<Real>::readForecast(bool made, const gpu::StepWords& words) {
+    m_forecast = ListForecast{};
+    if (!made) return;
+    m_forecast.stage = 1;
+    m_forecast.beyondHalfSkin = words.listForecast != 0;
+    m_forecast.builds = home().list.builds();
+}
+
+template <class Real>
+StepCheck CudaDevice<Real>::checkStep() {
+    if (m_checkCached) {  // read with the screen's wait, and nothing changed since
+        m_checkCached = false;
+        return m_cachedCheck;
+    }
+    // The health counts, the kinetic row's block partials and the forecast, read back with one wait.
+    gatherToHome();
+    cudaStream_t s = stream();
+    gpu::StepWords* w = stepWords();
+    m_wordsFresh = false;
+    cudaCheck(cudaMemsetAsync(w->healthCounts, 0, sizeof w->healthCounts, s), "memset");
+    cudaCheck(cudaMemsetAsync(&w->listForecast, 0, sizeof w->listForecast, s), "memset");
+    m_rows.resize(size_t(m_n));
+    gpu::StepCheckArgs<Real> a = forecastArgs();
+    const bool forecast = a.xBuilt != nullptr;
+    a.health.counts = w->healthCounts;
+    a.health.examples = w->healthExamples;
+    a.kineticRow = m_rows.data();
+    gpu::launchStepCheck(a, s);
+    gpu::launchBlockSums(m_rows.data(), 1, m_n, m_stepMail.data() + kStepWordDoubles, s);
+    const size_t doubles = kStepWordDoubles + size_t(std::max(gpu::blockSumBlocks(m_n), 1));
+    cudaCheck(cudaMemcpyAsync(m_hostStepMail.data(), m_stepMail.data(), doubles * sizeof(double), cudaMemcpyDeviceToHost, s), "step words");
+    sync();
+    readForecast(forecast, hostStepWords());
+    return stepCheckOf(hostStepWords(), m_hostStepMail.data() + kStepWordDoubles);
+}
+
+template class CudaDevice<float>;
+template class CudaDevice<double>;
+
+}  // namespace corebox
