@@ -152,6 +152,12 @@ __global__ void stageWallsKernel(CollisionArgs<Real> a, const Vec3<Real>* accele
             a.hasContactAcceleration[i] = 0;
         }
         resolveWallsOf(a, i, acceleration, contactGap, xBuilt, halfSkin2, w->wallStats);
+        const Vec3<Real> x = a.p.x[i], v = a.p.v[i];
+        const Real radius = a.table.radius[a.p.species[i]];
+        bool contact = false;
+        for (int axis = 0; axis < 3; ++axis)
+            for (int side = 0; side < 2; ++side) contact = contact || wallContactActive(x[axis], v[axis], radius, a.box[axis], side, o.resting);
+        if (contact) atomicAdd(&w->wallContacts, 1u);
     }
     checkParticle(HealthArgs<Real>{a.p, a.box, w->healthCounts, w->healthExamples}, a.table, i, o.kineticRow);
 }

@@ -85,6 +85,10 @@ struct ForceArgs {
     int64_t listRows;               // rows of the lists (their column stride): end - begin unless rowIndex is set
     const int32_t* rowParticle;     // the particle of list row r (rows run in cell order on one GPU)
     const int32_t* rowOf;           // the list row of particle p (rowIndex passes)
+    // Rows split into listLanes(n) lanes (NeighbourListArgs): lane t of row r holds the entries
+    // [laneStart[t * rows + r], laneStart[(t + 1) * rows + r]) (the last lane ends at the count); null
+    // with one lane.
+    const int32_t* laneStart;
     // Lists only, when set (indexed by list row, read before anything else of the row): rows whose mask is 0 are skipped,
     // their acceleration kept (the refresh of the rows a collision stage touched; neighbour_list_kernels.cu).
     const unsigned char* rowMask;
@@ -145,9 +149,17 @@ struct NeighbourListArgs {
     int32_t* neighbours;       // out: maxNeighbours x rows, partner c of row r at [c * rows + r]
     int32_t* neighbourCount;   // out: per row (may exceed maxNeighbours: then the list must grow)
     unsigned int* mostNeighbours;  // out: the largest count (atomicMax; reset by the launch)
+    // listLanes(n): each row is ordered by (partner % lanes, partner), and with more than one lane
+    // laneStart (lanes x rows, ForceArgs::laneStart) says where each lane's partners begin.
+    int lanes;
+    int32_t* laneStart;
 };
 template <class Real>
 void launchBuildNeighbourList(const NeighbourListArgs<Real>& args, cudaStream_t stream);
+// Threads a row of the list force pass sums with, from the particle count alone (the same for every
+// pass over lists of these particles, on any number of GPUs): small systems have too few rows to hide
+// the latency of a row's walk.
+inline int listLanes(int64_t n) { return n <= 131072 ? 8 : n <= 524288 ? 4 : 1; }
 // entries[k] = (x[sorted[k]], sorted[k]) for k < n.
 template <class Real>
 void launchGatherCellEntries(const Vec3<Real>* x, const int32_t* sorted, int64_t n, CellEntry<Real>* entries, cudaStream_t stream);
@@ -396,8 +408,9 @@ struct StepWords {
     long long healthExamples[5];         // HealthArgs::examples
     unsigned int screen[3];              // ForceArgs::screen
     unsigned int wallStats[3];           // launchResolveWallImpacts' stats
-    unsigned int stage;                  // the StageScreen the device read from the screen (launchOpenStage)
+    unsigned int stage;                  // the StageScreen the device read from the screen (launchStageWalls)
     unsigned int listForecast;           // StepCheckArgs: 1 when the next kick-drift takes some row past half the skin
+    unsigned int wallContacts;           // launchStageWalls: particles with a wall contact to list after the impacts
 };
 // Zeroes the words, the screen's nearest ratio set to "none" (0xffffffff): before a screening pass.
 void launchResetStepWords(StepWords* words, cudaStream_t stream);
@@ -405,12 +418,15 @@ void launchResetStepWords(StepWords* words, cudaStream_t stream);
 // verdict (screenVerdict, collision_screen.h: the host's reading, on the device; thread 0 records it
 // in words->stage) and clears its row of `touched`; where the verdict is WallsOnly, it opens the
 // stage as beginCollisions does (the impact rows of the particles the last stage flagged zeroed, the
-// flags cleared) and resolves its particle's walls as launchResolveWallImpacts (stats in
-// words->wallStats); then it checks its particle (health words, kineticRow).
+// flags cleared), resolves its particle's walls as launchResolveWallImpacts (stats in
+// words->wallStats) and counts it into words->wallContacts when it then has a wall contact the
+// contact phase would list (contact_relaxation.h wallContactActive with `resting`: with no pair
+// within reach, the listing's whole count); then it checks its particle (health words, kineticRow).
 template <class Real>
 struct StageOpening {
     StepWords* words;
     ScreenScales scales;
+    RestingContact<Real> resting;
     unsigned char* touched;  // a list row per particle (one GPU), for the refresh's launchTouchMoved
     double* kineticRow;
 };

@@ -27,6 +27,13 @@
 namespace corebox::gpu {
 namespace {
 
+// The build's sort key of partner j: (j % lanes) perLane + j / lanes, perLane = ceil(n / lanes), which
+// orders by (j % lanes, j) and fits an int for any n an int indexes; and back.
+__device__ inline int32_t laneKey(int32_t j, int lanes, int32_t perLane) { return lanes == 1 ? j : (j % lanes) * perLane + j / lanes; }
+__device__ inline int32_t partnerOfKey(int32_t key, int lanes, int32_t perLane) {
+    return lanes == 1 ? key : (key % perLane) * lanes + key / perLane;
+}
+
 // Rows are collected in shared memory, column-major per block (partner c of the block's thread t at
 // c * blockDim + t: no bank conflicts), sorted there by insertion (rows are short: ~75 in an LJ
 // liquid), then written column-major to the list.
@@ -41,6 +48,9 @@ __global__ void buildListKernel(NeighbourListArgs<Real> a) {
     const int64_t i = a.rowParticle[row];
     const Vec3<Real> xi = a.x[i];
     int32_t count = 0;
+    // Sorted by (partner % lanes, partner): as keys (laneKey), an order-preserving bijection onto ints.
+    const int lanes = a.lanes;
+    const int32_t perLane = int32_t((a.n + lanes - 1) / lanes);
     // forEachNeighbour's walk (27 cells in ascending key, each in list order), over the cell-ordered
     // entries: a cell's particles are contiguous, so the candidates stream instead of being gathered.
     forEachNeighbourCell(a.cells.geometry, cellCoords(a.cells.geometry, xi), [&](int cell) {
@@ -49,7 +59,7 @@ __global__ void buildListKernel(NeighbourListArgs<Real> a) {
             const CellEntry<Real> e = a.cellEntries[k];
             const Vec3<Real> d{xi.x - e.x, xi.y - e.y, xi.z - e.z};
             if (!(norm2(d) < a.reach2) || e.index == i) continue;
-            if (count < a.maxNeighbours) mine[count * stride] = e.index;
+            if (count < a.maxNeighbours) mine[count * stride] = laneKey(e.index, lanes, perLane);
             ++count;
         }
     });
@@ -68,7 +78,15 @@ __global__ void buildListKernel(NeighbourListArgs<Real> a) {
         }
         mine[(k + 1) * stride] = key;
     }
-    for (int32_t c = 0; c < count; ++c) a.neighbours[int64_t(c) * rows + row] = mine[c * stride];
+    // Each lane's partners are now contiguous and ascending; where each lane begins.
+    int lane = 0;
+    if (lanes > 1) a.laneStart[row] = 0;
+    for (int32_t c = 0; c < count; ++c) {
+        const int32_t key = mine[c * stride];
+        while (lane < key / perLane) a.laneStart[int64_t(++lane) * rows + row] = c;
+        a.neighbours[int64_t(c) * rows + row] = partnerOfKey(key, lanes, perLane);
+    }
+    while (lane < lanes - 1) a.laneStart[int64_t(++lane) * rows + row] = count;
 }
 
 template <class Real>
@@ -124,12 +142,23 @@ __device__ void screenRow(const ForceArgs<Real>& a, Vec3<Real> xi, Real ai, Real
     }
 }
 
-// One thread per row: the sum over its list, in list order. With rowIndex (one GPU, whose lists
-// have a row per particle) thread k sums the row of particle rowIndex[begin + k] and writes its
-// acceleration there: the collision stage's end-of-step accelerations of the particles it resolves.
-template <class Real, bool kEnergy, bool kSingleSpecies>
+// kLanes consecutive threads per row (listLanes): lane t sums the partners j with j % kLanes == t,
+// which the build put together in ascending j (ForceArgs::laneStart), and the lanes' sums are added
+// in a fixed tree (shuffles down by kLanes / 2, ..., 1). Which lane takes a pair depends on the partner
+// alone, not on its place in the row, so a row's sum does not depend on when the list was built (the
+// pairs listed beyond the cutoff add exact zeros to their lanes): restarts stay bit-identical, and
+// every run and every pass over lists of these particles gives the same bits. Small systems have too
+// few rows to hide the latency of a row's serial walk (an LJ liquid of 4000 on an H200: 35 us a pass
+// with a thread per row, 12 with eight); large ones have rows enough. (Lanes striding the row by place
+// were as fast but broke restarts; lanes skipping the others' partners diverged and were slower.)
+// With rowIndex (one GPU, whose lists have a row per particle) row k is particle rowIndex[begin + k]'s,
+// whose acceleration goes there: the collision stage's end-of-step accelerations of the particles
+// it resolves.
+template <class Real, bool kEnergy, bool kSingleSpecies, int kLanes>
 __global__ void listForceKernel(ForceArgs<Real> a) {
-    const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    const int64_t k = (int64_t(blockIdx.x) * blockDim.x + threadIdx.x) / kLanes;
+    const int lane = int(threadIdx.x % kLanes);
+    // A row's lanes live or leave together (same k): the shuffles below see the whole group.
     if (k >= a.end - a.begin || !gateOpen(a.gate)) return;
     const int64_t rows = a.listRows;
     if (a.rowMask && !a.rowIndex && !a.rowMask[k]) return;  // a coalesced byte per row, nothing else read
@@ -149,7 +178,9 @@ __global__ void listForceKernel(ForceArgs<Real> a) {
     Real nearest = Real(INFINITY);  // smallest R^2 / reach^2 of the row
     Vec3<Real> force{0, 0, 0};
     double energy = 0;
-    for (int32_t c = 0; c < count; ++c) {
+    const int32_t first = kLanes > 1 ? a.laneStart[int64_t(lane) * rows + row] : 0;
+    const int32_t last = kLanes > 1 && lane + 1 < kLanes ? a.laneStart[int64_t(lane + 1) * rows + row] : count;
+    for (int32_t c = first; c < last; ++c) {
         const int32_t j = a.neighbours[int64_t(c) * rows + row];
         const Vec3<Real> d = xi - a.x[j];
         const int sj = kSingleSpecies ? 0 : a.species[j];
@@ -167,6 +198,17 @@ __global__ void listForceKernel(ForceArgs<Real> a) {
             }
             nearest = fmin(nearest, r2 * inverse);
         }
+    }
+    if (kLanes > 1) {
+        const unsigned group = (kLanes == 32 ? 0xffffffffu : ((1u << kLanes) - 1u)) << (threadIdx.x % 32 / kLanes * kLanes);
+        for (int offset = kLanes / 2; offset > 0; offset /= 2) {
+            force.x += __shfl_down_sync(group, force.x, offset, kLanes);
+            force.y += __shfl_down_sync(group, force.y, offset, kLanes);
+            force.z += __shfl_down_sync(group, force.z, offset, kLanes);
+            if (kEnergy) energy += __shfl_down_sync(group, energy, offset, kLanes);
+            if (screen) nearest = fmin(nearest, __shfl_down_sync(group, nearest, offset, kLanes));
+        }
+        if (lane != 0) return;
     }
     const Vec3<Real> acceleration = a.table.invMass[si] * force + a.table.field[si];
     a.acceleration[out] = acceleration;
@@ -270,21 +312,30 @@ void launchListMoved(const Vec3<Real>* x, const Vec3<Real>* xBuilt, int64_t begi
     checkLaunch("list displacement kernel");
 }
 
+template <class Real, int kLanes>
+void launchListForcesWith(const ForceArgs<Real>& a, cudaStream_t stream) {
+    const int64_t rows = a.end - a.begin;
+    const bool single = a.table.count == 1;
+    const unsigned blocks = blocksFor(rows * kLanes);
+    if (a.pairEnergy) {
+        if (single) listForceKernel<Real, true, true, kLanes><<<blocks, kBlock, 0, stream>>>(a);
+        else listForceKernel<Real, true, false, kLanes><<<blocks, kBlock, 0, stream>>>(a);
+    } else {
+        if (single) listForceKernel<Real, false, true, kLanes><<<blocks, kBlock, 0, stream>>>(a);
+        else listForceKernel<Real, false, false, kLanes><<<blocks, kBlock, 0, stream>>>(a);
+    }
+    checkLaunch("neighbour list force kernel");
+}
+
 // Called by launchForces (force_kernels.cu) when the args carry a list.
 template <class Real>
 void launchListForces(const ForceArgs<Real>& a, cudaStream_t stream) {
-    const int64_t rows = a.end - a.begin;
-    if (rows <= 0) return;
-    const bool single = a.table.count == 1;
-    const unsigned blocks = blocksFor(rows);
-    if (a.pairEnergy) {
-        if (single) listForceKernel<Real, true, true><<<blocks, kBlock, 0, stream>>>(a);
-        else listForceKernel<Real, true, false><<<blocks, kBlock, 0, stream>>>(a);
-    } else {
-        if (single) listForceKernel<Real, false, true><<<blocks, kBlock, 0, stream>>>(a);
-        else listForceKernel<Real, false, false><<<blocks, kBlock, 0, stream>>>(a);
+    if (a.end - a.begin <= 0) return;
+    switch (listLanes(a.n)) {
+        case 8: launchListForcesWith<Real, 8>(a, stream); break;
+        case 4: launchListForcesWith<Real, 4>(a, stream); break;
+        default: launchListForcesWith<Real, 1>(a, stream); break;
     }
-    checkLaunch("neighbour list force kernel");
 }
 
 template <class Real>

@@ -122,6 +122,7 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     m_pairsClearNext = false;
     m_wallsAtOnce = m_wallsOnlyMoved = false;
     m_wallContactsPossible = true;
+    m_wallsCountedOnDevice = false;
     gatherToHome();
     m_cellsMatchPositions = false;  // the integration moved everything
     m_window = ImpactWindow<Real>{Real(window.maxRewind), Real(window.restingSpeed)};
@@ -389,9 +390,13 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     gatherToHome();
     cudaStream_t s = stream();
     m_resting = RestingContact<Real>{Real(resting.speed), Real(resting.gap)};
-    if (m_wallsAtOnce && !m_wallContactsPossible && resting.gap <= m_screenGap) {
-        // No pair within reach (the screen) and no particle near a wall after the impacts: nothing to
-        // list, and nothing for the next step's warm start (as a listing of zero contacts leaves it).
+    // The device's count of wall contacts (resolveOnDevice) holds for the resting contact it was given.
+    const bool countedFor = !m_wallsCountedOnDevice || (resting.speed == m_speculatedWindow.restingSpeed && resting.gap == m_screenGap);
+    m_wallsCountedOnDevice = false;
+    if (m_wallsAtOnce && !m_wallContactsPossible && resting.gap <= m_screenGap && countedFor) {
+        // No pair within reach (the screen) and no particle near a wall after the impacts (or none in
+        // contact, as the device counted): nothing to list, and nothing for the next step's warm start
+        // (as a listing of zero contacts leaves it).
         m_listedThisStep = false;
         m_firstListing = false;
         return 0;

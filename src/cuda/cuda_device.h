@@ -233,6 +233,7 @@ private:
     bool m_speculated = false, m_speculatedRefresh = false;
     ImpactWindow<double> m_speculatedWindow{0, 0};
     int readResolvedWalls();  // the tally and stats of the walls resolveOnDevice resolved; returns the rounds
+    bool m_wallsCountedOnDevice = false;  // m_wallContactsPossible from the device's count, for the window's resting contact
     // The step check read with the screen (valid until X, V or A change).
     bool m_checkCached = false;
     StepCheck m_cachedCheck;

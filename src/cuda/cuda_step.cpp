@@ -107,7 +107,8 @@ StageScreen CudaDevice<Real>::resolveOnDevice(const ImpactWindow<double>& window
     const size_t n = size_t(m_n);
     double* kineticRow = m_impactRows.data() + size_t(kImpulseRows + 1) * n;
     const gpu::StageOpening<Real> opening{w, ScreenScales{smallestRadius, m_model.maxRadius(), m_model.cutoff, m_screenGap},
-                                          r.list.touchedRows(), kineticRow};
+                                          RestingContact<Real>{Real(window.restingSpeed), Real(m_screenGap)}, r.list.touchedRows(),
+                                          kineticRow};
     gpu::launchStageWalls(collisionArgs(), r.acceleration.data(), Real(m_screenGap), r.list.builtPositions(), halfSkin2, opening, s);
     // The tally's rows (only the flagged particles') and the kinetic row, summed in one launch.
     const int blocks = std::max(gpu::blockSumBlocks(m_n), 1);
@@ -169,7 +170,9 @@ int CudaDevice<Real>::readResolvedWalls() {
         m_wallTally.dissipated = sums[size_t(kImpulseRows)];
         m_wallTally.impulses = impulseSumsOf(sums);
     }
-    m_wallContactsPossible = words.wallStats[1] != 0;
+    // The contact listing would find the wall contacts the device counted, and no pair (the screen).
+    m_wallContactsPossible = words.wallStats[1] != 0 && words.wallContacts != 0;
+    m_wallsCountedOnDevice = true;
     m_listAtX = m_listAtX && words.wallStats[2] == 0;
     return int(words.wallStats[0]) + 1;
 }

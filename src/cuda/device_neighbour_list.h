@@ -59,6 +59,7 @@ public:
         f.listRows = m_end - m_begin;
         f.rowParticle = m_rowParticle.data();
         f.rowOf = m_rowOf.data();
+        f.laneStart = m_lanes > 1 ? m_laneStart.data() : nullptr;
     }
     // Marks the rows whose sums read a particle that moved since xBefore (the lists' own rows, which
     // must be every particle: one GPU), for a force pass over those rows only (ForceArgs::rowMask).
@@ -103,10 +104,24 @@ private:
         m_rowOf.resize(size_t(std::max<int64_t>(rows, 1)));
         gpu::launchListRowOrder(cells, m_n, m_begin, m_end, m_rowParticle.data(), m_rowOf.data(), stream);
         m_flag.resize(1);
+        m_lanes = gpu::listLanes(m_n);
+        m_laneStart.resize(size_t(std::max<int64_t>(rows, 1)) * size_t(m_lanes));
         for (;;) {
             m_neighbours.resize(size_t(std::max<int64_t>(rows, 1)) * size_t(m_columns));
-            gpu::NeighbourListArgs<Real> a{x, m_n, m_begin, m_end, m_rowParticle.data(), cells, m_cellEntries.data(), Real(reach * reach), m_columns,
-                                           m_neighbours.data(), m_count.data(), m_flag.data()};
+            gpu::NeighbourListArgs<Real> a{x,
+                                           m_n,
+                                           m_begin,
+                                           m_end,
+                                           m_rowParticle.data(),
+                                           cells,
+                                           m_cellEntries.data(),
+                                           Real(reach * reach),
+                                           m_columns,
+                                           m_neighbours.data(),
+                                           m_count.data(),
+                                           m_flag.data(),
+                                           m_lanes,
+                                           m_laneStart.data()};
             gpu::launchBuildNeighbourList(a, stream);
             const unsigned int most = readFlag(stream);
             if (most <= unsigned(m_columns)) break;
@@ -122,6 +137,8 @@ private:
     DeviceBuffer<gpu::CellEntry<Real>> m_cellEntries;  // the cell list's particles with their positions, in its order
     DeviceBuffer<int32_t> m_neighbours, m_count;
     DeviceBuffer<int32_t> m_rowParticle, m_rowOf;  // rows in cell order (one GPU), and back
+    DeviceBuffer<int32_t> m_laneStart;             // NeighbourListArgs::laneStart
+    int m_lanes = 1;
     DeviceBuffer<Vec3<Real>> m_xBuilt;
     DeviceBuffer<unsigned int> m_flag;  // the displacement flag, then the build's largest count
     DeviceBuffer<unsigned char> m_touched;  // touchMoved's row mask
