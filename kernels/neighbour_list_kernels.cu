@@ -1,17 +1,21 @@
 // Neighbour lists on the GPU (gpu_launch.h: NeighbourListArgs) and the forces summed over them.
 //
-// Design note. A GPU thread per row walks the 27 cells around its particle (cell_list.h, the one grid,
+// Design note. The build walks the 27 cells around each row's particle (cell_list.h, the one grid,
 // cells of at least r_c + skin; the candidates read from a cell-ordered copy of the positions, which
 // streams: gathering x[sorted[k]] made the build 5.5 ms at 10^6 particles on an H200, most of it
 // scattered loads) and keeps every partner closer than r_c + skin: full lists, so each
 // row sums its own pairs with no atomics on forces and the same result on every run (Newton's third
-// law would need scattered writes). The walk collects a row in shared memory and sorts it by partner
-// index before writing it out: a row's sum then does not depend on when the list was built (a listed
-// pair beyond the cutoff adds an exact zero), so a run restarted from a checkpoint, whose lists are
-// built afresh, goes on bit for bit, as on the CPU (src/cpu/verlet_list.h). The lists are column-major (partner c of row
-// r at c * rows + r), so a warp's loads of one column are contiguous. They are rebuilt when some row
-// has moved more than skin / 2 since the build (launchListMoved; src/cuda/device_neighbour_list.h
-// reads the flag), and grow when a row has more partners than the columns allow.
+// law would need scattered writes). A thread walks a row in large systems, a warp in small ones
+// (buildListRowsKernel, buildListWarpsKernel: each the faster where it is used). Rows are sorted in
+// shared memory by (partner % lanes, partner), lanes being the threads the force pass gives a row
+// (listLanes): each lane's partners in ascending order, so a row's sum does not depend on when the
+// list was built (a listed pair beyond the cutoff adds an exact zero to its lane), and a run restarted
+// from a checkpoint, whose lists are built afresh, goes on bit for bit, as on the CPU
+// (src/cpu/verlet_list.h). The lists are column-major
+// (partner c of row r at c * rows + r), so a warp's loads of one column are contiguous. They are
+// rebuilt when some row has moved more than skin / 2 since the build (launchListMoved, or the step
+// check's forecast; src/cuda/device_neighbour_list.h), and grow when a row has more partners than
+// the columns allow.
 // Tried and measured slower on an H200 (LJ liquid, fp32), so not done: an aligned 16-byte copy of x
 // for the force pass's partner reads (0.49 against 0.41 ms a pass at 10^6: the copy costs more than
 // the wider loads save); build cells of half the reach walked 5 x 5 x 5 (fewer candidates, but rows
@@ -34,11 +38,12 @@ __device__ inline int32_t partnerOfKey(int32_t key, int lanes, int32_t perLane) 
     return lanes == 1 ? key : (key % perLane) * lanes + key / perLane;
 }
 
-// Rows are collected in shared memory, column-major per block (partner c of the block's thread t at
-// c * blockDim + t: no bank conflicts), sorted there by insertion (rows are short: ~75 in an LJ
-// liquid), then written column-major to the list.
+// Large systems (one lane a row: rows by ascending partner): a thread per row. Rows are collected in shared memory, column-major per block
+// (partner c of the block's thread t at c * blockDim + t: no bank conflicts), sorted there by insertion
+// (rows are short: ~75 in an LJ liquid), then written column-major to the list (consecutive threads,
+// consecutive rows: coalesced).
 template <class Real>
-__global__ void buildListKernel(NeighbourListArgs<Real> a) {
+__global__ void buildListRowsKernel(NeighbourListArgs<Real> a) {
     extern __shared__ int32_t rowScratch[];
     const int64_t row = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     const int64_t rows = a.end - a.begin;
@@ -48,9 +53,6 @@ __global__ void buildListKernel(NeighbourListArgs<Real> a) {
     const int64_t i = a.rowParticle[row];
     const Vec3<Real> xi = a.x[i];
     int32_t count = 0;
-    // Sorted by (partner % lanes, partner): as keys (laneKey), an order-preserving bijection onto ints.
-    const int lanes = a.lanes;
-    const int32_t perLane = int32_t((a.n + lanes - 1) / lanes);
     // forEachNeighbour's walk (27 cells in ascending key, each in list order), over the cell-ordered
     // entries: a cell's particles are contiguous, so the candidates stream instead of being gathered.
     forEachNeighbourCell(a.cells.geometry, cellCoords(a.cells.geometry, xi), [&](int cell) {
@@ -59,7 +61,7 @@ __global__ void buildListKernel(NeighbourListArgs<Real> a) {
             const CellEntry<Real> e = a.cellEntries[k];
             const Vec3<Real> d{xi.x - e.x, xi.y - e.y, xi.z - e.z};
             if (!(norm2(d) < a.reach2) || e.index == i) continue;
-            if (count < a.maxNeighbours) mine[count * stride] = laneKey(e.index, lanes, perLane);
+            if (count < a.maxNeighbours) mine[count * stride] = e.index;
             ++count;
         }
     });
@@ -78,15 +80,95 @@ __global__ void buildListKernel(NeighbourListArgs<Real> a) {
         }
         mine[(k + 1) * stride] = key;
     }
-    // Each lane's partners are now contiguous and ascending; where each lane begins.
-    int lane = 0;
-    if (lanes > 1) a.laneStart[row] = 0;
-    for (int32_t c = 0; c < count; ++c) {
-        const int32_t key = mine[c * stride];
-        while (lane < key / perLane) a.laneStart[int64_t(++lane) * rows + row] = c;
-        a.neighbours[int64_t(c) * rows + row] = partnerOfKey(key, lanes, perLane);
+    for (int32_t c = 0; c < count; ++c) a.neighbours[int64_t(c) * rows + row] = mine[c * stride];
+}
+
+// Small systems (listLanes > 1, whose rows are too few to hide a thread's walk and sort): a warp per
+// row. Its lanes walk the 27 cells together (a lane a candidate, the cell-ordered entries
+// read coalesced), append the partners within reach to the warp's space in shared memory (in ballot
+// order) and sort them there by key with a bitonic network (padding keys sort last); then the block
+// writes its rows column by column (consecutive rows of a column are neighbours in memory: a warp
+// writing its own row alone scattered 4-byte stores, 11 ms a step at 10^7), and each row's first
+// lane writes where the force pass's lanes begin. A thread per row that sorted by insertion took
+// 438 us for 64000 rows of an LJ liquid on an H200 (a fifth of the SMs' warps resident, most cycles
+// in the sort). `space` is a power of two at least maxNeighbours (buildSpaceFor).
+template <class Real>
+__global__ void buildListWarpsKernel(NeighbourListArgs<Real> a, int space) {
+    extern __shared__ int32_t rowScratch[];
+    __shared__ int32_t stored[32];  // each warp's row length to write (0: none)
+    const int warps = int(blockDim.x / 32), warp = int(threadIdx.x / 32);
+    const int64_t firstRow = int64_t(blockIdx.x) * warps;
+    const int64_t row = firstRow + warp;
+    const int lane = int(threadIdx.x % 32);
+    const int64_t rows = a.end - a.begin;
+    int32_t* keys = rowScratch + size_t(warp) * size_t(space);
+    const int lanes = a.lanes;
+    const int32_t perLane = int32_t((a.n + lanes - 1) / lanes);
+    int32_t count = 0;
+    if (row < rows) {  // the warp's lanes alike
+        const int64_t i = a.rowParticle[row];
+        const Vec3<Real> xi = a.x[i];
+        forEachNeighbourCell(a.cells.geometry, cellCoords(a.cells.geometry, xi), [&](int cell) {
+            const int32_t begin = a.cells.cellStart[cell], end = a.cells.cellStart[cell + 1];
+            for (int32_t k0 = begin; k0 < end; k0 += 32) {
+                const int32_t k = k0 + lane;
+                bool near = false;
+                int32_t j = 0;
+                if (k < end) {
+                    const CellEntry<Real> e = a.cellEntries[k];
+                    const Vec3<Real> d{xi.x - e.x, xi.y - e.y, xi.z - e.z};
+                    j = e.index;
+                    near = norm2(d) < a.reach2 && e.index != i;
+                }
+                const unsigned taken = __ballot_sync(0xffffffffu, near);
+                const int32_t slot = count + __popc(taken & ((1u << lane) - 1u));
+                if (near && slot < space) keys[slot] = laneKey(j, lanes, perLane);
+                count += __popc(taken);
+            }
+        });
+        if (lane == 0) {
+            a.neighbourCount[row] = count;
+            // An atomic only above the largest seen so far: 10^6 rows on one address would queue.
+            if (unsigned(count) > *static_cast<volatile unsigned*>(a.mostNeighbours)) atomicMax(a.mostNeighbours, unsigned(count));
+        }
     }
-    while (lane < lanes - 1) a.laneStart[int64_t(++lane) * rows + row] = count;
+    const bool store = row < rows && count <= a.maxNeighbours;  // else the list grows and is built again
+    if (store) {
+        int32_t size = 32;
+        while (size < count) size *= 2;
+        for (int32_t c = count + lane; c < size; c += 32) keys[c] = INT32_MAX;
+        __syncwarp();
+        for (int32_t block = 2; block <= size; block *= 2) {
+            for (int32_t stride = block / 2; stride > 0; stride /= 2) {
+                for (int32_t c = lane; c < size; c += 32) {
+                    const int32_t partner = c ^ stride;
+                    if (partner <= c) continue;
+                    const int32_t l = keys[c], r = keys[partner];
+                    if ((l > r) == ((c & block) == 0)) {
+                        keys[c] = r;
+                        keys[partner] = l;
+                    }
+                }
+                __syncwarp();
+            }
+        }
+        if (lanes > 1 && lane < lanes) {  // lane t's partners begin at the first key of residue t
+            int32_t lo = 0, hi = count;
+            while (lo < hi) {
+                const int32_t mid = (lo + hi) / 2;
+                if (keys[mid] / perLane < lane) lo = mid + 1;
+                else hi = mid;
+            }
+            a.laneStart[int64_t(lane) * rows + row] = lo;
+        }
+    }
+    if (lane == 0) stored[warp] = store ? count : 0;
+    __syncthreads();
+    for (int32_t k = int32_t(threadIdx.x); k < warps * space; k += int32_t(blockDim.x)) {
+        const int w = k % warps;
+        const int32_t c = k / warps;
+        if (c < stored[w]) a.neighbours[int64_t(c) * rows + firstRow + w] = partnerOfKey(rowScratch[size_t(w) * size_t(space) + size_t(c)], lanes, perLane);
+    }
 }
 
 template <class Real>
@@ -110,6 +192,27 @@ inline int buildBlockFor(int32_t maxNeighbours) {
                           " partners does not fit a block's shared memory; the cutoff plus skin spans too many particles for lists "
                           "(use forces = \"all_pairs\")");
     return int(fit >= 64 ? 64 : fit >= 32 ? 32 : fit);
+}
+
+// The build's shared space per row: a power of two at least maxNeighbours (the bitonic sort's size).
+inline int buildSpaceFor(int32_t maxNeighbours) {
+    int space = 32;
+    while (space < maxNeighbours) space *= 2;
+    return space;
+}
+
+// Warps per block of the list build: up to 32 whose rows fit the shared memory a block may have.
+inline int buildWarpsFor(int space) {
+    int device = 0, optIn = 0;
+    cudaGetDevice(&device);
+    cudaDeviceGetAttribute(&optIn, cudaDevAttrMaxSharedMemoryPerBlockOptin, device);
+    const int64_t perWarp = int64_t(space) * int64_t(sizeof(int32_t));
+    const int64_t fit = perWarp > 0 ? int64_t(optIn - 1024) / perWarp : 32;  // 1 KB: the static counts and the driver's share
+    if (fit < 1)
+        throw DeviceError("neighbour list: a row of " + std::to_string(space) +
+                          " partners does not fit a block's shared memory; the cutoff plus skin spans too many particles for lists "
+                          "(use forces = \"all_pairs\")");
+    return int(fit >= 32 ? 32 : fit);
 }
 
 template <class Real>
@@ -247,21 +350,30 @@ __global__ void rowOrderKernel(const int32_t* sorted, int64_t n, int64_t begin, 
     rowOf[p - begin] = int32_t(row);
 }
 
+// A warp takes 32 particles and walks the rows of each moved one together (a lane a partner): a
+// thread walking a row alone waited on its partners one after another (a few hundred wall hits in an
+// LJ fluid of 64000: 26 us a pass on an H200).
 template <class Real>
 __global__ void touchMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBefore, const char* moved, int64_t rows, const int32_t* rowOf,
                                  const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched, StageGate gate) {
     const int64_t p = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (p >= rows || !gateOpen(gate)) return;
-    if (moved) {
-        if (!moved[p]) return;
-    } else {
-        const Vec3<Real> a = x[p], b = xBefore[p];
-        if (a.x == b.x && a.y == b.y && a.z == b.z) return;
+    const int lane = int(threadIdx.x % 32);
+    bool mine = p < rows && gateOpen(gate);
+    if (mine) {
+        if (moved) {
+            mine = moved[p] != 0;
+        } else {
+            const Vec3<Real> a = x[p], b = xBefore[p];
+            mine = !(a.x == b.x && a.y == b.y && a.z == b.z);
+        }
     }
-    const int64_t row = rowOf[p];
-    touched[row] = 1;
-    const int32_t count = neighbourCount[row];
-    for (int32_t c = 0; c < count; ++c) touched[rowOf[neighbours[int64_t(c) * rows + row]]] = 1;  // every writer writes 1
+    for (unsigned pending = __ballot_sync(0xffffffffu, mine); pending != 0; pending &= pending - 1) {
+        const int64_t q = p - lane + (__ffs(pending) - 1);
+        const int64_t row = rowOf[q];
+        if (lane == 0) touched[row] = 1;
+        const int32_t count = neighbourCount[row];
+        for (int32_t c = lane; c < count; c += 32) touched[rowOf[neighbours[int64_t(c) * rows + row]]] = 1;  // every writer writes 1
+    }
 }
 
 }  // namespace
@@ -296,10 +408,18 @@ void launchBuildNeighbourList(const NeighbourListArgs<Real>& a, cudaStream_t str
     const int64_t rows = a.end - a.begin;
     cudaMemsetAsync(a.mostNeighbours, 0, sizeof(unsigned int), stream);
     if (rows <= 0) return;
-    const int block = buildBlockFor(a.maxNeighbours);
-    const size_t shared = size_t(block) * size_t(a.maxNeighbours) * sizeof(int32_t);
-    cudaFuncSetAttribute(buildListKernel<Real>, cudaFuncAttributeMaxDynamicSharedMemorySize, int(shared));
-    buildListKernel<Real><<<blocksFor(rows, block), unsigned(block), shared, stream>>>(a);
+    if (a.lanes == 1) {
+        const int block = buildBlockFor(a.maxNeighbours);
+        const size_t shared = size_t(block) * size_t(a.maxNeighbours) * sizeof(int32_t);
+        cudaFuncSetAttribute(buildListRowsKernel<Real>, cudaFuncAttributeMaxDynamicSharedMemorySize, int(shared));
+        buildListRowsKernel<Real><<<blocksFor(rows, block), unsigned(block), shared, stream>>>(a);
+    } else {
+        const int space = buildSpaceFor(a.maxNeighbours);
+        const int warps = buildWarpsFor(space);
+        const size_t shared = size_t(warps) * size_t(space) * sizeof(int32_t);
+        if (shared > 32 * 1024) cudaFuncSetAttribute(buildListWarpsKernel<Real>, cudaFuncAttributeMaxDynamicSharedMemorySize, int(shared));
+        buildListWarpsKernel<Real><<<blocksFor(rows, warps), unsigned(32 * warps), shared, stream>>>(a, space);
+    }
     checkLaunch("neighbour list kernel");
 }
 
