@@ -252,8 +252,11 @@ __device__ void screenRow(const ForceArgs<Real>& a, Vec3<Real> xi, Real ai, Real
 // pairs listed beyond the cutoff add exact zeros to their lanes): restarts stay bit-identical, and
 // every run and every pass over lists of these particles gives the same bits. Small systems have too
 // few rows to hide the latency of a row's serial walk (an LJ liquid of 4000 on an H200: 35 us a pass
-// with a thread per row, 12 with eight); large ones have rows enough. (Lanes striding the row by place
-// were as fast but broke restarts; lanes skipping the others' partners diverged and were slower.)
+// with a thread per row, 12 with eight); large ones have rows enough. Tried: lanes striding the row by
+// place (0.032 against 0.046 ms a pass at 64000, but the sum then depends on the list's extra pairs:
+// restarts broke); lanes skipping the others' partners (divergent, slower); lanes striding by place
+// with the terms added in list order by shuffles (the one-thread bits for any lane count, but the
+// serial shuffles cost more than the imbalance: 0.051 ms fp32, 0.080 fp64 at 64000).
 // With rowIndex (one GPU, whose lists have a row per particle) row k is particle rowIndex[begin + k]'s,
 // whose acceleration goes there: the collision stage's end-of-step accelerations of the particles
 // it resolves.
