@@ -13,9 +13,10 @@ template <class Real>
 void CudaDevice<Real>::sizeStepBuffers() {
     const size_t blocks = size_t(std::max(gpu::blockSumBlocks(m_n), 1));
     const size_t doubles = kStepWordDoubles + size_t(kImpulseRows + 2) * blocks;
+    // On the stream (the legacy default stream does not order against it).
     if (m_stepMail.size() != doubles) {
         m_stepMail.resize(doubles);
-        cudaCheck(cudaMemset(m_stepMail.data(), 0, doubles * sizeof(double)), "memset");
+        cudaCheck(cudaMemsetAsync(m_stepMail.data(), 0, doubles * sizeof(double), stream()), "memset");
     }
     m_hostStepMail.resize(doubles);
     m_wordsFresh = false;
@@ -23,8 +24,8 @@ void CudaDevice<Real>::sizeStepBuffers() {
     const size_t n = size_t(std::max<int64_t>(m_n, 1));
     m_impactRows.resize(size_t(kImpulseRows + 2) * n);
     m_hasContactAcceleration.resize(n);
-    cudaCheck(cudaMemset(m_impactRows.data(), 0, size_t(kImpulseRows + 2) * n * sizeof(double)), "memset");
-    cudaCheck(cudaMemset(m_hasContactAcceleration.data(), 0, n), "memset");
+    cudaCheck(cudaMemsetAsync(m_impactRows.data(), 0, size_t(kImpulseRows + 2) * n * sizeof(double), stream()), "memset");
+    cudaCheck(cudaMemsetAsync(m_hasContactAcceleration.data(), 0, n, stream()), "memset");
     m_impactRowsN = m_n;
 }
 
