@@ -72,7 +72,7 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
     for (cudaEvent_t& e : m_phase) cudaCheck(cudaEventCreate(&e), "cudaEventCreate");
     m_counters.resize(3);
     // findEvents reads all three back, the log's count even when no step has logged.
-    cudaCheck(cudaMemset(m_counters.data(), 0, 3 * sizeof(unsigned int)), "memset");
+    cudaCheck(cudaMemsetAsync(m_counters.data(), 0, 3 * sizeof(unsigned int), stream()), "memset");
     sizeStepBuffers();
 }
 
@@ -93,6 +93,7 @@ CudaDevice<Real>::~CudaDevice() {
 
 template <class Real>
 void CudaDevice<Real>::setModel(const DeviceModel& model) {
+    beforeStateChange();  // masses, radii, box and skin: what was read of the state no longer holds
     m_model = model;
     m_screenPending = false;  // screened with the old radii and box
     m_listAtX = false;
@@ -259,6 +260,7 @@ EnergySums CudaDevice<Real>::energies() {
 
 template <class Real>
 HealthReport CudaDevice<Real>::health() {
+    m_checkCached = false;  // a thermostat step reads health itself: the step check goes unused
     queueHealth();
     sync();
     return healthReport();

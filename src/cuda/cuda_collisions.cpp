@@ -139,6 +139,7 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     // Walls at once (resolveWallImpacts): the particles that move are those it flags, so neither the
     // copy of X that tells the refresh who moved nor the round's active flags are needed.
     m_wallsAtOnce = m_pairsClear && m_refreshable && !m_logContacts;
+    if (resolved && !m_wallsAtOnce) throw std::logic_error("beginCollisions: the device resolved the walls of a stage the host would not");
     if (resolved) {
         m_impactRowsN = m_n;
         m_logging = false;

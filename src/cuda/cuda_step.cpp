@@ -51,12 +51,17 @@ void CudaDevice<Real>::beforeStateChange(bool forcePassAtX) {
 
 template <class Real>
 void CudaDevice<Real>::kickDrift(double h, double dt) {
+    if (!m_fusedSteps) {  // the separate operations, for comparison
+        Backend::kickDrift(h, dt);
+        return;
+    }
     // The forecast was made for exactly this kick-drift: it survives it (and only it).
     const bool forecastHolds = m_forecast.stage == 1 && m_kickDriftKnown && h == m_kickDriftH && dt == m_kickDriftDt;
     const ListForecast forecast = m_forecast;
     const bool snapshot = m_snapshotPending;
-    m_snapshotPending = false;  // taken by the kernel below
-    beforeStateChange();
+    m_snapshotPending = false;
+    beforeStateChange();  // takes no snapshot: the kernel below does
+    m_snapshotPending = snapshot;  // until its launch went through
     if (forecastHolds) {
         m_forecast = forecast;
         m_forecast.stage = 2;
@@ -69,6 +74,7 @@ void CudaDevice<Real>::kickDrift(double h, double dt) {
                              snapshot ? m_snapshotX.data() : nullptr, snapshot ? m_snapshotV.data() : nullptr,
                              resetWords ? stepWords() : nullptr, s.stream);
     });
+    m_snapshotPending = false;
     m_wordsFresh = resetWords;
     m_kickDriftH = h;
     m_kickDriftDt = dt;
@@ -80,6 +86,10 @@ void CudaDevice<Real>::kickDrift(double h, double dt) {
 
 template <class Real>
 void CudaDevice<Real>::accelerateAndKick(double h) {
+    if (!m_fusedSteps) {
+        Backend::accelerateAndKick(h);
+        return;
+    }
     beforeStateChange(true);
     if (!forcePass(-1, true, h)) kick(h);
 }

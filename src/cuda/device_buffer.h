@@ -43,9 +43,12 @@ public:
         m_data = static_cast<T*>(p);
         m_count = m_capacity = count;
     }
+    // Complete when it returns: a copy from pageable memory may still be in flight on the legacy default
+    // stream, which the backends' non-blocking streams do not wait for.
     void upload(const T* host, size_t count) {
         resize(count);
         cudaCheck(cudaMemcpy(m_data, host, count * sizeof(T), cudaMemcpyHostToDevice), "upload");
+        cudaCheck(cudaStreamSynchronize(cudaStreamLegacy), "upload");
     }
     void download(T* host, size_t count) const {
         cudaCheck(cudaMemcpy(host, m_data, count * sizeof(T), cudaMemcpyDeviceToHost), "download");
