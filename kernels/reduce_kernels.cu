@@ -4,6 +4,7 @@
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
 #include "energy_terms.h"
+#include "step_check.cuh"
 
 namespace corebox::gpu {
 namespace {
@@ -59,17 +60,7 @@ __global__ void kineticRowKernel(ParticleArrays<Real> p, SpeciesTable<Real> tabl
 template <class Real>
 __global__ void healthKernel(HealthArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i >= a.p.n) return;
-    const Vec3<Real> x = a.p.x[i], v = a.p.v[i];
-    bool finite = true, inside = true;
-    for (int k = 0; k < 3; ++k) {
-        finite = finite && isfinite(double(x[k])) && isfinite(double(v[k]));
-        inside = inside && x[k] >= Real(0) && x[k] <= a.box[k];
-    }
-    if (finite && inside) return;
-    atomicAdd(&a.counts[finite ? 1 : 0], 1ull);
-    const unsigned long long slot = atomicAdd(&a.counts[2], 1ull);
-    if (slot < 5) a.examples[slot] = i;
+    if (i < a.p.n) countIfUnhealthy(a, i);
 }
 
 __global__ void clearMaskedRowsKernel(double* values, int rows, int64_t n, const char* mask) {

@@ -196,7 +196,7 @@ private:
     // the force pass, four waits and some thirty launches). So, with CudaBackendOptions::fusedSteps:
     //   - keepSnapshot, kick and drift become one kernel (kickDrift) and the closing kick rides the
     //     force pass (accelerateAndKick);
-    //   - screenStage does not wait for the screen to decide: the device reads it (launchOpenStage)
+    //   - screenStage does not wait for the screen to decide: the device reads it (launchStageWalls)
     //     and gated launches (gpu::StageGate) resolve the walls at once, sum their tally, refresh the
     //     accelerations of what they moved and check the step (health, kinetic energy), and one copy
     //     brings every word back (StepWords and block partials, m_stepMail). The calls of the stage
