@@ -180,18 +180,24 @@ __global__ void gatherCellEntriesKernel(const Vec3<Real>* x, const int32_t* sort
     entries[k] = CellEntry<Real>{p.x, p.y, p.z, j};
 }
 
-// Threads per block of the list build: as many as 64 whose rows fit the shared memory a block may have.
-inline int buildBlockFor(int32_t maxNeighbours) {
+// How many rows of `bytesPerRow` shared bytes a block of the list build holds beside `reserved` bytes,
+// at most `most`; a row that does not fit at all is refused with the remedy.
+inline int rowsThatFit(int32_t partners, int64_t bytesPerRow, int64_t reserved, int most) {
     int device = 0, optIn = 0;
     cudaGetDevice(&device);
     cudaDeviceGetAttribute(&optIn, cudaDevAttrMaxSharedMemoryPerBlockOptin, device);
-    const int64_t perThread = int64_t(maxNeighbours) * int64_t(sizeof(int32_t));
-    const int64_t fit = perThread > 0 ? int64_t(optIn) / perThread : 64;
+    const int64_t fit = bytesPerRow > 0 ? (int64_t(optIn) - reserved) / bytesPerRow : most;
     if (fit < 1)
-        throw DeviceError("neighbour list: a row of " + std::to_string(maxNeighbours) +
+        throw DeviceError("neighbour list: a row of " + std::to_string(partners) +
                           " partners does not fit a block's shared memory; the cutoff plus skin spans too many particles for lists "
                           "(use forces = \"all_pairs\")");
-    return int(fit >= 64 ? 64 : fit >= 32 ? 32 : fit);
+    return int(fit < most ? fit : most);
+}
+
+// Threads per block of the thread-per-row build: 64, or 32, or as many as fit.
+inline int buildBlockFor(int32_t maxNeighbours) {
+    const int fit = rowsThatFit(maxNeighbours, int64_t(maxNeighbours) * int64_t(sizeof(int32_t)), 0, 64);
+    return fit == 64 ? 64 : fit >= 32 ? 32 : fit;
 }
 
 // The build's shared space per row: a power of two at least maxNeighbours (the bitonic sort's size).
@@ -201,19 +207,8 @@ inline int buildSpaceFor(int32_t maxNeighbours) {
     return space;
 }
 
-// Warps per block of the list build: up to 32 whose rows fit the shared memory a block may have.
-inline int buildWarpsFor(int space) {
-    int device = 0, optIn = 0;
-    cudaGetDevice(&device);
-    cudaDeviceGetAttribute(&optIn, cudaDevAttrMaxSharedMemoryPerBlockOptin, device);
-    const int64_t perWarp = int64_t(space) * int64_t(sizeof(int32_t));
-    const int64_t fit = perWarp > 0 ? int64_t(optIn - 1024) / perWarp : 32;  // 1 KB: the static counts and the driver's share
-    if (fit < 1)
-        throw DeviceError("neighbour list: a row of " + std::to_string(space) +
-                          " partners does not fit a block's shared memory; the cutoff plus skin spans too many particles for lists "
-                          "(use forces = \"all_pairs\")");
-    return int(fit >= 32 ? 32 : fit);
-}
+// Warps per block of the warp-per-row build: up to 32 (1 KB kept for the static counts and the driver).
+inline int buildWarpsFor(int space) { return rowsThatFit(space, int64_t(space) * int64_t(sizeof(int32_t)), 1024, 32); }
 
 template <class Real>
 __global__ void listMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBuilt, int64_t begin, int64_t end, Real halfSkin2,

@@ -192,7 +192,7 @@ ParticleState CudaDevice<Real>::download(const DeviceBuffer<Vec3<Real>>& xd, con
 
 template <class Real>
 int CudaDevice<Real>::queuePartialSums(const double* values, int rows, const char* mask) {
-    const int blocks = std::max(gpu::blockSumBlocks(m_n), 1);
+    const int blocks = partialBlocks();
     const size_t count = size_t(rows) * size_t(blocks);
     m_partials.resize(count);
     if (m_n > 0) gpu::launchBlockSums(values, rows, m_n, m_partials.data(), stream(), mask);
@@ -204,7 +204,11 @@ int CudaDevice<Real>::queuePartialSums(const double* values, int rows, const cha
 
 template <class Real>
 std::vector<double> CudaDevice<Real>::hostPartialSums(int rows, int blocks) const {
-    const double* partials = m_hostPartials.data();
+    return sumPartials(m_hostPartials.data(), rows, blocks);
+}
+
+template <class Real>
+std::vector<double> CudaDevice<Real>::sumPartials(const double* partials, int rows, int blocks) {
     std::vector<double> sums(size_t(rows), 0.0);
     for (int r = 0; r < rows; ++r)
         for (int b = 0; b < blocks; ++b) sums[size_t(r)] += partials[size_t(r) * size_t(blocks) + size_t(b)];
@@ -282,8 +286,11 @@ void CudaDevice<Real>::queueHealth() {
 
 template <class Real>
 HealthReport CudaDevice<Real>::healthReport() const {
-    const unsigned long long* counts = m_hostWords.data() + kHealthWord;
-    const long long* examples = m_hostHealthExamples.data();
+    return healthReportOf(m_hostWords.data() + kHealthWord, m_hostHealthExamples.data());
+}
+
+template <class Real>
+HealthReport CudaDevice<Real>::healthReportOf(const unsigned long long counts[3], const long long examples[5]) {
     HealthReport r;
     r.nonFinite = int64_t(counts[0]);
     r.outsideBox = int64_t(counts[1]);

@@ -97,17 +97,26 @@ StageScreen CudaDevice<Real>::screenStage(const ImpactWindow<double>& window, do
     unsigned int* words = reinterpret_cast<unsigned int*>(m_hostWords.resize(kHostWords));
     cudaCheck(cudaMemcpyAsync(words, stepWords()->screen, 3 * sizeof(unsigned int), cudaMemcpyDeviceToHost, stream()), "screen");
     sync();
-    const double smallestRadius = m_model.radius.empty() ? 0.0 : *std::min_element(m_model.radius.begin(), m_model.radius.end());
-    const StageScreen verdict = screenVerdict(words, ScreenScales{smallestRadius, m_model.maxRadius(), m_model.cutoff, contactGap});
+    const StageScreen verdict = screenVerdict(words, screenScales(contactGap));
     if (verdict == StageScreen::WallsOnly) m_pairsClearNext = true;
-    if (verdict != StageScreen::Quiet) return verdict;
+    if (verdict == StageScreen::Quiet) skipQuietStage();
+    return verdict;
+}
+
+template <class Real>
+ScreenScales CudaDevice<Real>::screenScales(double contactGap) const {
+    const double smallestRadius = m_model.radius.empty() ? 0.0 : *std::min_element(m_model.radius.begin(), m_model.radius.end());
+    return ScreenScales{smallestRadius, m_model.maxRadius(), m_model.cutoff, contactGap};
+}
+
+template <class Real>
+void CudaDevice<Real>::skipQuietStage() {
     m_listedThisStep = m_warmValid = false;  // nothing listed: no warm start for the next step
     m_logging = m_logContacts;
     m_logBound = 0;
     m_logRound = 0;
     m_eventsApplied = false;
     m_cellsMatchPositions = false;
-    return StageScreen::Quiet;
 }
 
 template <class Real>

@@ -178,9 +178,17 @@ private:
     // hostPartialSums() adds them, in block order, after a sync.
     int queuePartialSums(const double* values, int rows, const char* mask = nullptr);
     std::vector<double> hostPartialSums(int rows, int blocks) const;
+    // The block partials of a reduction over n rows: how many per row, and their sums per row in block order.
+    int partialBlocks() const { return std::max(gpu::blockSumBlocks(m_n), 1); }
+    static std::vector<double> sumPartials(const double* partials, int rows, int blocks);
     // Health kernel and its read-back queued (host arrays below); healthReport() reads them after a sync.
     void queueHealth();
     HealthReport healthReport() const;
+    static HealthReport healthReportOf(const unsigned long long counts[3], const long long examples[5]);
+    // The screen's scales for the contact phase's resting gap (screenVerdict).
+    ScreenScales screenScales(double contactGap) const;
+    // What a stage that the screen skips leaves: nothing listed (no warm start), no events, no log.
+    void skipQuietStage();
     // Sums the kImpulseRows rows of `rows` (impulse_sums.h) in a fixed order (cuda_pressure.cpp).
     ImpulseSums sumImpulseRows(const DeviceBuffer<double>& rows);
     static ImpulseSums impulseSumsOf(const std::vector<double>& rowSums);  // kImpulseRows sums, in order

@@ -116,7 +116,6 @@ bool CudaDevice<Real>::forcePass(int stage, bool kick, double kickH) {
     m_screenPending = screen;
     m_listAtX = stage < 0 && gpuCount() == 1 && useLists();
     if (stage < 0) m_accelerationIncremental = false;
-    if (kick) m_homeCurrent = gpuCount() == 1;
     return kick;
 }
 

@@ -2,8 +2,6 @@
 // force-and-kick, the collision stage decided and resolved on the device within the screen's wait,
 // the step check read with it, and the lists' forecast.
 #include <algorithm>
-#include <cstring>
-#include <stdexcept>
 
 #include "cuda_device.h"
 
@@ -11,8 +9,7 @@ namespace corebox {
 
 template <class Real>
 void CudaDevice<Real>::sizeStepBuffers() {
-    const size_t blocks = size_t(std::max(gpu::blockSumBlocks(m_n), 1));
-    const size_t doubles = kStepWordDoubles + size_t(kImpulseRows + 2) * blocks;
+    const size_t doubles = kStepWordDoubles + size_t(kImpulseRows + 2) * size_t(partialBlocks());
     // On the stream (the legacy default stream does not order against it).
     if (m_stepMail.size() != doubles) {
         m_stepMail.resize(doubles);
@@ -67,7 +64,7 @@ void CudaDevice<Real>::kickDrift(double h, double dt) {
         m_forecast.stage = 2;
     }
     scatterFromHome();
-    const bool resetWords = m_fusedSteps && gpuCount() == 1;  // for the screening pass that follows
+    const bool resetWords = gpuCount() == 1;  // for the screening pass that follows
     onEachGpu([&](int k, Replica<Real>& r) {
         const DeviceSlice& s = slice(k);
         gpu::launchKickDrift(r.x.data() + s.begin, r.v.data() + s.begin, r.acceleration.data(), s.size(), Real(h), Real(dt),
@@ -108,7 +105,6 @@ StageScreen CudaDevice<Real>::resolveOnDevice(const ImpactWindow<double>& window
     cudaStream_t s = stream();
     gpu::StepWords* w = stepWords();
     Replica<Real>& r = home();
-    const double smallestRadius = m_model.radius.empty() ? 0.0 : *std::min_element(m_model.radius.begin(), m_model.radius.end());
     // The verdict, the stage opened and the walls resolved (as beginCollisions and resolveWallImpacts
     // would for WallsOnly), and each particle checked, in one pass.
     m_window = ImpactWindow<Real>{Real(window.maxRewind), Real(window.restingSpeed)};
@@ -117,12 +113,12 @@ StageScreen CudaDevice<Real>::resolveOnDevice(const ImpactWindow<double>& window
     const Real halfSkin2 = Real(0.25 * m_model.skin * m_model.skin);
     const size_t n = size_t(m_n);
     double* kineticRow = m_impactRows.data() + size_t(kImpulseRows + 1) * n;
-    const gpu::StageOpening<Real> opening{w, ScreenScales{smallestRadius, m_model.maxRadius(), m_model.cutoff, m_screenGap},
+    const gpu::StageOpening<Real> opening{w, screenScales(m_screenGap),
                                           RestingContact<Real>{Real(window.restingSpeed), Real(m_screenGap)}, r.list.touchedRows(),
                                           kineticRow};
     gpu::launchStageWalls(collisionArgs(), r.acceleration.data(), Real(m_screenGap), r.list.builtPositions(), halfSkin2, opening, s);
     // The tally's rows (only the flagged particles') and the kinetic row, summed in one launch.
-    const int blocks = std::max(gpu::blockSumBlocks(m_n), 1);
+    const int blocks = partialBlocks();
     gpu::launchBlockSums(m_impactRows.data(), kImpulseRows + 2, m_n, m_stepMail.data() + kStepWordDoubles, s, m_hasContactAcceleration.data(),
                          kImpulseRows + 1);
     // The refresh of the accelerations the walls changed, as refreshAccelerations would run it, when
@@ -146,16 +142,8 @@ StageScreen CudaDevice<Real>::resolveOnDevice(const ImpactWindow<double>& window
     m_cachedCheck = stepCheckOf(words, m_hostStepMail.data() + kStepWordDoubles + size_t(kImpulseRows + 1) * size_t(blocks));
     m_checkCached = true;
     readForecast(forecast, words);
-    if (verdict == StageScreen::Quiet) {
-        m_listedThisStep = m_warmValid = false;  // nothing listed: no warm start for the next step
-        m_logging = m_logContacts;
-        m_logBound = 0;
-        m_logRound = 0;
-        m_eventsApplied = false;
-        m_cellsMatchPositions = false;
-        return verdict;
-    }
-    if (verdict == StageScreen::Full) return verdict;
+    if (verdict == StageScreen::Quiet) skipQuietStage();
+    if (verdict != StageScreen::WallsOnly) return verdict;
     // resolveWallImpacts reads the rest from the words.
     m_pairsClearNext = true;
     m_speculated = true;
@@ -169,11 +157,7 @@ StageScreen CudaDevice<Real>::resolveOnDevice(const ImpactWindow<double>& window
 template <class Real>
 int CudaDevice<Real>::readResolvedWalls() {
     const gpu::StepWords& words = hostStepWords();
-    const int blocks = std::max(gpu::blockSumBlocks(m_n), 1);
-    std::vector<double> sums(size_t(kImpulseRows + 1), 0.0);
-    const double* partials = m_hostStepMail.data() + kStepWordDoubles;
-    for (int row = 0; row <= kImpulseRows; ++row)
-        for (int b = 0; b < blocks; ++b) sums[size_t(row)] += partials[size_t(row) * size_t(blocks) + size_t(b)];
+    const std::vector<double> sums = sumPartials(m_hostStepMail.data() + kStepWordDoubles, kImpulseRows + 1, partialBlocks());
     m_wallTally = CollisionTally{};
     m_wallTally.pairCollisions = int64_t(words.kindCounts[0]);
     m_wallTally.wallCollisions = int64_t(words.kindCounts[1]);
@@ -219,13 +203,8 @@ bool CudaDevice<Real>::queueForecast() {
 template <class Real>
 StepCheck CudaDevice<Real>::stepCheckOf(const gpu::StepWords& words, const double* partials) const {
     StepCheck check;
-    const int blocks = std::max(gpu::blockSumBlocks(m_n), 1);
-    for (int b = 0; b < blocks; ++b) check.kinetic += partials[b];
-    check.health.nonFinite = int64_t(words.healthCounts[0]);
-    check.health.outsideBox = int64_t(words.healthCounts[1]);
-    for (unsigned long long k = 0; k < std::min<unsigned long long>(words.healthCounts[2], 5); ++k)
-        check.health.examples.push_back(words.healthExamples[k]);
-    std::sort(check.health.examples.begin(), check.health.examples.end());
+    check.kinetic = sumPartials(partials, 1, partialBlocks())[0];
+    check.health = healthReportOf(words.healthCounts, words.healthExamples);
     return check;
 }
 
@@ -259,7 +238,7 @@ StepCheck CudaDevice<Real>::checkStep() {
     a.kineticRow = m_rows.data();
     gpu::launchStepCheck(a, s);
     gpu::launchBlockSums(m_rows.data(), 1, m_n, m_stepMail.data() + kStepWordDoubles, s);
-    const size_t doubles = kStepWordDoubles + size_t(std::max(gpu::blockSumBlocks(m_n), 1));
+    const size_t doubles = kStepWordDoubles + size_t(partialBlocks());
     cudaCheck(cudaMemcpyAsync(m_hostStepMail.data(), m_stepMail.data(), doubles * sizeof(double), cudaMemcpyDeviceToHost, s), "step words");
     sync();
     readForecast(forecast, hostStepWords());
