@@ -27,9 +27,9 @@ __global__ void findEventsKernel(CollisionArgs<Real> a) {
     considerWalls(xi, vi, ri, a.box, a.window, best);
     a.events[i] = best;
     if (!isValid(best)) return;
-    atomicAdd(&a.counters[1], 1u);  // a count: the same whatever the order
+    warpAggregatedIncrement(&a.counters[1]);  // a count: the same whatever the order
     if (!a.hasContactAcceleration[i]) {
-        const unsigned slot = atomicAdd(&a.counters[0], 1u);  // list order varies, each entry's work does not
+        const unsigned slot = warpAggregatedIncrement(&a.counters[0]);  // list order varies, each entry's work does not
         a.needList[slot] = int32_t(i);
         a.hasContactAcceleration[i] = 1;
     }

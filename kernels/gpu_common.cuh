@@ -27,6 +27,19 @@ inline int multiprocessorCount() {
     return count;
 }
 
+// atomicAdd(counter, 1) for each calling thread, one atomic a warp: the threads that call together
+// share it and each gets its own slot (in lane order within the warp's block of slots). Thousands of
+// threads on one address queue behind each other otherwise.
+__device__ inline unsigned int warpAggregatedIncrement(unsigned int* counter) {
+    const unsigned int together = __activemask();
+    const int lane = int(threadIdx.x % 32);
+    const int leader = __ffs(int(together)) - 1;
+    unsigned int base = 0;
+    if (lane == leader) base = atomicAdd(counter, unsigned(__popc(together)));
+    base = __shfl_sync(together, base, leader);
+    return base + unsigned(__popc(together & ((1u << lane) - 1u)));
+}
+
 // StageGate (gpu_launch.h): whether a gated launch does its work.
 __device__ inline bool gateOpen(const StageGate& g) {
     return !g.stage || (((g.stages >> *g.stage) & 1u) != 0u && (!g.clear || *g.clear == 0u));

@@ -69,7 +69,10 @@ struct PileRunResult {
     int maxRounds = -1;                // most collision rounds in one step (-1: not applicable)
     double meanRounds = -1;            // impact rounds per step, mean (-1: not applicable)
     double meanContactSweeps = -1;     // contact sweeps per step, mean (-1: not applicable)
+    double meanListings = -1;          // contact lists made per step, mean (-1: not applicable)
     double collideShare = -1;          // share of the step's marked phases spent in the collision stage
+    double impactShare = -1;           // of the collision stage's time: the screen and the impact rounds ...
+    double contactShare = -1;          // ... and the contact phase (listings and sweeps)
     std::string finalState;            // "end" or "last_good" (the state before the failing step)
     std::string outcome;               // ok | instability | device_error | error
     std::string message;

@@ -19,11 +19,14 @@ struct StepReport {
     int rounds = 0;                // parallel impact rounds used
     StageScreen screen = StageScreen::Full;  // what the backend's screen found (the stage ran whole, for walls, or not)
     bool roundCapHit = false;      // impacts remained after InteractionDef::maxCollisionRounds
-    int contactSweeps = 0;         // Jacobi sweeps of the contact relaxation
+    int contactSweeps = 0;         // sweeps of the contact relaxation (all listings)
+    int contactListings = 0;       // contact lists made (a deep overlap lists again)
     double contactOverlap = 0;     // largest overlap left, as a fraction of the contact distance
     ImpulseSums impulses;          // impacts and contacts: given to the walls, r_ij . J_ij of the pairs
     // Where the step's time went [s]: force passes, the rest of the integration, collisions.
     double secondsForces = 0, secondsIntegrate = 0, secondsCollide = 0;
+    // secondsCollide split: the impact rounds (with the screen) and the contact phase [s].
+    double secondsImpacts = 0, secondsContacts = 0;
 };
 
 }  // namespace corebox
