@@ -229,16 +229,9 @@ int CudaDevice<Real>::resolveWallImpacts() {
     cudaCheck(cudaMemcpyAsync(words + 3, stats, 3 * sizeof(unsigned int), cudaMemcpyDeviceToHost, s), "wall impacts");
     const int blocks = queuePartialSums(m_impactRows.data(), kImpulseRows + 1, m_hasContactAcceleration.data());
     sync();
-    const std::vector<double> sums = hostPartialSums(kImpulseRows + 1, blocks);
     unsigned int read[3];
     std::memcpy(read, words + 3, sizeof read);
-    m_wallTally = CollisionTally{};
-    m_wallTally.pairCollisions = int64_t(words[0]);
-    m_wallTally.wallCollisions = int64_t(words[1]);
-    if (m_wallTally.total() > 0) {
-        m_wallTally.dissipated = sums[size_t(kImpulseRows)];
-        m_wallTally.impulses = impulseSumsOf(sums);
-    }
+    m_wallTally = tallyOf(words, hostPartialSums(kImpulseRows + 1, blocks));
     m_wallsOnlyMoved = true;
     m_wallContactsPossible = read[1] != 0;
     m_eventsApplied = true;
@@ -309,24 +302,16 @@ void CudaDevice<Real>::applyEvents() {
 
 template <class Real>
 CollisionTally CudaDevice<Real>::collisionTally() {
-    CollisionTally t;
     if (m_wallsAtOnce) return m_wallTally;  // read with resolveWallImpacts' wait
     // Nothing resolved since beginCollisions zeroed the counters: nothing to read back.
-    if (!m_eventsApplied) return t;
+    if (!m_eventsApplied) return CollisionTally{};
     // The counts, the losses and the impulses come back with one wait: the loss is the last of the
     // impact rows, summed with them in block order.
     unsigned long long* kinds = m_hostWords.resize(kHostWords);
     cudaCheck(cudaMemcpyAsync(kinds, stepWords()->kindCounts, 3 * sizeof(unsigned long long), cudaMemcpyDeviceToHost, stream()), "counts");
     const int blocks = queuePartialSums(m_impactRows.data(), kImpulseRows + 1, m_hasContactAcceleration.data());
     sync();
-    const std::vector<double> sums = hostPartialSums(kImpulseRows + 1, blocks);
-    t.pairCollisions = int64_t(kinds[0]);
-    t.wallCollisions = int64_t(kinds[1]);
-    if (t.total() > 0) {
-        t.dissipated = sums[size_t(kImpulseRows)];
-        t.impulses = impulseSumsOf(sums);
-    }
-    return t;
+    return tallyOf(kinds, hostPartialSums(kImpulseRows + 1, blocks));
 }
 
 template <class Real>

@@ -192,6 +192,9 @@ private:
     // Sums the kImpulseRows rows of `rows` (impulse_sums.h) in a fixed order (cuda_pressure.cpp).
     ImpulseSums sumImpulseRows(const DeviceBuffer<double>& rows);
     static ImpulseSums impulseSumsOf(const std::vector<double>& rowSums);  // kImpulseRows sums, in order
+    // A stage's tally from the pair and wall counts of the step words and the sums of the impact rows
+    // (kImpulseRows, then the loss).
+    static CollisionTally tallyOf(const unsigned long long kindCounts[2], const std::vector<double>& rowSums);
     gpu::CollisionArgs<Real> collisionArgs();
     void beginWarmStart();  // beginCollisions: the last listing's rows become the warm start
     // Room for `records` contact log records, keeping those written so far (at most m_logBound).

@@ -24,6 +24,18 @@ ImpulseSums CudaDevice<Real>::impulseSumsOf(const std::vector<double>& sums) {
 }
 
 template <class Real>
+CollisionTally CudaDevice<Real>::tallyOf(const unsigned long long kindCounts[2], const std::vector<double>& sums) {
+    CollisionTally t;
+    t.pairCollisions = int64_t(kindCounts[0]);
+    t.wallCollisions = int64_t(kindCounts[1]);
+    if (t.total() > 0) {
+        t.dissipated = sums[size_t(kImpulseRows)];
+        t.impulses = impulseSumsOf(sums);
+    }
+    return t;
+}
+
+template <class Real>
 double CudaDevice<Real>::pairVirial() {
     if (!m_model.anyPairForce || m_n == 0) return 0;
     gatherToHome();

@@ -157,14 +157,7 @@ StageScreen CudaDevice<Real>::resolveOnDevice(const ImpactWindow<double>& window
 template <class Real>
 int CudaDevice<Real>::readResolvedWalls() {
     const gpu::StepWords& words = hostStepWords();
-    const std::vector<double> sums = sumPartials(m_hostStepMail.data() + kStepWordDoubles, kImpulseRows + 1, partialBlocks());
-    m_wallTally = CollisionTally{};
-    m_wallTally.pairCollisions = int64_t(words.kindCounts[0]);
-    m_wallTally.wallCollisions = int64_t(words.kindCounts[1]);
-    if (m_wallTally.total() > 0) {
-        m_wallTally.dissipated = sums[size_t(kImpulseRows)];
-        m_wallTally.impulses = impulseSumsOf(sums);
-    }
+    m_wallTally = tallyOf(words.kindCounts, sumPartials(m_hostStepMail.data() + kStepWordDoubles, kImpulseRows + 1, partialBlocks()));
     // The contact listing would find the wall contacts the device counted, and no pair (the screen).
     m_wallContactsPossible = words.wallStats[1] != 0 && words.wallContacts != 0;
     m_wallsCountedOnDevice = true;
