@@ -1,7 +1,7 @@
 // The contact relaxation on the GPU (contact_relaxation.h): per-particle contact lists built from the
 // cell list in the order the CPU builds them (count, scan, fill, each contact's warm-start impulse
-// from the last step's rows), the warm start, then Jacobi sweeps, one thread per particle
-// (relaxParticle). No order-dependent atomics: a sweep reads only
+// from the last step's rows), the warm start, then accelerated Jacobi sweeps, one thread per particle
+// (relaxParticle, sweepMomentum). No order-dependent atomics: a sweep reads only
 // the previous sweep's state, and the residual is a maximum (atomicMax on the bits of non-negative
 // doubles, which order like the values).
 #include <cub/device/device_scan.cuh>
@@ -77,20 +77,32 @@ __global__ void fillContactsKernel(ContactArgs<Real> a) {
         // decide alike (both counts are 1, or not).
         const bool isolated = count == 1 && (isWallContact(partner) || a.contactStart[partner + 1] - a.contactStart[partner] == 1);
         a.lambda[slot] = a.warm && !isolated ? warmLambdaOf(a, i, partner) : Real(0);
+        a.applied[slot] = a.lambda[slot];
         ++slot;
     });
 }
 
+// Impulses on particle i's rows, no sweep: the warm start (each row's lambda, which it begins with) or,
+// with `settle`, the end of the accelerated sweeps (settleRow). Reads positions only: no hazard
+// between particles.
 template <class Real>
-__global__ void warmStartKernel(ContactArgs<Real> a) {
+__global__ void rowImpulsesKernel(ContactArgs<Real> a, bool settle) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.p.n) return;
     const int64_t first = a.contactStart[i];
     const int count = int(a.contactStart[i + 1] - first);
     if (count == 0) return;
     ImpulseSums given;
-    a.p.v[i] += warmStartParticle(i, count, [&](int c) { return a.partner[first + c]; }, a.lambda + first, a.p.x, a.p.species, a.table.mass,
+    Real* lambda = a.lambda + first;
+    Real* applied = a.applied + first;
+    auto partner = [&](int c) { return a.partner[first + c]; };
+    if (settle) {
+        a.p.v[i] += rowImpulsesOf(i, count, partner, [&](int c) { return settleRow(lambda[c], applied[c]); }, a.p.x, a.p.species, a.table.mass,
                                   a.table.radius, a.box, given);
+    } else {
+        a.p.v[i] += rowImpulsesOf(i, count, partner, [&](int c) { return lambda[c]; }, a.p.x, a.p.species, a.table.mass, a.table.radius, a.box,
+                                  given);
+    }
     addImpulseRows(a, i, given);
 }
 
@@ -105,7 +117,7 @@ __device__ void atomicMaxNonNegative(unsigned long long* target, double value) {
 // Four threads a particle, each taking every fourth contact, made this pile's sweep slower (35 us
 // against 20: its L2 traffic went from 22% to 67% of peak), though faster at 10^4 balls.
 template <class Real>
-__global__ void sweepKernel(ContactArgs<Real> a, bool measure) {
+__global__ void sweepKernel(ContactArgs<Real> a, bool measure, Real beta) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     ContactResidual<Real> r{0, 0};
     if (i < a.p.n) {
@@ -114,7 +126,7 @@ __global__ void sweepKernel(ContactArgs<Real> a, bool measure) {
         ImpulseSums given;
         auto contactsOf = [&](int64_t j) { return int(a.contactStart[j + 1] - a.contactStart[j]); };
         relaxParticle(i, count, [&](int c) { return a.partner[first + c]; }, contactsOf, a.lambda + first, a.p.x, a.p.v, a.p.species,
-                      a.table.mass, a.table.radius, a.box, a.up, a.bounce, a.dv[i], a.dx[i], r, given);
+                      a.table.mass, a.table.radius, a.box, a.up, a.bounce, a.dv[i], a.dx[i], r, given, a.applied + first, beta);
         addImpulseRows(a, i, given);
     }
     if (!measure) return;  // the same for the whole grid: every lane of a warp reaches the shuffles
@@ -175,19 +187,26 @@ void launchFillContacts(const ContactArgs<Real>& a, cudaStream_t stream) {
 template <class Real>
 void launchWarmStart(const ContactArgs<Real>& a, cudaStream_t stream) {
     if (a.p.n == 0) return;
-    warmStartKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+    rowImpulsesKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, false);
     checkLaunch("contact warm-start kernel");
 }
 
 template <class Real>
-void launchRelaxContacts(const ContactArgs<Real>& a, int sweeps, cudaStream_t stream) {
+void launchSettleContacts(const ContactArgs<Real>& a, cudaStream_t stream) {
+    if (a.p.n == 0) return;
+    rowImpulsesKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, true);
+    checkLaunch("contact settle kernel");
+}
+
+template <class Real>
+void launchRelaxContacts(const ContactArgs<Real>& a, int sweeps, int firstSweep, cudaStream_t stream) {
     if (a.p.n == 0) return;
     for (int sweep = 0; sweep < sweeps; ++sweep) {
         // The residual of the last sweep only: cleared before it.
         const bool last = sweep == sweeps - 1;
         if (last) cudaMemsetAsync(a.residual, 0, 2 * sizeof(unsigned long long), stream);
         static_assert(kBlock % 32 == 0, "whole warps: the residual's shuffles");
-        sweepKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, last);
+        sweepKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, last, sweepMomentum<Real>(firstSweep + sweep));
         checkLaunch("contact sweep kernel");
         applySweepKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
         checkLaunch("contact update kernel");
@@ -206,7 +225,8 @@ void launchLiftWorkRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, 
     template void launchCountContacts<Real>(const ContactArgs<Real>&, cudaStream_t);                               \
     template void launchFillContacts<Real>(const ContactArgs<Real>&, cudaStream_t);                                \
     template void launchWarmStart<Real>(const ContactArgs<Real>&, cudaStream_t);                                   \
-    template void launchRelaxContacts<Real>(const ContactArgs<Real>&, int, cudaStream_t);                          \
+    template void launchSettleContacts<Real>(const ContactArgs<Real>&, cudaStream_t);                              \
+    template void launchRelaxContacts<Real>(const ContactArgs<Real>&, int, int, cudaStream_t);                     \
     template void launchLiftWorkRow<Real>(const ParticleArrays<Real>&, SpeciesTable<Real>, const Vec3<Real>*, double*, cudaStream_t);
 COREBOX_INSTANTIATE(float)
 COREBOX_INSTANTIATE(double)

@@ -337,6 +337,9 @@ struct ContactArgs {
     const int64_t* warmStart;
     const int64_t* warmPartner;
     const Real* warmLambda;
+    // Per listed contact, as lambda: the extrapolated impulse the velocities hold (the accelerated
+    // sweeps, contact_relaxation.h: acceleratedImpulse).
+    Real* applied;
 };
 // contactStart[i + 1] = particle i's contact count (contactStart[0] = 0); the caller scans it.
 template <class Real>
@@ -351,10 +354,13 @@ void launchFillContacts(const ContactArgs<Real>& args, cudaStream_t stream);
 // Applies the filled impulses to V (the warm start), before the first sweep.
 template <class Real>
 void launchWarmStart(const ContactArgs<Real>& args, cudaStream_t stream);
+// Ends the accelerated sweeps: each row from its applied impulse to its projected one (settleRow).
+template <class Real>
+void launchSettleContacts(const ContactArgs<Real>& args, cudaStream_t stream);
 // One Jacobi sweep (contact_relaxation.h: relaxParticle) then the update, `sweeps` times; the
 // residual holds the maxima of the last sweep.
 template <class Real>
-void launchRelaxContacts(const ContactArgs<Real>& args, int sweeps, cudaStream_t stream);
+void launchRelaxContacts(const ContactArgs<Real>& args, int sweeps, int firstSweep, cudaStream_t stream);
 // row[i] = -m_i g_i . (x_i - xListed_i): the work against the uniform field of particle i's species
 // (SpeciesTable::field) of its contact moves.
 template <class Real>

@@ -224,6 +224,10 @@ public:
     // Runs `sweeps` sweeps over the listed contacts (Gauss-Seidel or Jacobi, contact_relaxation.h);
     // returns the residual of the last one.
     virtual ContactResidual<double> relaxContacts(int sweeps) = 0;
+    // The relaxation of this listing is over: a backend whose sweeps carry momentum (the accelerated
+    // Jacobi sweeps) leaves its velocities with the projected impulses (settleRow). Called before
+    // contactLiftWork and contactImpulses.
+    virtual void endRelaxation() {}
     // Work done against gravity by the position moves since listContacts: sum of -m g . dx [eps].
     virtual double contactLiftWork() = 0;
     // Impulses of the velocity level since listContacts (impulse_sums.h): what the walls received and

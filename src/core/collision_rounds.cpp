@@ -105,6 +105,7 @@ void resolveCollisions(Backend& backend, const CollisionSettings& settings, Step
             sweeps += batch;
         }
         report.contactSweeps += sweeps;
+        backend.endRelaxation();
         liftWork += backend.contactLiftWork();
         report.impulses += backend.contactImpulses();  // a resting pile's weight reaches the floor here
         if (firstOverlap < kDeepOverlap) break;

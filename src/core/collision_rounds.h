@@ -10,8 +10,8 @@
 //    event in the previous round) against every neighbour, the others against active neighbours.
 //    The number of rounds is capped; when the cap is hit, a last search says whether impacts remain
 //    (reported), and the contact phase takes what is left.
-// 2. Contacts. Every overlapping or touching pair and wall is relaxed together by Jacobi sweeps
-//    (contact_relaxation.h): approach velocities stopped (restitution 0: resting contact), overlaps
+// 2. Contacts. Every overlapping or touching pair and wall is relaxed together by sweeps
+//    (contact_relaxation.h: Gauss-Seidel on the CPU, accelerated Jacobi on the GPU): approach velocities stopped (restitution 0: resting contact), overlaps
 //    removed by moving positions without adding kinetic energy, until the largest approach speed and
 //    overlap are within tolerance or the sweep cap is reached. The kinetic energy this removes,
 //    minus the work done against gravity by the position moves, is booked as dissipated, so
@@ -34,7 +34,8 @@ struct CollisionSettings {
     // carries support from the floor to the top within a sweep, so it needs few (the 10,000-ball pile,
     // CPU: 16 sweeps 116 ms per frame with overlaps within 0.04% of a diameter; 32 sweeps 157 ms,
     // 0.05%; capped at 128, 420 ms). Jacobi carries support a layer per sweep and needs many (H200,
-    // warm-started with 16: a column of ten balls sinks 1.6e-3 and a pile's overlaps reach 1e-3).
+    // plain and warm-started with 16: a column of ten balls sank 1.6e-3 and a pile's overlaps reached
+    // 1e-3); accelerated, fewer (contact_relaxation.h: 233 a step in a forming 10^5-ball pile).
     int maxSweepsJacobi = 128;
     int maxSweepsGaussSeidel = 16;
     double speedTolerance = 0;     // contacts converged when no approach is faster than this ...

@@ -377,6 +377,7 @@ gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
     a.warmStart = m_warmStart.data();
     a.warmPartner = m_warmPartner.data();
     a.warmLambda = m_warmLambda.data();
+    a.applied = m_contactApplied.data();
     return a;
 }
 
@@ -418,6 +419,8 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     m_wallsOnlyMoved = false;  // the relaxation may move particles the wall impacts did not
     m_contactPartner.resize(size_t(total));
     m_contactLambda.resize(size_t(total));
+    m_contactApplied.resize(size_t(total));
+    m_sweepsDone = 0;
     m_contactImpulses.resize(size_t(kImpulseRows) * size_t(m_n));
     cudaCheck(cudaMemsetAsync(m_contactImpulses.data(), 0, size_t(kImpulseRows) * size_t(m_n) * sizeof(double), s), "memset");
     gpu::ContactArgs<Real> fill = contactArgs();
@@ -433,7 +436,8 @@ ContactResidual<double> CudaDevice<Real>::relaxContacts(int sweeps) {
     beforeStateChange();
     if (m_warmPending) gpu::launchWarmStart(contactArgs(), stream());
     m_warmPending = false;
-    gpu::launchRelaxContacts(contactArgs(), sweeps, stream());
+    gpu::launchRelaxContacts(contactArgs(), sweeps, m_sweepsDone, stream());
+    m_sweepsDone += sweeps;
     homeChanged();
     m_cellsMatchPositions = false;
     unsigned long long* bits = m_hostWords.resize(kHostWords);
@@ -443,6 +447,14 @@ ContactResidual<double> CudaDevice<Real>::relaxContacts(int sweeps) {
     std::memcpy(&r.speedChange, &bits[0], sizeof(double));
     std::memcpy(&r.overlap, &bits[1], sizeof(double));
     return r;
+}
+
+template <class Real>
+void CudaDevice<Real>::endRelaxation() {
+    if (m_sweepsDone == 0) return;
+    gpu::launchSettleContacts(contactArgs(), stream());
+    homeChanged();
+    m_sweepsDone = 0;
 }
 
 // Each pair once, from its lower index, and the walls: the contacts that end the last relaxation

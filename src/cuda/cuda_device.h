@@ -100,6 +100,7 @@ public:
     std::vector<ContactRecord> contactLog() const override;
     int64_t listContacts(const RestingContact<double>& resting) override;
     ContactResidual<double> relaxContacts(int sweeps) override;
+    void endRelaxation() override;
     std::vector<ContactWarmStart> contactWarmStart() const override;
     void restoreContactWarmStart(const std::vector<ContactWarmStart>& impulses) override;
     double contactLiftWork() override;
@@ -329,6 +330,8 @@ private:
     RestingContact<Real> m_resting{0, 0};
     DeviceBuffer<int64_t> m_contactStart, m_contactPartner;
     DeviceBuffer<Real> m_contactLambda;  // per listed contact: its accumulated impulse
+    DeviceBuffer<Real> m_contactApplied;  // per listed contact: the extrapolated impulse the velocities hold
+    int m_sweepsDone = 0;                 // sweeps since the listing: the momentum's index
     // Warm start (contact_relaxation.h): the last step's final rows, swapped in at beginCollisions.
     DeviceBuffer<int64_t> m_warmStart, m_warmPartner;
     DeviceBuffer<Real> m_warmLambda;
