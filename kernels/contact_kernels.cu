@@ -110,6 +110,20 @@ __device__ void atomicMaxNonNegative(unsigned long long* target, double value) {
     atomicMax(target, static_cast<unsigned long long>(__double_as_longlong(value)));
 }
 
+// A sweep's impulses on particle i (relaxParticle's `given`), added to its rows as they come: an
+// ImpulseSums of 13 doubles indexed by wall code lived in local memory (a 104-byte stack frame), read
+// and written every sweep. Each wall has at most one contact with i, so a row receives the same sum,
+// the same bits (the CUDA dense-contact and pile tests pass unchanged on an H200).
+struct SweepImpulseRows {
+    double* rows;
+    size_t n, i;
+    double pairVirial = 0;
+    __device__ void addWall(int code, double impulse, bool atCentre) {
+        rows[size_t(code) * n + i] += impulse;
+        if (atCentre) rows[size_t(kWallCount + code) * n + i] += impulse;
+    }
+};
+
 // `measure`: the batch's last sweep, whose residual is read. Its maxima are taken over each warp
 // first, one atomic a warp: every particle in contact has a residual, and 10^5 atomics a sweep on one
 // address queued behind each other (an H200, a 10^5-ball pile: 613 sweeps a step took 105 ms a step
@@ -123,11 +137,11 @@ __global__ void sweepKernel(ContactArgs<Real> a, bool measure, Real beta) {
     if (i < a.p.n) {
         const int64_t first = a.contactStart[i];
         const int count = int(a.contactStart[i + 1] - first);
-        ImpulseSums given;
+        SweepImpulseRows given{a.impulses, size_t(a.p.n), size_t(i)};
         auto contactsOf = [&](int64_t j) { return int(a.contactStart[j + 1] - a.contactStart[j]); };
         relaxParticle(i, count, [&](int c) { return a.partner[first + c]; }, contactsOf, a.lambda + first, a.p.x, a.p.v, a.p.species,
                       a.table.mass, a.table.radius, a.box, a.up, a.bounce, a.dv[i], a.dx[i], r, given, a.applied + first, beta);
-        addImpulseRows(a, i, given);
+        if (given.pairVirial != 0) a.impulses[size_t(kPairVirialRow) * size_t(a.p.n) + size_t(i)] += given.pairVirial;
     }
     if (!measure) return;  // the same for the whole grid: every lane of a warp reaches the shuffles
     double speed = double(r.speedChange), overlap = double(r.overlap);

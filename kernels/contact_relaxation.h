@@ -286,11 +286,11 @@ COREBOX_HD inline Real overlapShare(Real mi, Real mj, Vec3<Real> n, Vec3<Real> u
 // to `given` (impulse_sums.h): the momentum each wall received from i, and half of r_ij . J_ij of each
 // pair (j computes the same impulse, opposite, from its side: the sum over particles counts each pair
 // impulse once).
-template <class Real, class Partner, class ContactsOf>
+template <class Real, class Partner, class ContactsOf, class Given>
 COREBOX_HD inline void relaxParticle(int64_t i, int count, Partner&& partner, ContactsOf&& contactsOf, Real* lambda, const Vec3<Real>* x,
                                      const Vec3<Real>* v, const int32_t* species, const Real* mass, const Real* radius, Vec3<Real> box,
                                      Vec3<Real> up, ContactBounce<Real> bounce, Vec3<Real>& dv, Vec3<Real>& dx, ContactResidual<Real>& residual,
-                                     ImpulseSums& given, Real* applied, Real beta) {
+                                     Given& given, Real* applied, Real beta) {
     const Vec3<Real> xi = x[i], vi = v[i];
     const int si = species[i];
     const Real mi = mass[si], ai = radius[si];
