@@ -194,11 +194,12 @@ template <class Real>
 void launchListForces(const ForceArgs<Real>& a, cudaStream_t stream);  // neighbour_list_kernels.cu
 
 template <class Real>
-size_t forceScratchBytes(int64_t rows, int64_t n, bool pairsOnce) {
+size_t forceScratchBytes(int64_t rows, int64_t n, bool pairsOnce, int gpus) {
     const ChunkPlan plan = planChunks(rows, n);
     const size_t chunked = plan.chunks <= 1 ? 0 : partialForceBytes<Real>(plan.chunks, rows) + size_t(plan.chunks) * size_t(rows) * sizeof(double);
-    const int tile = pairsOnce && rows == n ? pairsOnceTileFor(n, multiprocessorCount(), sizeof(Real)) : 0;
-    return tile > 0 ? std::max(chunked, pairsOnceScratchBytes(n, tile, sizeof(Real))) : chunked;
+    const int tile = pairsOnce && (rows == n || gpus > 1) ? pairsOnceTileFor(n, multiprocessorCount(), sizeof(Real), gpus) : 0;
+    if (tile == 0) return chunked;
+    return std::max(chunked, pairsOnceScratchBytes(n, tile, sizeof(Real)) + (gpus > 1 ? pairsOnceRowSumBytes<Real>(n) : 0));
 }
 
 template <class Real>
@@ -210,8 +211,15 @@ bool pairsOnceApplies(const ForceArgs<Real>& a) {
 }
 
 template <class Real>
-int64_t allPairsEvaluations(int64_t n, bool pairsOnce) {
-    const int tile = pairsOnce ? pairsOnceTileFor(n, multiprocessorCount(), sizeof(Real)) : 0;
+bool pairsOnceAppliesAcross(const ForceArgs<Real>& a, int gpus) {
+    if (!(gpus > 1 && a.pairsOnce && a.anyPairForce && !a.rowIndex && !a.neighbours && !a.pairEnergy)) return false;
+    const int tile = pairsOnceTileFor(a.n, multiprocessorCount(), sizeof(Real), gpus);
+    return tile > 0 && a.scratchBytes >= pairsOnceScratchBytes(a.n, tile, sizeof(Real)) + pairsOnceRowSumBytes<Real>(a.n);
+}
+
+template <class Real>
+int64_t allPairsEvaluations(int64_t n, bool pairsOnce, int gpus) {
+    const int tile = pairsOnce ? pairsOnceTileFor(n, multiprocessorCount(), sizeof(Real), gpus) : 0;
     if (tile == 0) return n * (n - 1);
     // Off-diagonal tile pairs evaluate each pair once; a diagonal one every ordered pair and itself.
     int64_t diagonal = 0;
@@ -329,11 +337,13 @@ template void launchExchangeMovedPairForces<double>(const ForceArgs<double>&, co
                                                     int64_t, cudaStream_t);
 template void launchForces<float>(const ForceArgs<float>&, cudaStream_t);
 template void launchForces<double>(const ForceArgs<double>&, cudaStream_t);
-template size_t forceScratchBytes<float>(int64_t, int64_t, bool);
-template size_t forceScratchBytes<double>(int64_t, int64_t, bool);
+template size_t forceScratchBytes<float>(int64_t, int64_t, bool, int);
+template size_t forceScratchBytes<double>(int64_t, int64_t, bool, int);
 template bool pairsOnceApplies<float>(const ForceArgs<float>&);
 template bool pairsOnceApplies<double>(const ForceArgs<double>&);
-template int64_t allPairsEvaluations<float>(int64_t, bool);
-template int64_t allPairsEvaluations<double>(int64_t, bool);
+template bool pairsOnceAppliesAcross<float>(const ForceArgs<float>&, int);
+template bool pairsOnceAppliesAcross<double>(const ForceArgs<double>&, int);
+template int64_t allPairsEvaluations<float>(int64_t, bool, int);
+template int64_t allPairsEvaluations<double>(int64_t, bool, int);
 
 }  // namespace corebox::gpu

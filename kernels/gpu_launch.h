@@ -187,17 +187,37 @@ template <class Real>
 void launchListMoved(const Vec3<Real>* x, const Vec3<Real>* xBuilt, int64_t begin, int64_t end, Real halfSkin2, unsigned int* moved,
                      cudaStream_t stream);
 // Scratch the force pass needs for rows [begin, end) of n particles (0 when it does not split j), and
-// with pairsOnce the partial forces of the pairs-once pass where it applies to a full pass (rows = n).
+// with pairsOnce the partial forces of the pairs-once pass where it applies: a full pass (rows = n) on
+// one GPU, or a GPU's share of it (and its row sums) when `gpus` GPUs share the pass.
 template <class Real>
-size_t forceScratchBytes(int64_t rows, int64_t n, bool pairsOnce = false);
-// Whether a full pass over n particles with these arguments evaluates each pair once; the pair
-// evaluations a full all-pairs pass does: n (n - 1) / 2 plus the diagonal tiles' extra, or n (n - 1).
+size_t forceScratchBytes(int64_t rows, int64_t n, bool pairsOnce = false, int gpus = 1);
+// Whether a full pass over n particles with these arguments evaluates each pair once (one GPU); the
+// pair evaluations a full all-pairs pass does over all GPUs: n (n - 1) / 2 plus the diagonal tiles'
+// extra, or n (n - 1).
 template <class Real>
 bool pairsOnceApplies(const ForceArgs<Real>& args);
 template <class Real>
-int64_t allPairsEvaluations(int64_t n, bool pairsOnce);
+int64_t allPairsEvaluations(int64_t n, bool pairsOnce, int gpus = 1);
 template <class Real>
 void launchPairsOnceForces(const ForceArgs<Real>& args, cudaStream_t stream);  // pairs_once_kernels.cu
+// Several GPUs sharing one pairs-once pass (pairs_once_kernels.cu): whether it applies to GPU args
+// (its slice's rows, all positions, or the peers' with DA) of `gpus` GPUs that can read each other's
+// memory; then every GPU k launches launchPairsOnceShare (its share of the tile pairs, and its row sums
+// of every particle, pairsOnceRowSums), and once every GPU's share is done (a barrier across the
+// streams) launchPairsOnceCombine: its slice's accelerations from the GPUs' row sums in GPU order.
+template <class Real>
+struct PairsOnceSums {
+    const Vec3<Real>* rows[kMaxGpus];  // GPU g's row sums (n), read in place over peer access
+    int count;
+};
+template <class Real>
+bool pairsOnceAppliesAcross(const ForceArgs<Real>& args, int gpus);
+template <class Real>
+Vec3<Real>* pairsOnceRowSums(const ForceArgs<Real>& args, int gpus);
+template <class Real>
+void launchPairsOnceShare(const ForceArgs<Real>& args, int gpu, int gpus, cudaStream_t stream);
+template <class Real>
+void launchPairsOnceCombine(const ForceArgs<Real>& args, const PairsOnceSums<Real>& sums, cudaStream_t stream);
 
 // ---- integration (integrate_kernels.cu) ----
 template <class Real>

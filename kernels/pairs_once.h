@@ -1,9 +1,11 @@
-// Geometry of the pairs-once force pass (kernels/pairs_once_kernels.cu: all pairs on one GPU with
-// Newton's third law), shared by its launch and the host side that sizes its scratch memory.
+// Geometry of the pairs-once force pass (kernels/pairs_once_kernels.cu: all pairs on one GPU or
+// several with Newton's third law), shared by its launch and the host side that sizes its scratch.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+
+#include "hd.h"
 
 namespace corebox::gpu {
 
@@ -23,16 +25,27 @@ inline size_t pairsOnceScratchBytes(int64_t n, int tile, size_t realBytes) {
     return tiles * tiles * size_t(tile) * 3 * realBytes;
 }
 
-// The tile for n particles on a GPU of `multiprocessors`: the largest (fewest partial sums) whose tile
-// pairs fill the GPU, 0 when none does (small n: the ordered kernel's chunks fill it better) or when
-// the partial forces would pass the memory budget.
-inline int pairsOnceTileFor(int64_t n, int multiprocessors, size_t realBytes) {
+// Several GPUs: each GPU's sums of its slots per particle (3 reals a particle), after its slots.
+template <class Real>
+inline size_t pairsOnceRowSumBytes(int64_t n) { return size_t(n) * 3 * sizeof(Real); }
+
+// The tile for n particles on `gpus` GPUs of `multiprocessors` each: the largest (fewest partial sums)
+// whose tile pairs fill every GPU with its share, 0 when none does (small n: the ordered kernel's
+// chunks fill it better) or when the partial forces would pass the memory budget.
+inline int pairsOnceTileFor(int64_t n, int multiprocessors, size_t realBytes, int gpus = 1) {
     for (int tile = 4 * kPairsOnceWarpRows; tile >= kPairsOnceWarpRows; tile /= 2) {
         const int64_t tiles = pairsOnceTiles(n, tile);
-        if (tiles * (tiles + 1) / 2 < kPairsOnceItemsPerMultiprocessor * multiprocessors) continue;
+        if (tiles * (tiles + 1) / 2 < kPairsOnceItemsPerMultiprocessor * multiprocessors * gpus) continue;
         return pairsOnceScratchBytes(n, tile, realBytes) <= kPairsOnceScratchBudget ? tile : 0;
     }
     return 0;
 }
+
+// Several GPUs share the tile pairs (I, J), I <= J, numbered row by row: item(I, J) = I tiles -
+// I (I - 1) / 2 + J - I. GPU g of `gpus` evaluates the items [first(g), first(g + 1)): equal shares,
+// whose rows and columns lie anywhere (every GPU holds every position before a force pass).
+inline int64_t pairsOnceItems(int64_t tiles) { return tiles * (tiles + 1) / 2; }
+inline int64_t pairsOnceFirstItem(int gpu, int gpus, int64_t tiles) { return pairsOnceItems(tiles) * gpu / gpus; }
+COREBOX_HD inline int64_t pairsOnceItem(int64_t I, int64_t J, int64_t tiles) { return I * tiles - I * (I - 1) / 2 + (J - I); }
 
 }  // namespace corebox::gpu

@@ -1,5 +1,5 @@
-// All-pairs forces with Newton's third law on one GPU: each pair of particles is evaluated once and
-// its force given to both, half the arithmetic of the ordered-pair kernel (force_kernels.cu).
+// All-pairs forces with Newton's third law on one GPU or several: each pair of particles is evaluated
+// once and its force given to both, half the arithmetic of the ordered-pair kernel (force_kernels.cu).
 //
 // Design note. Why not the obvious schemes:
 // - atomics on the partner's force (float or double) make the sum depend on scheduling: results
@@ -26,7 +26,17 @@
 // partner and 6/kLaneRows shuffles, for two ordered pairs. The slots take tiles^2 x kTile forces of
 // memory (50 MB at N = 65536 in fp32 with 1024-particle tiles), so the kernel is used only below a
 // memory budget, and only where the tile pairs fill the GPU (pairsOnceTileFor); elsewhere the ordered
-// kernel runs. Energies (observables) and several GPUs use the ordered kernel. Measured on an H200
+// kernel runs. Energies (observables) use the ordered kernel.
+// Several GPUs (launchPairsOnceShare, launchPairsOnceCombine): the tile pairs are numbered and each GPU
+// evaluates an equal run of them (pairs_once.h) into its own slots, which are never copied: each GPU
+// first adds, for every particle, the slots it wrote in partner-tile order (a full-length array of row
+// sums, 12 bytes a particle in fp32), then, after a barrier, each GPU adds the GPUs' row sums of its
+// own slice in GPU order, reading the peers' arrays in place (peer access). Why not move the slots to
+// the rows' owners: at N = 65536 on two GPUs that is 25 MB a pass over NVLink (~75 us at the 335 GB/s
+// a peer read reached in `bench p2p`) against 0.4 MB of row sums. The sums differ from one GPU's only
+// in rounding (another tile, another grouping), and are the same bits run to run and for every
+// exchange method, which all deliver the same positions; with DA the kernel reads the peers'
+// positions in place, as the ordered kernel does. Measured on an H200
 // (`corebox bench forces`, one LJ species): fp32 2.39e12 pair interactions/s at N = 65536 and 2.59e12
 // at 262144 (the ordered kernel: 1.55e12 and 1.58e12), fp64 1.10e12 and 1.17e12 (0.69e12, 0.70e12).
 #include "gpu_common.cuh"
@@ -50,7 +60,8 @@ __device__ __forceinline__ double farAway<double>() { return 1e100; }
 
 template <class Real>
 __device__ __forceinline__ Vec3<Real> positionOrFar(const ForceArgs<Real>& a, int64_t j) {
-    return j < a.n ? a.x[j] : Vec3<Real>{farAway<Real>(), farAway<Real>(), farAway<Real>()};
+    if (j >= a.n) return Vec3<Real>{farAway<Real>(), farAway<Real>(), farAway<Real>()};
+    return a.peers.count > 0 ? a.peers.x[j / a.peers.chunk][j] : a.x[j];
 }
 
 // F/R of one pair. kMayBeSelf: the diagonal tile pair meets each particle against itself (R = 0).
@@ -112,10 +123,13 @@ __device__ __forceinline__ void sweepColumns(const ForceArgs<Real>& a, int64_t I
 }
 
 template <class Real, int kWarps, bool kSingle, bool kCutoff>
-__global__ void __launch_bounds__(32 * kWarps) pairsOnceKernel(ForceArgs<Real> a, int64_t tiles, Vec3<Real>* partial) {
+__global__ void __launch_bounds__(32 * kWarps)
+    pairsOnceKernel(ForceArgs<Real> a, int64_t tiles, int64_t firstItem, int64_t endItem, Vec3<Real>* partial) {
     constexpr int kTile = kWarps * kPairsOnceWarpRows;
     const int64_t I = blockIdx.y, J = blockIdx.x;
     if (J < I) return;  // the lower triangle is the upper one's third law
+    const int64_t item = pairsOnceItem(I, J, tiles);
+    if (item < firstItem || item >= endItem) return;  // another GPU's share
     extern __shared__ __align__(16) unsigned char shared[];
     auto* columnSums = reinterpret_cast<Vec3<Real>(*)[kWarps][32]>(shared);
     auto* pairs = reinterpret_cast<PairCoefficients<Real>*>(shared + 2 * sizeof(Vec3<Real>) * kWarps * 32);
@@ -156,20 +170,63 @@ __global__ void combinePairsOnceKernel(ForceArgs<Real> a, int tile, int64_t tile
     a.acceleration[i] = a.table.invMass[s] * force + a.table.field[s];
 }
 
+// Several GPUs: every particle's slots that this GPU's share [firstItem, endItem) wrote, in
+// partner-tile order (slot (X, Y) was written by the item of (min(X, Y), max(X, Y))).
+template <class Real>
+__global__ void sumShareKernel(int64_t n, int tile, int64_t tiles, int64_t firstItem, int64_t endItem, const Vec3<Real>* partial,
+                               Vec3<Real>* rowSums) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    const int64_t X = i / tile, local = i % tile;
+    Vec3<Real> force{0, 0, 0};
+    for (int64_t Y = 0; Y < tiles; ++Y) {
+        const int64_t item = Y < X ? pairsOnceItem(Y, X, tiles) : pairsOnceItem(X, Y, tiles);
+        if (item >= firstItem && item < endItem) force += partial[(X * tiles + Y) * tile + local];
+    }
+    rowSums[i] = force;
+}
+
+// Several GPUs: the rows of this GPU's slice, the GPUs' row sums in GPU order, then the acceleration.
+template <class Real>
+__global__ void combineSharesKernel(ForceArgs<Real> a, PairsOnceSums<Real> sums) {
+    const int64_t i = a.begin + int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.end) return;
+    Vec3<Real> force{0, 0, 0};
+    for (int g = 0; g < sums.count; ++g) force += sums.rows[g][i];
+    const int s = a.species[i];
+    a.acceleration[i - a.begin] = a.table.invMass[s] * force + a.table.field[s];
+}
+
 template <class Real, int kWarps>
-void launchTiles(const ForceArgs<Real>& a, int64_t tiles, Vec3<Real>* partial, cudaStream_t stream) {
+void launchTiles(const ForceArgs<Real>& a, int64_t tiles, int64_t firstItem, int64_t endItem, Vec3<Real>* partial, cudaStream_t stream) {
     const bool single = a.table.count == 1;
     const size_t shared = 2 * sizeof(Vec3<Real>) * kWarps * 32 +
                           (single ? 0 : size_t(a.table.count) * size_t(a.table.count) * sizeof(PairCoefficients<Real>));
     const dim3 grid{unsigned(tiles), unsigned(tiles)};
     constexpr int threads = 32 * kWarps;
     if (single) {
-        if (a.hasCutoff) pairsOnceKernel<Real, kWarps, true, true><<<grid, threads, shared, stream>>>(a, tiles, partial);
-        else pairsOnceKernel<Real, kWarps, true, false><<<grid, threads, shared, stream>>>(a, tiles, partial);
+        if (a.hasCutoff) pairsOnceKernel<Real, kWarps, true, true><<<grid, threads, shared, stream>>>(a, tiles, firstItem, endItem, partial);
+        else pairsOnceKernel<Real, kWarps, true, false><<<grid, threads, shared, stream>>>(a, tiles, firstItem, endItem, partial);
     } else {
-        if (a.hasCutoff) pairsOnceKernel<Real, kWarps, false, true><<<grid, threads, shared, stream>>>(a, tiles, partial);
-        else pairsOnceKernel<Real, kWarps, false, false><<<grid, threads, shared, stream>>>(a, tiles, partial);
+        if (a.hasCutoff) pairsOnceKernel<Real, kWarps, false, true><<<grid, threads, shared, stream>>>(a, tiles, firstItem, endItem, partial);
+        else pairsOnceKernel<Real, kWarps, false, false><<<grid, threads, shared, stream>>>(a, tiles, firstItem, endItem, partial);
     }
+}
+
+
+// The tile pairs [firstItem, endItem) into the slots at the start of the scratch; returns the tile.
+template <class Real>
+int launchTilePairs(const ForceArgs<Real>& a, int gpus, int64_t firstItem, int64_t endItem, cudaStream_t stream) {
+    const int tile = pairsOnceTileFor(a.n, multiprocessorCount(), sizeof(Real), gpus);
+    if (tile == 0 || a.scratchBytes < pairsOnceScratchBytes(a.n, tile, sizeof(Real)) + (gpus > 1 ? pairsOnceRowSumBytes<Real>(a.n) : 0))
+        throw std::runtime_error("pairs-once force pass: not applicable or scratch buffer too small");
+    const int64_t tiles = pairsOnceTiles(a.n, tile);
+    auto* partial = static_cast<Vec3<Real>*>(a.scratch);
+    if (tile == 4 * kPairsOnceWarpRows) launchTiles<Real, 4>(a, tiles, firstItem, endItem, partial, stream);
+    else if (tile == 2 * kPairsOnceWarpRows) launchTiles<Real, 2>(a, tiles, firstItem, endItem, partial, stream);
+    else launchTiles<Real, 1>(a, tiles, firstItem, endItem, partial, stream);
+    checkLaunch("pairs-once force kernel");
+    return tile;
 }
 
 }  // namespace
@@ -177,19 +234,44 @@ void launchTiles(const ForceArgs<Real>& a, int64_t tiles, Vec3<Real>* partial, c
 template <class Real>
 void launchPairsOnceForces(const ForceArgs<Real>& a, cudaStream_t stream) {
     const int tile = pairsOnceTileFor(a.n, multiprocessorCount(), sizeof(Real));
-    if (tile == 0 || a.scratchBytes < pairsOnceScratchBytes(a.n, tile, sizeof(Real)))
-        throw std::runtime_error("pairs-once force pass: not applicable or scratch buffer too small");
     const int64_t tiles = pairsOnceTiles(a.n, tile);
-    auto* partial = static_cast<Vec3<Real>*>(a.scratch);
-    if (tile == 4 * kPairsOnceWarpRows) launchTiles<Real, 4>(a, tiles, partial, stream);
-    else if (tile == 2 * kPairsOnceWarpRows) launchTiles<Real, 2>(a, tiles, partial, stream);
-    else launchTiles<Real, 1>(a, tiles, partial, stream);
-    checkLaunch("pairs-once force kernel");
-    combinePairsOnceKernel<Real><<<blocksFor(a.n), kBlock, 0, stream>>>(a, tile, tiles, partial);
+    launchTilePairs(a, 1, 0, pairsOnceItems(tiles), stream);
+    combinePairsOnceKernel<Real><<<blocksFor(a.n), kBlock, 0, stream>>>(a, tile, tiles, static_cast<const Vec3<Real>*>(a.scratch));
+    checkLaunch("pairs-once combine kernel");
+}
+
+template <class Real>
+Vec3<Real>* pairsOnceRowSums(const ForceArgs<Real>& a, int gpus) {
+    const int tile = pairsOnceTileFor(a.n, multiprocessorCount(), sizeof(Real), gpus);
+    return reinterpret_cast<Vec3<Real>*>(static_cast<unsigned char*>(a.scratch) + pairsOnceScratchBytes(a.n, tile, sizeof(Real)));
+}
+
+template <class Real>
+void launchPairsOnceShare(const ForceArgs<Real>& a, int gpu, int gpus, cudaStream_t stream) {
+    const int tile = pairsOnceTileFor(a.n, multiprocessorCount(), sizeof(Real), gpus);
+    const int64_t tiles = pairsOnceTiles(a.n, tile);
+    const int64_t first = pairsOnceFirstItem(gpu, gpus, tiles), end = pairsOnceFirstItem(gpu + 1, gpus, tiles);
+    launchTilePairs(a, gpus, first, end, stream);
+    sumShareKernel<Real><<<blocksFor(a.n), kBlock, 0, stream>>>(a.n, tile, tiles, first, end, static_cast<const Vec3<Real>*>(a.scratch),
+                                                                 pairsOnceRowSums(a, gpus));
+    checkLaunch("pairs-once share sum kernel");
+}
+
+template <class Real>
+void launchPairsOnceCombine(const ForceArgs<Real>& a, const PairsOnceSums<Real>& sums, cudaStream_t stream) {
+    const int64_t rows = a.end - a.begin;
+    if (rows <= 0) return;
+    combineSharesKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(a, sums);
     checkLaunch("pairs-once combine kernel");
 }
 
 template void launchPairsOnceForces<float>(const ForceArgs<float>&, cudaStream_t);
 template void launchPairsOnceForces<double>(const ForceArgs<double>&, cudaStream_t);
+template Vec3<float>* pairsOnceRowSums<float>(const ForceArgs<float>&, int);
+template Vec3<double>* pairsOnceRowSums<double>(const ForceArgs<double>&, int);
+template void launchPairsOnceShare<float>(const ForceArgs<float>&, int, int, cudaStream_t);
+template void launchPairsOnceShare<double>(const ForceArgs<double>&, int, int, cudaStream_t);
+template void launchPairsOnceCombine<float>(const ForceArgs<float>&, const PairsOnceSums<float>&, cudaStream_t);
+template void launchPairsOnceCombine<double>(const ForceArgs<double>&, const PairsOnceSums<double>&, cudaStream_t);
 
 }  // namespace corebox::gpu

@@ -65,8 +65,9 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
     }
     m_pairsOnce = options.pairsOnce;
     m_fusedSteps = options.fusedSteps;
-    const Exchange exchange = options.exchange != Exchange::Auto ? options.exchange
-                              : fastestExchange(options.gpus, peerAccessProblem(devicesOf(options)).empty());
+    const bool peerAccess = peerAccessProblem(devicesOf(options)).empty();
+    m_pairsOnceAcross = options.pairsOnce && options.gpus > 1 && peerAccess;
+    const Exchange exchange = options.exchange != Exchange::Auto ? options.exchange : fastestExchange(options.gpus, peerAccess);
     m_exchange = std::make_unique<PeerExchange>(m_partition, exchange);
     cudaCheck(cudaSetDevice(home().device), "cudaSetDevice");
     for (cudaEvent_t& e : m_phase) cudaCheck(cudaEventCreate(&e), "cudaEventCreate");
@@ -150,7 +151,7 @@ void CudaDevice<Real>::setState(const ParticleState& state) {
         r.species.upload(state.species.data(), state.species.size());
         for (auto* b : {&r.xStage, &r.vStage}) b->resize(padded);
         r.acceleration.resize(rows);
-        r.forceScratch.resize(gpu::forceScratchBytes<Real>(int64_t(rows), m_n, m_pairsOnce));
+        r.forceScratch.resize(gpu::forceScratchBytes<Real>(int64_t(rows), m_n, m_pairsOnce, m_pairsOnceAcross ? gpuCount() : 1));
     });
     m_hostSpecies = state.species;
     for (auto* b : {&m_contactAcceleration, &m_snapshotX, &m_snapshotV}) b->resize(size_t(m_n));

@@ -7,7 +7,9 @@
 // authoritative, the others received before each force pass through the chosen PeerExchange) and the
 // integration state of its own slice. Integration operations (kick, drift, RK stages, error norms)
 // run on every GPU over its slice; a force pass first shares the positions, then each GPU computes
-// the accelerations of its rows against all N. Everything that needs the whole state at once (the
+// the accelerations of its rows against all N (every ordered pair), or, where the pairs-once pass
+// applies and the GPUs have peer access, each GPU an equal share of the pairs, each once, and the
+// accelerations of its rows from every GPU's sums (pairs_once_kernels.cu). Everything that needs the whole state at once (the
 // collision stage, reductions, health, snapshots, state downloads, instances for the renderer) runs
 // on the home GPU (the first, which also renders), after a gather of the slices; whatever it changes
 // is scattered back before the next integration operation. So the collision stage is literally the
@@ -162,8 +164,10 @@ private:
     // Forces from neighbour lists: the model asks for them and every GPU holds every position when it
     // computes (with direct access, DA, the peers' positions stay remote: all pairs then).
     bool useLists() const;
-    // Force launches on the home GPU bracketed by timing events, read once the step has finished.
+    // Force launches on the home GPU bracketed by timing events (markForceTime before and after),
+    // read once the step has finished.
     void launchTimedForces(const gpu::ForceArgs<Real>& args);
+    void markForceTime();
     ParticleState download(const DeviceBuffer<Vec3<Real>>& x, const DeviceBuffer<Vec3<Real>>& v) const;
     // Sums of `rows` rows of m_rows (each n long); block partials are added on the host in order.
     std::vector<double> sumRows(int rows);
@@ -282,6 +286,9 @@ private:
     int64_t m_fullPasses = 0;
     int64_t m_allPairsEvaluations = 0;  // ForceCounters::allPairsEvaluations
     bool m_pairsOnce = true;            // CudaBackendOptions::pairsOnce
+    // Several GPUs share one pairs-once pass where it applies (pairsOnceAppliesAcross): pairsOnce, and
+    // every GPU can read the others' row sums (peer access); else each GPU its rows, every ordered pair.
+    bool m_pairsOnceAcross = false;
     // The collision screen (screenStage): the last full list pass at X wrote its three words
     // (ForceArgs::screen, in StepWords) with m_screenGap; m_screenPending until X, the model or the
     // state change.

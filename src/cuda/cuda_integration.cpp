@@ -41,21 +41,22 @@ gpu::ForceArgs<Real> CudaDevice<Real>::homeForceArgs(const Vec3<Real>* x, Vec3<R
 }
 
 template <class Real>
-void CudaDevice<Real>::launchTimedForces(const gpu::ForceArgs<Real>& args) {
-    if (!m_timingForces) {  // outside a step (energies, benchmarks): nothing to attribute the time to
-        gpu::launchForces(args, stream());
-        return;
-    }
-    if (m_forceEvents + 2 > m_timingEvents.size()) {
-        cudaEvent_t e[2];
-        for (cudaEvent_t& ev : e) cudaCheck(cudaEventCreate(&ev), "cudaEventCreate");
-        m_timingEvents.push_back(e[0]);
-        m_timingEvents.push_back(e[1]);
+void CudaDevice<Real>::markForceTime() {
+    if (!m_timingForces) return;  // outside a step (energies, benchmarks): nothing to attribute the time to
+    if (m_forceEvents + 1 > m_timingEvents.size()) {
+        cudaEvent_t e;
+        cudaCheck(cudaEventCreate(&e), "cudaEventCreate");
+        m_timingEvents.push_back(e);
     }
     cudaCheck(cudaEventRecord(m_timingEvents[m_forceEvents], stream()), "event");
+    ++m_forceEvents;
+}
+
+template <class Real>
+void CudaDevice<Real>::launchTimedForces(const gpu::ForceArgs<Real>& args) {
+    markForceTime();
     gpu::launchForces(args, stream());
-    cudaCheck(cudaEventRecord(m_timingEvents[m_forceEvents + 1], stream()), "event");
-    m_forceEvents += 2;
+    markForceTime();
 }
 
 template <class Real>
@@ -78,6 +79,7 @@ bool CudaDevice<Real>::forcePass(int stage, bool kick, double kickH) {
     std::vector<void*> buffers;
     for (auto& r : m_replicas) buffers.push_back(positions(*r));
     m_exchange->share(buffers, sizeof(Vec3<Real>));
+    std::vector<gpu::ForceArgs<Real>> args(m_replicas.size());
     onEachGpu([&](int k, Replica<Real>& r) {
         Vec3<Real>* out = stage < 0 ? r.acceleration.data() : r.kv.data() + size_t(stage) * size_t(slice(k).size());
         gpu::ForceArgs<Real> f = forceArgs(k, positions(r), out);
@@ -102,13 +104,31 @@ bool CudaDevice<Real>::forcePass(int stage, bool kick, double kickH) {
             f.peers.chunk = m_partition.chunk();
             for (int j = 0; j < gpuCount(); ++j) f.peers.x[j] = positions(*m_replicas[size_t(j)]);
         }
-        if (!useLists() && m_model.anyPairForce) {
-            if (gpu::pairsOnceApplies(f)) m_allPairsEvaluations += gpu::allPairsEvaluations<Real>(m_n, true);
-            else m_allPairsEvaluations += std::max<int64_t>(f.end - f.begin, 0) * (m_n - 1);  // the slice's rows against all others
-        }
-        if (k == 0) launchTimedForces(f);
-        else gpu::launchForces(f, slice(k).stream);
+        args[size_t(k)] = f;
     });
+    if (!useLists() && m_pairsOnceAcross && gpu::pairsOnceAppliesAcross(args.front(), gpuCount())) {
+        // Each GPU its share of the tile pairs and its row sums; once all are done, each GPU its
+        // slice's rows from every GPU's sums (pairs_once_kernels.cu).
+        m_allPairsEvaluations += gpu::allPairsEvaluations<Real>(m_n, true, gpuCount());
+        markForceTime();
+        onEachGpu([&](int k, Replica<Real>&) { gpu::launchPairsOnceShare(args[size_t(k)], k, gpuCount(), slice(k).stream); });
+        m_exchange->barrier();
+        gpu::PairsOnceSums<Real> sums{};
+        sums.count = gpuCount();
+        for (int g = 0; g < gpuCount(); ++g) sums.rows[g] = gpu::pairsOnceRowSums(args[size_t(g)], gpuCount());
+        onEachGpu([&](int k, Replica<Real>&) { gpu::launchPairsOnceCombine(args[size_t(k)], sums, slice(k).stream); });
+        markForceTime();
+    } else {
+        onEachGpu([&](int k, Replica<Real>&) {
+            const gpu::ForceArgs<Real>& f = args[size_t(k)];
+            if (!useLists() && m_model.anyPairForce) {
+                if (gpu::pairsOnceApplies(f)) m_allPairsEvaluations += gpu::allPairsEvaluations<Real>(m_n, true);
+                else m_allPairsEvaluations += std::max<int64_t>(f.end - f.begin, 0) * (m_n - 1);  // the slice's rows against all others
+            }
+            if (k == 0) launchTimedForces(f);
+            else gpu::launchForces(f, slice(k).stream);
+        });
+    }
     m_exchange->readsDone();
     m_homeCurrent = gpuCount() == 1;
     ++m_fullPasses;

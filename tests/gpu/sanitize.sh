@@ -5,8 +5,9 @@
 # (NCCL's start-up probes kernels of other architectures: its errors, not corebox's), memory errors
 # still reported. racecheck: shared-memory hazards in the kernels, on one GPU and on the direct-access
 # path (the only kernel change with several GPUs); copies and NCCL run no corebox kernel of their own.
-# Both also run the pairs-once all-pairs pass (shared-memory column sums) and the list pass with its
-# collision screen and the walls-at-once stage (CudaPairsOnce.*, CudaNeighbourList.TheCollisionScreen*).
+# Both also run the pairs-once all-pairs pass (shared-memory column sums; memcheck also its share of
+# two GPUs, peer reads) and the list pass with its collision screen and the walls-at-once stage
+# (CudaPairsOnce.*, CudaNeighbourList.TheCollisionScreen*).
 set -u
 tool=$1 binary=$2
 if ! nvidia-smi -L >/dev/null 2>&1; then echo "no GPU: compute-sanitizer $tool skipped"; exit 77; fi
@@ -14,7 +15,7 @@ sanitizer=$(command -v compute-sanitizer || echo /usr/local/cuda/bin/compute-san
 if [ ! -x "$sanitizer" ]; then echo "compute-sanitizer not found: $tool skipped"; exit 77; fi
 if [ "$tool" = memcheck ]; then
   "$sanitizer" --tool memcheck --error-exitcode 1 "$binary" --gtest_filter='CudaSanitized.*:CudaPairsOnce.*:CudaNeighbourList.TheCollisionScreen*:-*Nccl*' || exit 1
-  exec "$sanitizer" --tool memcheck --report-api-errors no --error-exitcode 1 "$binary" --gtest_filter='CudaSanitized.*Nccl*'
+  exec "$sanitizer" --tool memcheck --report-api-errors no --error-exitcode 1 "$binary" --gtest_filter='CudaSanitized.*Nccl*:CudaPairsOnce.*Nccl*'
 fi
 exec "$sanitizer" --tool "$tool" --error-exitcode 1 "$binary" \
   --gtest_filter='CudaSanitized.SmallSceneWithCollisions:CudaSanitized.*DirectAccess:CudaPairsOnce.GivesTheSameBitsRunToRun:CudaNeighbourList.TheCollisionScreen*'

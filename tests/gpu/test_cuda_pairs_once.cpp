@@ -1,8 +1,10 @@
 // The pairs-once all-pairs pass (kernels/pairs_once_kernels.cu: each pair evaluated once, Newton's
 // third law) against the ordered-pair pass that the conformance tests hold to the CPU oracle: the same
 // accelerations within stated tolerances in both precisions, one species and several with a cutoff,
-// N not a multiple of the tile; the same bits run to run; half the pair evaluations. Sizes are large
-// enough that the pass applies (its tile pairs must fill the GPU). Skips, visibly, without a CUDA device.
+// N not a multiple of the tile; the same bits run to run; half the pair evaluations; on two GPUs
+// sharing the pass, the same within the same tolerances and the same bits for every exchange method.
+// Sizes are large enough that the pass applies (its tile pairs must fill every GPU). Skips, visibly,
+// without a CUDA device (or without two, for the shared pass).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +15,7 @@
 #include "gpu_fixture.h"
 #include "device_model.h"
 #include "initial_conditions.h"
+#include "peer_exchange.h"
 #include "state_hash.h"
 
 using namespace corebox;
@@ -55,10 +58,11 @@ struct Pass {
     ForceCounters counters;
 };
 
-Pass forcePass(const Scene& scene, bool pairsOnce) {
+Pass forcePass(const Scene& scene, bool pairsOnce, int gpus = 1, Exchange exchange = Exchange::Auto) {
     CudaBackendOptions options;
     options.precision = scene.integrator.precision;
-    options.gpus = 1;
+    options.gpus = gpus;
+    options.exchange = exchange;
     options.pairsOnce = pairsOnce;
     std::unique_ptr<Backend> backend = makeCudaBackend(options);
     DeviceModel model = deviceModelOf(stepParametersOf(scene));
@@ -94,11 +98,13 @@ struct Case {
 TEST(CudaPairsOnce, MatchesTheOrderedPassAndEvaluatesEachPairOnce) {
     COREBOX_REQUIRE_GPU();
     // fp64: the two passes differ only in summation order; fp32 in its rounding over ~4e4 terms.
-    for (const Case& c : {Case{40000 + 37, false, Precision::Fp64, 1e-12}, Case{40000 + 37, false, Precision::Fp32, 1e-5},
-                          Case{33333, true, Precision::Fp64, 1e-12}, Case{33333, true, Precision::Fp32, 1e-5}}) {
+    for (const Case& c :
+         {Case{40000 + 37, false, Precision::Fp64, 1e-12}, Case{40000 + 37, false, Precision::Fp32, 1e-5},
+          Case{33333, true, Precision::Fp64, 1e-12}, Case{33333, true, Precision::Fp32, 1e-5}}) {
         const Scene scene = fluid(c.n, c.twoSpecies, c.precision);
         const Pass once = forcePass(scene, true), ordered = forcePass(scene, false);
-        const std::string what = std::to_string(c.n) + (c.twoSpecies ? " two species, cutoff " : " one species ") + precisionName(c.precision);
+        const std::string what = std::to_string(c.n) + (c.twoSpecies ? " two species, cutoff " : " one species ") +
+                                 precisionName(c.precision);
         EXPECT_LT(largestDifference(once.accelerations, ordered.accelerations), c.tolerance) << what;
         const int64_t n = c.n;
         EXPECT_EQ(ordered.counters.allPairsEvaluations, n * (n - 1)) << what;
@@ -112,6 +118,58 @@ TEST(CudaPairsOnce, GivesTheSameBitsRunToRun) {
     COREBOX_REQUIRE_GPU();
     for (Precision p : {Precision::Fp32, Precision::Fp64}) {
         const Scene scene = fluid(40000 + 37, true, p);
-        EXPECT_EQ(stateHash(forcePass(scene, true).accelerations), stateHash(forcePass(scene, true).accelerations)) << precisionName(p);
+        EXPECT_EQ(stateHash(forcePass(scene, true).accelerations), stateHash(forcePass(scene, true).accelerations))
+            << precisionName(p);
+    }
+}
+
+// Two GPUs share one pass: each an equal run of the tile pairs, the rows' sums added across GPUs in
+// GPU order. Same accelerations as the ordered pass within the tolerances above, each pair evaluated
+// once over both GPUs, and the same bits for every copy exchange as for DA, which reads the positions
+// in place (they deliver the same positions), and run to run. NCCL apart (below): compute-sanitizer's
+// memcheck runs it without API error reports (tests/gpu/sanitize.sh).
+namespace {
+
+const Case kSharedCases[] = {Case{40000 + 37, false, Precision::Fp64, 1e-12},
+                             Case{40000 + 37, false, Precision::Fp32, 1e-5}, Case{33333, true, Precision::Fp64, 1e-12},
+                             Case{33333, true, Precision::Fp32, 1e-5}};
+
+std::string describe(const Case& c) {
+    return std::to_string(c.n) + (c.twoSpecies ? " two species, cutoff " : " one species ") +
+           precisionName(c.precision);
+}
+
+bool peerAccessBetweenTheFirstTwo() { return peerAccessProblem({0, 1}).empty(); }
+
+}  // namespace
+
+TEST(CudaPairsOnce, TwoGpusShareThePassAndGiveTheSameBitsForEveryCopyExchange) {
+    COREBOX_REQUIRE_GPUS(2);
+    if (!peerAccessBetweenTheFirstTwo())
+        GTEST_SKIP() << "GPUs 0 and 1 have no peer access: the shared pass does not apply";
+    for (const Case& c : kSharedCases) {
+        const Scene scene = fluid(c.n, c.twoSpecies, c.precision);
+        const Pass ordered = forcePass(scene, false);
+        const Pass shared = forcePass(scene, true, 2, Exchange::Da);
+        EXPECT_LT(largestDifference(shared.accelerations, ordered.accelerations), c.tolerance) << describe(c);
+        const int64_t n = c.n;
+        EXPECT_LT(shared.counters.allPairsEvaluations, n * (n - 1) * 53 / 100) << describe(c);
+        EXPECT_GT(shared.counters.allPairsEvaluations, n * (n - 1) / 2) << describe(c);
+        const uint64_t bits = stateHash(shared.accelerations);
+        for (Exchange e : {Exchange::Dts, Exchange::Dta, Exchange::Da})
+            EXPECT_EQ(stateHash(forcePass(scene, true, 2, e).accelerations), bits)
+                << describe(c) << ", exchange " << exchangeName(e);
+    }
+}
+
+TEST(CudaPairsOnce, TwoGpusShareThePassWithTheSameBitsOverNccl) {
+    COREBOX_REQUIRE_GPUS(2);
+    if (!peerAccessBetweenTheFirstTwo())
+        GTEST_SKIP() << "GPUs 0 and 1 have no peer access: the shared pass does not apply";
+    for (const Case& c : kSharedCases) {
+        const Scene scene = fluid(c.n, c.twoSpecies, c.precision);
+        EXPECT_EQ(stateHash(forcePass(scene, true, 2, Exchange::Nccl).accelerations),
+                  stateHash(forcePass(scene, true, 2, Exchange::Da).accelerations))
+            << describe(c);
     }
 }
