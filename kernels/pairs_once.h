@@ -2,6 +2,7 @@
 // several with Newton's third law), shared by its launch and the host side that sizes its scratch.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -47,5 +48,14 @@ inline int pairsOnceTileFor(int64_t n, int multiprocessors, size_t realBytes, in
 inline int64_t pairsOnceItems(int64_t tiles) { return tiles * (tiles + 1) / 2; }
 inline int64_t pairsOnceFirstItem(int gpu, int gpus, int64_t tiles) { return pairsOnceItems(tiles) * gpu / gpus; }
 COREBOX_HD inline int64_t pairsOnceItem(int64_t I, int64_t J, int64_t tiles) { return I * tiles - I * (I - 1) / 2 + (J - I); }
+// The tile pair (I, J) of an item: I is the largest row whose first item is <= item, from the root of
+// I^2 - (2 tiles + 1) I + 2 item = 0, then corrected by one where the root rounded across a row.
+COREBOX_HD inline void pairsOnceTilePair(int64_t item, int64_t tiles, int64_t& I, int64_t& J) {
+    const double b = 2.0 * double(tiles) + 1.0;
+    I = int64_t((b - sqrt(b * b - 8.0 * double(item))) / 2.0);
+    if (I > 0 && pairsOnceItem(I, I, tiles) > item) --I;
+    if (I + 1 < tiles && pairsOnceItem(I + 1, I + 1, tiles) <= item) ++I;
+    J = I + (item - pairsOnceItem(I, I, tiles));
+}
 
 }  // namespace corebox::gpu

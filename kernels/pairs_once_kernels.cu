@@ -124,12 +124,11 @@ __device__ __forceinline__ void sweepColumns(const ForceArgs<Real>& a, int64_t I
 
 template <class Real, int kWarps, bool kSingle, bool kCutoff>
 __global__ void __launch_bounds__(32 * kWarps)
-    pairsOnceKernel(ForceArgs<Real> a, int64_t tiles, int64_t firstItem, int64_t endItem, Vec3<Real>* partial) {
+    pairsOnceKernel(ForceArgs<Real> a, int64_t tiles, int64_t firstItem, Vec3<Real>* partial) {
     constexpr int kTile = kWarps * kPairsOnceWarpRows;
-    const int64_t I = blockIdx.y, J = blockIdx.x;
-    if (J < I) return;  // the lower triangle is the upper one's third law
-    const int64_t item = pairsOnceItem(I, J, tiles);
-    if (item < firstItem || item >= endItem) return;  // another GPU's share
+    // One block an item of this GPU's share: the upper triangle (the lower one is its third law).
+    int64_t I, J;
+    pairsOnceTilePair(firstItem + int64_t(blockIdx.x), tiles, I, J);
     extern __shared__ __align__(16) unsigned char shared[];
     auto* columnSums = reinterpret_cast<Vec3<Real>(*)[kWarps][32]>(shared);
     auto* pairs = reinterpret_cast<PairCoefficients<Real>*>(shared + 2 * sizeof(Vec3<Real>) * kWarps * 32);
@@ -199,17 +198,18 @@ __global__ void combineSharesKernel(ForceArgs<Real> a, PairsOnceSums<Real> sums)
 
 template <class Real, int kWarps>
 void launchTiles(const ForceArgs<Real>& a, int64_t tiles, int64_t firstItem, int64_t endItem, Vec3<Real>* partial, cudaStream_t stream) {
+    if (endItem <= firstItem) return;
     const bool single = a.table.count == 1;
     const size_t shared = 2 * sizeof(Vec3<Real>) * kWarps * 32 +
                           (single ? 0 : size_t(a.table.count) * size_t(a.table.count) * sizeof(PairCoefficients<Real>));
-    const dim3 grid{unsigned(tiles), unsigned(tiles)};
+    const unsigned grid = unsigned(endItem - firstItem);
     constexpr int threads = 32 * kWarps;
     if (single) {
-        if (a.hasCutoff) pairsOnceKernel<Real, kWarps, true, true><<<grid, threads, shared, stream>>>(a, tiles, firstItem, endItem, partial);
-        else pairsOnceKernel<Real, kWarps, true, false><<<grid, threads, shared, stream>>>(a, tiles, firstItem, endItem, partial);
+        if (a.hasCutoff) pairsOnceKernel<Real, kWarps, true, true><<<grid, threads, shared, stream>>>(a, tiles, firstItem, partial);
+        else pairsOnceKernel<Real, kWarps, true, false><<<grid, threads, shared, stream>>>(a, tiles, firstItem, partial);
     } else {
-        if (a.hasCutoff) pairsOnceKernel<Real, kWarps, false, true><<<grid, threads, shared, stream>>>(a, tiles, firstItem, endItem, partial);
-        else pairsOnceKernel<Real, kWarps, false, false><<<grid, threads, shared, stream>>>(a, tiles, firstItem, endItem, partial);
+        if (a.hasCutoff) pairsOnceKernel<Real, kWarps, false, true><<<grid, threads, shared, stream>>>(a, tiles, firstItem, partial);
+        else pairsOnceKernel<Real, kWarps, false, false><<<grid, threads, shared, stream>>>(a, tiles, firstItem, partial);
     }
 }
 

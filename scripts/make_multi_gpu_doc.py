@@ -76,18 +76,24 @@ def table1_section(f):
     out = [f"### Table 1 on {f.device()}", ""] + provenance(f) + [""]
     for precision in sorted({r["precision"] for r in rows}):
         out += table1_pivot(f, precision)
-    out += ["Every configuration:", ""]
+    # Records from before the phase columns have none: the table leaves them out.
+    phases = bool(rows) and "ms_forces" in rows[0]
+    out += ["Every configuration" + (" (forces, integrate, collide: where a step's time went on the home GPU's"
+                                     " stream, GPU events, mean ms a step):" if phases else ":"), ""]
     out += ["| N | precision | P | exchange | ms / step | speed-up | efficiency | pair interactions / s |"
-            " collisions / step | report ms / step (4 x C2070, same exchange) |",
-            "|---:|---|---:|---|---:|---:|---:|---:|---:|---:|"]
+            " collisions / step |" + (" rounds / step | forces | integrate | collide |" if phases else "") +
+            " report ms / step (4 x C2070, same exchange) |",
+            "|---:|---|---:|---|---:|---:|---:|---:|---:|" + ("---:|" * 4 if phases else "") + "---:|"]
     for r in rows:
         if r["outcome"] != "ok":
             continue
         report = number(r[REPORT_COLUMN[r["exchange"]]]) if r["exchange"] in REPORT_COLUMN else None
+        phase_cells = (f" {fmt(number(r['rounds_per_step']), '.1f')} | {fmt(number(r['ms_forces']), '.3f')} |"
+                       f" {fmt(number(r['ms_integrate']), '.3f')} | {fmt(number(r['ms_collide']), '.3f')} |") if phases else ""
         out.append(f"| {r['n']} | {r['precision']} | {r['gpus']} | {METHOD_NAMES.get(r['exchange'], r['exchange'])} |"
                    f" {fmt(number(r['ms_per_step']), '.3f')} | {fmt(number(r['speedup']), '.2f')} |"
                    f" {fmt(number(r['efficiency']), '.2f')} | {fmt(number(r['pair_interactions_per_second']), '.3e')} |"
-                   f" {fmt(number(r['collisions_per_step']), '.0f')} | {fmt(report, '.2f')} |")
+                   f" {fmt(number(r['collisions_per_step']), '.0f')} |{phase_cells} {fmt(report, '.2f')} |")
     failed = [r for r in rows if r["outcome"] != "ok"]
     if failed:
         out += ["", "Configurations that did not run to the end:", ""]
@@ -135,6 +141,10 @@ def scaling_section(files):
                 cells.append(cell)
             out.append(f"| {n} | {precision} | " + " | ".join(cells) + " |")
         out.append("")
+        # scripts/plot_table1.py draws the largest host as table1.png (shown above) and each other as its own.
+        chart = ROOT / "docs" / "images" / f"table1_{host}gpus.png"
+        if chart.exists():
+            out += [f"![ms per step against N on the {host}-GPU host](images/{chart.name})", ""]
     return out
 
 
@@ -210,7 +220,14 @@ def main():
                  " force passes split evenly and only O(N) work stays on one GPU (the collision stage on the gathered"
                  " state, the exchanges), so the speed-up at that N is set by how that fixed part compares with N^2 / P:"
                  " see the speed-up column; at small N that part is all there is, and one GPU is fastest"
-                 " (`--gpus auto` follows this table).", ""]
+                 " (`--gpus auto` follows this table).", "",
+                 "Which force pass the records ran: `table1_h200x1*` and `table1_h200x2*` evaluate each pair once"
+                 " (Newton's third law) on one GPU and, where the tile pairs fill every GPU, on several sharing one"
+                 " pass (kernels/pairs_once_kernels.cu); `table1_h200x4*` and `table1_h200x8*` were measured before"
+                 " that, when every GPU, one GPU too, evaluated every ordered pair of its rows, so their one-GPU"
+                 " column is slower and their speed-ups larger. Records with phase columns say where a step's time"
+                 " went (forces, the rest of the integration, the collision stage on the home GPU): what stays on one"
+                 " GPU bounds the speed-up.", ""]
         text += scaling_section(table1)
         for f in table1:
             text += table1_section(f)

@@ -28,14 +28,16 @@ def force_table(data):
         lines += [
             "Pair interactions are counted as NVIDIA's nbody counts them (N (N - 1) a pass, whatever the kernel does);",
             "evaluations are the pairs the kernel computed: `pairs_once` evaluates each pair once (Newton's third law),",
-            "`ordered` every ordered pair.",
+            "`ordered` every ordered pair. P: the GPUs sharing the pass (records without it ran on one).",
             "",
-            "| precision | N | kernel | pair interactions / s | pair evaluations / s | passes | seconds |",
-            "|---|---:|---|---:|---:|---:|---:|",
+            "| precision | N | P | kernel | pair interactions / s | a GPU | pair evaluations / s | passes | seconds |",
+            "|---|---:|---:|---|---:|---:|---:|---:|---:|",
         ]
         for r in data["results"]:
+            gpus = r.get("gpus", 1)
             lines.append(
-                f"| {r['precision']} | {r['n']} | {r['kernel']} | {r['pair_interactions_per_second']:.3e} |"
+                f"| {r['precision']} | {r['n']} | {gpus} | {r['kernel']} | {r['pair_interactions_per_second']:.3e} |"
+                f" {r['pair_interactions_per_second'] / gpus:.3e} |"
                 f" {r['pair_evaluations_per_second']:.3e} | {r['passes']} | {r['seconds']:.2f} |"
             )
         return "\n".join(lines) + "\n"

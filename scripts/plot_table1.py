@@ -39,12 +39,23 @@ def main():
         return 1
 
     files = [BenchCsv(p) for p in paths]
-    if not args.results:
-        # By default the chart shows the largest host measured (its runs cover every P the smaller hosts
-        # ran, and more); docs/multi_gpu.md tabulates every file. Its files (the report's N, the large N)
-        # join into one line per P and exchange.
-        most = max(f.gpu_count for f in files)
-        files = [f for f in files if f.gpu_count == most]
+    if args.results:
+        draw(files, args.out)
+        return 0
+    # By default one chart per host: table1.png for the largest host measured (its runs cover every P the
+    # smaller hosts ran), table1_<P>gpus.png for each smaller host with several GPUs (docs/multi_gpu.md
+    # shows each under its host's table). A host's files (the report's N, the large N) join into one
+    # line per P and exchange.
+    hosts = sorted({f.gpu_count for f in files}, reverse=True)
+    for host in hosts:
+        if host != hosts[0] and host < 2:
+            continue
+        out = args.out if host == hosts[0] else args.out.with_name(f"{args.out.stem}_{host}gpus{args.out.suffix}")
+        draw([f for f in files if f.gpu_count == host], out)
+    return 0
+
+
+def draw(files, out):
     precisions = sorted({r["precision"] for f in files for r in f.rows})
     several_hosts = len({f.gpu_count for f in files}) > 1
     fig, ax = plt.subplots(figsize=(12, 7))
@@ -93,10 +104,10 @@ def main():
         footer.append(f"failed: ... and {len(failed) - 8} more (see the CSV)")
     fig.text(0.01, 0.01, "\n".join(footer), fontsize=6.5, family="monospace", va="bottom")
     fig.subplots_adjust(left=0.07, right=0.74, top=0.94, bottom=0.1 + 0.03 * len(footer))
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(args.out, dpi=120)
-    print(f"wrote {args.out.relative_to(ROOT) if args.out.is_relative_to(ROOT) else args.out}")
-    return 0
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+    print(f"wrote {out.relative_to(ROOT) if out.is_relative_to(ROOT) else out}")
 
 
 if __name__ == "__main__":

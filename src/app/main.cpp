@@ -201,6 +201,10 @@ int main(int argc, char** argv) {
     addChoices(forcesCmd, "--precision", precisionTable(), "Precisions", forces.precisions);
     forcesCmd->add_option("--min-seconds", forces.minSeconds, "Repeat each measurement at least this long")->capture_default_str();
     forcesCmd->add_option("--out", forces.outputPrefix, "Write OUT.csv and OUT.json");
+    forcesCmd->add_option("--gpus", forces.gpus, "CUDA: GPU counts sharing the pass, e.g. 1,2 (each P its own run)")
+        ->delimiter(',')
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     std::vector<std::string> forceKernels{"pairs_once", "ordered"};
     forcesCmd
         ->add_option("--kernels", forceKernels,

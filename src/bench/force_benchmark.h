@@ -3,7 +3,7 @@
 // interactions are counted as NVIDIA's nbody sample counts them (N^2 a pass, here N (N - 1)), whatever
 // the kernel does; the evaluations it actually did are reported beside them (half as many where each
 // pair is evaluated once, with Newton's third law). On CUDA both kernels can be run: the pairs-once
-// one (used where it pays) and the ordered one. Results go to CSV and JSON with the hardware and the
+// one (used where it pays) and the ordered one, on one GPU or several sharing the pass. Results go to CSV and JSON with the hardware and the
 // command that produced them.
 #pragma once
 
@@ -23,6 +23,8 @@ struct ForceBenchmarkOptions {
     double minSeconds = 1.0;  // repeat each measurement at least this long
     // CUDA: which all-pairs kernels to measure: true = each pair once where it applies, false = ordered pairs.
     std::vector<bool> pairsOnce{true, false};
+    // CUDA: GPU counts P sharing the pass (the default exchange); the CPU runs once, as P = 1.
+    std::vector<int> gpus{1};
     std::string outputPrefix;  // writes PREFIX.csv and PREFIX.json; "" prints CSV only
     std::string commandLine;
 };
@@ -30,6 +32,8 @@ struct ForceBenchmarkOptions {
 struct ForceBenchmarkResult {
     Precision precision;
     int64_t n;
+    int gpus;
+    std::string device;  // the backend's description (GPU count and exchange)
     std::string kernel;  // "pairs_once" or "ordered": what the passes ran
     int64_t passes;
     double seconds;

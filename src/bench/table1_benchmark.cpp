@@ -41,14 +41,15 @@ const char* kTiming =
     "per configuration: a fresh Simulation on makeBackend({cuda, precision, gpus P, exchange, N}) as corebox run "
     "builds it; warm-up steps, then batches of steps each ended by backend finish() and timed by the host clock "
     "(steady_clock); ms per step = median over the batches; pair interactions per second = 4 N^2 per RK4 step / "
-    "time; speed-up = ms(P = 1) / ms(P), efficiency = speed-up / P";
+    "time; speed-up = ms(P = 1) / ms(P), efficiency = speed-up / P; ms_forces, ms_integrate, ms_collide: the "
+    "step's phases on the home GPU's stream (GPU events, StepReport), mean over the timed steps";
 const char* kReportNote =
     "report_*_ms: the report's Table 1 (CSTN-139 sec. 7), ms per RK4 step on 4 x Tesla C2070, same N; its "
     "density, temperature, time step and precision are not stated";
 
 constexpr const char* kCsvHeader =
     "n,precision,method,gpus,exchange,outcome,ms_per_step,ms_min,ms_max,batches,steps_per_batch,speedup,efficiency,"
-    "pair_interactions_per_second,collisions_per_step,report_dts_ms,report_dta_ms,report_da_ms,device,message\n";
+    "pair_interactions_per_second,collisions_per_step,rounds_per_step,ms_forces,ms_integrate,ms_collide,report_dts_ms,report_dta_ms,report_da_ms,device,message\n";
 
 std::string optionalNumber(const std::optional<double>& value) { return value ? number(*value) : ""; }
 
@@ -91,13 +92,18 @@ Table1Result measure(const Table1Options& o, Precision precision, int64_t n, int
             std::clamp<double>(std::ceil(o.batchSeconds / std::max(lastWarmup, 1e-6)), 1.0, double(o.maxBatchSteps)));
 
         std::vector<double> msPerStep;
-        int64_t collisions = 0, steps = 0;
+        int64_t collisions = 0, steps = 0, rounds = 0;
+        double secondsForces = 0, secondsIntegrate = 0, secondsCollide = 0;
         Clock::time_point lastProgress = Clock::now();
         for (int b = 0; b < o.batches; ++b) {
             const Clock::time_point start = Clock::now();
             for (int s = 0; s < r.stepsPerBatch; ++s) {
                 const StepReport report = sim.step();
                 collisions += report.pairCollisions + report.wallCollisions;
+                rounds += report.rounds;
+                secondsForces += report.secondsForces;
+                secondsIntegrate += report.secondsIntegrate;
+                secondsCollide += report.secondsCollide;
             }
             sim.backend().finish();
             msPerStep.push_back(1e3 * secondsSince(start) / r.stepsPerBatch);
@@ -113,6 +119,10 @@ Table1Result measure(const Table1Options& o, Precision precision, int64_t n, int
         r.msMin = *std::min_element(msPerStep.begin(), msPerStep.end());
         r.msMax = *std::max_element(msPerStep.begin(), msPerStep.end());
         r.collisionsPerStep = double(collisions) / double(steps);
+        r.roundsPerStep = double(rounds) / double(steps);
+        r.msForces = 1e3 * secondsForces / double(steps);
+        r.msIntegrate = 1e3 * secondsIntegrate / double(steps);
+        r.msCollide = 1e3 * secondsCollide / double(steps);
         r.pairInteractionsPerSecond = kForcePassesPerStep * double(n) * double(n) / (1e-3 * r.msPerStep);
         r.outcome = "ok";
     } catch (const DeviceError& e) {
@@ -146,8 +156,11 @@ void logResult(const Table1Result& r) {
                      r.message.c_str());
         return;
     }
-    std::fprintf(stderr, "[corebox] bench table1: %s: %.3f ms/step (%d x %d steps), %.3e pair interactions/s",
-                 configName(r).c_str(), r.msPerStep, r.batches, r.stepsPerBatch, r.pairInteractionsPerSecond);
+    std::fprintf(stderr,
+                 "[corebox] bench table1: %s: %.3f ms/step (%d x %d steps; forces %.3f, integrate %.3f, collide %.3f), "
+                 "%.3e pair interactions/s",
+                 configName(r).c_str(), r.msPerStep, r.batches, r.stepsPerBatch, r.msForces, r.msIntegrate, r.msCollide,
+                 r.pairInteractionsPerSecond);
     if (r.speedup && r.gpus > 1) std::fprintf(stderr, ", speed-up %.2f, efficiency %.2f", *r.speedup, *r.efficiency);
     const std::optional<ReportTable1Row> report = reportTable1Row(r.n);
     if (report)
@@ -166,6 +179,8 @@ std::string csvRow(const Table1Result& r) {
            (ok ? number(r.msMax) : "") + "," + std::to_string(r.batches) + "," + std::to_string(r.stepsPerBatch) + "," +
            optionalNumber(r.speedup) + "," + optionalNumber(r.efficiency) + "," +
            (ok ? number(r.pairInteractionsPerSecond) : "") + "," + (ok ? number(r.collisionsPerStep) : "") + "," +
+           (ok ? number(r.roundsPerStep) : "") + "," + (ok ? number(r.msForces) : "") + "," +
+           (ok ? number(r.msIntegrate) : "") + "," + (ok ? number(r.msCollide) : "") + "," +
            (report ? number(report->dtsMs) : "") + "," + (report ? number(report->dtaMs) : "") + "," +
            (report ? number(report->daMs) : "") + "," + csvQuote(r.device) + "," + csvQuote(r.message) + "\n";
 }
@@ -191,6 +206,10 @@ nlohmann::json resultJson(const Table1Result& r) {
             {"efficiency", orNull(bool(r.efficiency), r.efficiency.value_or(0))},
             {"pair_interactions_per_second", orNull(ok, r.pairInteractionsPerSecond)},
             {"collisions_per_step", orNull(ok, r.collisionsPerStep)},
+            {"rounds_per_step", orNull(ok, r.roundsPerStep)},
+            {"ms_forces", orNull(ok, r.msForces)},
+            {"ms_integrate", orNull(ok, r.msIntegrate)},
+            {"ms_collide", orNull(ok, r.msCollide)},
             {"report_dts_ms", orNull(bool(report), report ? report->dtsMs : 0)},
             {"report_dta_ms", orNull(bool(report), report ? report->dtaMs : 0)},
             {"report_da_ms", orNull(bool(report), report ? report->daMs : 0)}};

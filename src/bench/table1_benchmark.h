@@ -54,6 +54,11 @@ struct Table1Result {
     double msPerStep = 0;  // median over the batches
     double msMin = 0, msMax = 0;
     double collisionsPerStep = 0;
+    double roundsPerStep = 0;  // impact rounds of the collision stage
+    // Where a timed step's time went, on the home GPU's stream (StepReport, mean over the timed steps):
+    // the force passes (with several GPUs: from the home GPU's start to its last combine, the waits for
+    // the others included), the rest of the integration (stages, exchanges), the collision stage.
+    double msForces = 0, msIntegrate = 0, msCollide = 0;
     std::optional<double> speedup;         // ms(P = 1) / ms, same N and precision
     std::optional<double> efficiency;      // speed-up / P
     double pairInteractionsPerSecond = 0;  // 4 N^2 per RK4 step (N^2 per force pass) / time
