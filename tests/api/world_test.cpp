@@ -24,6 +24,7 @@ struct Flavour {
     corebox::BackendKind backend;
     corebox::Precision precision;
     const char* name;
+    int gpus = 1;  // CUDA: the particles spread over this many GPUs
 };
 
 class WorldTest : public ::testing::TestWithParam<Flavour> {
@@ -33,22 +34,25 @@ protected:
         d.backend = GetParam().backend;
         d.precision = GetParam().precision;
         d.threads = 2;
+        d.gpus = GetParam().gpus;
         return d;
     }
-    // The world of `d`, or a skip (with the reason) when its backend is missing on this machine.
+    // The world of `d`, or a skip (with the reason) when its backend or GPUs are missing on this machine.
     std::unique_ptr<World> make(const WorldDef& d) {
         try {
             return std::make_unique<World>(d);
         } catch (const corebox::DeviceError& e) {
+            m_missing = e.what();
             return nullptr;
         }
     }
+    std::string m_missing;
     bool fp64() const { return GetParam().precision == corebox::Precision::Fp64; }
 };
 
 #define MAKE_OR_SKIP(world, d)                                                              \
     std::unique_ptr<World> world = make(d);                                                 \
-    if (!world) GTEST_SKIP() << GetParam().name << ": no CUDA device here (DeviceError)"
+    if (!world) GTEST_SKIP() << GetParam().name << ": not on this machine (DeviceError: " << m_missing << ")"
 
 // n balls on a lattice of spacing 1.5 in the lower middle of the default box, with random velocities.
 std::vector<ParticleDef> lattice(int n, unsigned seed, double speed = 2.0) {
@@ -395,7 +399,9 @@ INSTANTIATE_TEST_SUITE_P(Backends, WorldTest,
                          ::testing::Values(Flavour{corebox::BackendKind::Cpu, corebox::Precision::Fp64, "cpu_fp64"},
                                            Flavour{corebox::BackendKind::Cpu, corebox::Precision::Fp32, "cpu_fp32"},
                                            Flavour{corebox::BackendKind::Cuda, corebox::Precision::Fp64, "cuda_fp64"},
-                                           Flavour{corebox::BackendKind::Cuda, corebox::Precision::Fp32, "cuda_fp32"}),
+                                           Flavour{corebox::BackendKind::Cuda, corebox::Precision::Fp32, "cuda_fp32"},
+                                           Flavour{corebox::BackendKind::Cuda, corebox::Precision::Fp64, "cuda2_fp64", 2},
+                                           Flavour{corebox::BackendKind::Cuda, corebox::Precision::Fp32, "cuda2_fp32", 2}),
                          [](const ::testing::TestParamInfo<Flavour>& info) { return std::string(info.param.name); });
 
 }  // namespace
