@@ -62,30 +62,35 @@ __global__ void scaleKernel(Vec3<Real>* v, int64_t n, Real alpha) {
 
 template <class Real>
 void launchStage(const StageArgs<Real>& a, cudaStream_t stream) {
+    if (a.n <= 0) return;  // an empty slice (fewer particles than GPUs): a grid of no blocks is an error
     stageKernel<Real><<<blocksFor(a.n), kBlock, 0, stream>>>(a);
     checkLaunch("stage kernel");
 }
 
 template <class Real>
 void launchErrorNorm(const StageArgs<Real>& a, double tolerance, double* out, cudaStream_t stream) {
+    if (a.n <= 0) return;
     errorKernel<Real><<<blocksFor(a.n), kBlock, 0, stream>>>(a, tolerance, out);
     checkLaunch("error kernel");
 }
 
 template <class Real>
 void launchVerletKick(Vec3<Real>* v, const Vec3<Real>* a, int64_t n, Real h, cudaStream_t stream) {
+    if (n <= 0) return;
     kickKernel<Real><<<blocksFor(n), kBlock, 0, stream>>>(v, a, n, h);
     checkLaunch("verlet kick kernel");
 }
 
 template <class Real>
 void launchVerletDrift(Vec3<Real>* x, const Vec3<Real>* v, int64_t n, Real dt, cudaStream_t stream) {
+    if (n <= 0) return;
     driftKernel<Real><<<blocksFor(n), kBlock, 0, stream>>>(x, v, n, dt);
     checkLaunch("verlet drift kernel");
 }
 
 template <class Real>
 void launchScale(Vec3<Real>* v, int64_t n, Real alpha, cudaStream_t stream) {
+    if (n <= 0) return;
     scaleKernel<Real><<<blocksFor(n), kBlock, 0, stream>>>(v, n, alpha);
     checkLaunch("scale kernel");
 }
