@@ -214,44 +214,50 @@ void launchTiles(const ForceArgs<Real>& a, int64_t tiles, int64_t firstItem, int
 }
 
 
-// The tile pairs [firstItem, endItem) into the slots at the start of the scratch; returns the tile.
+// The tile of a pass over n particles shared by `gpus` GPUs, checked against the scratch it needs
+// (the slots, and with several GPUs the row sums after them).
 template <class Real>
-int launchTilePairs(const ForceArgs<Real>& a, int gpus, int64_t firstItem, int64_t endItem, cudaStream_t stream) {
+int checkedTile(const ForceArgs<Real>& a, int gpus) {
     const int tile = pairsOnceTileFor(a.n, multiprocessorCount(), sizeof(Real), gpus);
     if (tile == 0 || a.scratchBytes < pairsOnceScratchBytes(a.n, tile, sizeof(Real)) + (gpus > 1 ? pairsOnceRowSumBytes<Real>(a.n) : 0))
         throw std::runtime_error("pairs-once force pass: not applicable or scratch buffer too small");
+    return tile;
+}
+
+// The tile pairs [firstItem, endItem) into the slots at the start of the scratch.
+template <class Real>
+void launchTilePairs(const ForceArgs<Real>& a, int tile, int64_t firstItem, int64_t endItem, cudaStream_t stream) {
     const int64_t tiles = pairsOnceTiles(a.n, tile);
     auto* partial = static_cast<Vec3<Real>*>(a.scratch);
     if (tile == 4 * kPairsOnceWarpRows) launchTiles<Real, 4>(a, tiles, firstItem, endItem, partial, stream);
     else if (tile == 2 * kPairsOnceWarpRows) launchTiles<Real, 2>(a, tiles, firstItem, endItem, partial, stream);
     else launchTiles<Real, 1>(a, tiles, firstItem, endItem, partial, stream);
     checkLaunch("pairs-once force kernel");
-    return tile;
 }
 
 }  // namespace
 
 template <class Real>
 void launchPairsOnceForces(const ForceArgs<Real>& a, cudaStream_t stream) {
-    const int tile = pairsOnceTileFor(a.n, multiprocessorCount(), sizeof(Real));
+    const int tile = checkedTile(a, 1);
     const int64_t tiles = pairsOnceTiles(a.n, tile);
-    launchTilePairs(a, 1, 0, pairsOnceItems(tiles), stream);
+    launchTilePairs(a, tile, 0, pairsOnceItems(tiles), stream);
     combinePairsOnceKernel<Real><<<blocksFor(a.n), kBlock, 0, stream>>>(a, tile, tiles, static_cast<const Vec3<Real>*>(a.scratch));
     checkLaunch("pairs-once combine kernel");
 }
 
 template <class Real>
 Vec3<Real>* pairsOnceRowSums(const ForceArgs<Real>& a, int gpus) {
-    const int tile = pairsOnceTileFor(a.n, multiprocessorCount(), sizeof(Real), gpus);
+    const int tile = checkedTile(a, gpus);
     return reinterpret_cast<Vec3<Real>*>(static_cast<unsigned char*>(a.scratch) + pairsOnceScratchBytes(a.n, tile, sizeof(Real)));
 }
 
 template <class Real>
 void launchPairsOnceShare(const ForceArgs<Real>& a, int gpu, int gpus, cudaStream_t stream) {
-    const int tile = pairsOnceTileFor(a.n, multiprocessorCount(), sizeof(Real), gpus);
+    const int tile = checkedTile(a, gpus);
     const int64_t tiles = pairsOnceTiles(a.n, tile);
     const int64_t first = pairsOnceFirstItem(gpu, gpus, tiles), end = pairsOnceFirstItem(gpu + 1, gpus, tiles);
-    launchTilePairs(a, gpus, first, end, stream);
+    launchTilePairs(a, tile, first, end, stream);
     sumShareKernel<Real><<<blocksFor(a.n), kBlock, 0, stream>>>(a.n, tile, tiles, first, end, static_cast<const Vec3<Real>*>(a.scratch),
                                                                  pairsOnceRowSums(a, gpus));
     checkLaunch("pairs-once share sum kernel");

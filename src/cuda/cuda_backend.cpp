@@ -79,6 +79,12 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
 
 template <class Real>
 CudaDevice<Real>::~CudaDevice() {
+    // Kernels still queued may read other GPUs' buffers (DA positions, the pairs-once row sums): every
+    // stream drains before any buffer is freed. No throw from a destructor: errors are ignored here.
+    for (const DeviceSlice& s : m_partition.slices()) {
+        cudaSetDevice(s.device);
+        cudaStreamSynchronize(s.stream);
+    }
     cudaSetDevice(home().device);
     for (cudaEvent_t e : m_phase) cudaEventDestroy(e);
     for (cudaEvent_t e : m_timingEvents) cudaEventDestroy(e);

@@ -108,7 +108,9 @@ bool CudaDevice<Real>::forcePass(int stage, bool kick, double kickH) {
     });
     if (!useLists() && m_pairsOnceAcross && gpu::pairsOnceAppliesAcross(args.front(), gpuCount())) {
         // Each GPU its share of the tile pairs and its row sums; once all are done, each GPU its
-        // slice's rows from every GPU's sums (pairs_once_kernels.cu).
+        // slice's rows from every GPU's sums (pairs_once_kernels.cu). The peers' reads of a GPU's
+        // row sums end before its next pass writes them: that pass opens with share()
+        // (PeerExchange::readsDone says how each method orders it), and nothing else writes them.
         m_allPairsEvaluations += gpu::allPairsEvaluations<Real>(m_n, true, gpuCount());
         markForceTime();
         onEachGpu([&](int k, Replica<Real>&) { gpu::launchPairsOnceShare(args[size_t(k)], k, gpuCount(), slice(k).stream); });

@@ -174,7 +174,11 @@ void PeerExchange::share(const std::vector<void*>& buffers, size_t rowBytes) {
 }
 
 void PeerExchange::readsDone() {
-    // DT-A's closing barrier in share() already waits for its pulls; only DA's kernels read peers.
+    // DT-A's closing barrier in share() already waits for its pulls; DA's force kernels read the
+    // peers' positions. (The pairs-once combine reads the peers' row sums with every method; what
+    // orders a GPU's next write of them after those reads is the next share(): DT-S's host wait,
+    // DT-A's and DA's opening barrier, NCCL's all-gather, which completes on no GPU before every
+    // GPU's part of it, queued after its combine, ran.)
     if (m_method == Exchange::Da) barrier();
 }
 
