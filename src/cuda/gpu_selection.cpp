@@ -10,8 +10,10 @@
 namespace corebox {
 namespace {
 
-// Measured: two GPUs first beat one at N = 16384 (0.99 against 1.24 ms per step; at 8192 they tie),
-// and four first beat two at N = 32768 (1.52 against 2.07 ms; at 16384 they tie). On eight GPUs the
+// Measured: two GPUs first beat one at N = 16384 (0.99 against 1.24 ms per step; at 8192 they tie;
+// with the pairs-once pass shared by both, on two H200s, still there: 0.98 against 1.00 ms, then 1.35x at
+// 32768, docs/results/table1_h200x2*.csv), and four first beat two at N = 32768 (1.52 against 2.07 ms;
+// at 16384 they tie; measured before the pass was shared, as the eight-GPU figures). On eight GPUs the
 // same rule holds: four are fastest at 32768 (1.63 against 1.69 ms on eight), eight at 65536 (3.00
 // against 3.93 ms on four).
 constexpr int64_t kFirstSplitN = 16384;
