@@ -36,7 +36,7 @@ struct CollisionSettings {
     // 0.05%; capped at 128, 420 ms). Jacobi carries support a layer per sweep and needs many (H200,
     // plain and warm-started with 16: a column of ten balls sank 1.6e-3 and a pile's overlaps reached
     // 1e-3); accelerated, fewer (contact_relaxation.h: 233 a step in a forming 10^5-ball pile).
-    // Not enough for deep piles (measured on the CPU, fp64, 2 threads): 4444 balls on a 10 x 10 floor
+    // 16 Gauss-Seidel sweeps are too few for deep piles (CPU, fp64, 2 threads): 4444 balls on a 10 x 10 floor
     // (a 40-layer pile, as deep as the 40,000-ball one) never settle at 16: from 3 s on each step
     // leaves the pile moving down faster with height (6 sigma/tau at the top), the kinetic energy
     // steady at 5% of the potential energy released; 128 settles it by 4 s (0.01%) but makes the
