@@ -17,8 +17,9 @@ struct CudaBackendOptions {
     int device = 0;  // the first GPU: it renders, resolves collisions and holds the whole state
     int gpus = 1;    // GPUs device, device + 1, ...: each owns a contiguous slice of the particles
     Exchange exchange = Exchange::Auto;  // how the slices share positions (Auto: fastestExchange)
-    // All pairs on one GPU: evaluate each pair once with Newton's third law where it pays
-    // (kernels/pairs_once_kernels.cu); false: every ordered pair (the report's kernel, for comparison).
+    // All pairs: evaluate each pair once with Newton's third law where it pays, on one GPU or shared by
+    // several with peer access (kernels/pairs_once_kernels.cu); false: every ordered pair (the
+    // report's kernel, for comparison).
     bool pairsOnce = true;
     // One GPU: a Verlet step's launches fused and its screened collision stage decided on the device,
     // with one host wait a step (cuda_device.h, the one-wait step); false: every operation on its own
