@@ -199,7 +199,7 @@ size_t forceScratchBytes(int64_t rows, int64_t n, bool pairsOnce, int gpus) {
     const size_t chunked = plan.chunks <= 1 ? 0 : partialForceBytes<Real>(plan.chunks, rows) + size_t(plan.chunks) * size_t(rows) * sizeof(double);
     const int tile = pairsOnce && (rows == n || gpus > 1) ? pairsOnceTileFor(n, multiprocessorCount(), sizeof(Real), gpus) : 0;
     if (tile == 0) return chunked;
-    return std::max(chunked, pairsOnceScratchBytes(n, tile, sizeof(Real)) + (gpus > 1 ? pairsOnceRowSumBytes<Real>(n) : 0));
+    return std::max(chunked, pairsOnceBytes(n, tile, sizeof(Real), gpus));
 }
 
 template <class Real>
@@ -207,14 +207,14 @@ bool pairsOnceApplies(const ForceArgs<Real>& a) {
     if (!(a.pairsOnce && a.anyPairForce && a.peers.count == 0 && !a.rowIndex && !a.neighbours && !a.pairEnergy && a.begin == 0 && a.end == a.n))
         return false;
     const int tile = pairsOnceTileFor(a.n, multiprocessorCount(), sizeof(Real));
-    return tile > 0 && a.scratchBytes >= pairsOnceScratchBytes(a.n, tile, sizeof(Real));
+    return tile > 0 && a.scratchBytes >= pairsOnceBytes(a.n, tile, sizeof(Real), 1);
 }
 
 template <class Real>
 bool pairsOnceAppliesAcross(const ForceArgs<Real>& a, int gpus) {
     if (!(gpus > 1 && a.pairsOnce && a.anyPairForce && !a.rowIndex && !a.neighbours && !a.pairEnergy)) return false;
     const int tile = pairsOnceTileFor(a.n, multiprocessorCount(), sizeof(Real), gpus);
-    return tile > 0 && a.scratchBytes >= pairsOnceScratchBytes(a.n, tile, sizeof(Real)) + pairsOnceRowSumBytes<Real>(a.n);
+    return tile > 0 && a.scratchBytes >= pairsOnceBytes(a.n, tile, sizeof(Real), gpus);
 }
 
 template <class Real>

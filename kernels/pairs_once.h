@@ -28,9 +28,11 @@ inline size_t pairsOnceScratchBytes(int64_t n, int tile, size_t realBytes) {
     return tiles * tiles * size_t(tile) * 3 * realBytes;
 }
 
-// Several GPUs: each GPU's sums of its slots per particle (3 reals a particle), after its slots.
-template <class Real>
-inline size_t pairsOnceRowSumBytes(int64_t n) { return size_t(n) * 3 * sizeof(Real); }
+// The scratch a pass needs: the slots, and when `gpus` GPUs share it each GPU's sums of its slots
+// per particle (3 reals a particle) after them (pairsOnceRowSums).
+inline size_t pairsOnceBytes(int64_t n, int tile, size_t realBytes, int gpus) {
+    return pairsOnceScratchBytes(n, tile, realBytes) + (gpus > 1 ? size_t(n) * 3 * realBytes : 0);
+}
 
 // The tile for n particles on `gpus` GPUs of `multiprocessors` each: the largest (fewest partial sums)
 // whose tile pairs fill every GPU with its share, 0 when none does (small n: the ordered kernel's

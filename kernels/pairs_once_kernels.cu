@@ -213,13 +213,12 @@ void launchTiles(const ForceArgs<Real>& a, int64_t tiles, int64_t firstItem, int
     }
 }
 
-
 // The tile of a pass over n particles shared by `gpus` GPUs, checked against the scratch it needs
 // (the slots, and with several GPUs the row sums after them).
 template <class Real>
 int checkedTile(const ForceArgs<Real>& a, int gpus) {
     const int tile = pairsOnceTileFor(a.n, multiprocessorCount(), sizeof(Real), gpus);
-    if (tile == 0 || a.scratchBytes < pairsOnceScratchBytes(a.n, tile, sizeof(Real)) + (gpus > 1 ? pairsOnceRowSumBytes<Real>(a.n) : 0))
+    if (tile == 0 || a.scratchBytes < pairsOnceBytes(a.n, tile, sizeof(Real), gpus))
         throw std::runtime_error("pairs-once force pass: not applicable or scratch buffer too small");
     return tile;
 }

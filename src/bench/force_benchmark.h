@@ -3,8 +3,8 @@
 // interactions are counted as NVIDIA's nbody sample counts them (N^2 a pass, here N (N - 1)), whatever
 // the kernel does; the evaluations it actually did are reported beside them (half as many where each
 // pair is evaluated once, with Newton's third law). On CUDA both kernels can be run: the pairs-once
-// one (used where it pays) and the ordered one, on one GPU or several sharing the pass. Results go to CSV and JSON with the hardware and the
-// command that produced them.
+// one (used where it pays) and the ordered one, on one GPU or several sharing the pass. Results go to
+// CSV and JSON with the hardware and the command that produced them.
 #pragma once
 
 #include <cstdint>

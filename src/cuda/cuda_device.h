@@ -9,14 +9,14 @@
 // run on every GPU over its slice; a force pass first shares the positions, then each GPU computes
 // the accelerations of its rows against all N (every ordered pair), or, where the pairs-once pass
 // applies and the GPUs have peer access, each GPU an equal share of the pairs, each once, and the
-// accelerations of its rows from every GPU's sums (pairs_once_kernels.cu). Everything that needs the whole state at once (the
-// collision stage, reductions, health, snapshots, state downloads, instances for the renderer) runs
-// on the home GPU (the first, which also renders), after a gather of the slices; whatever it changes
-// is scattered back before the next integration operation. So the collision stage is literally the
-// one-GPU code on the gathered state, and gives one GPU's counts and dissipation by construction;
-// its cost is O(N) on one GPU next to the O(N^2 / P) force passes, and the gather and scatter move
-// 2 x 24 bytes per particle over NVLink (microseconds at N = 65536). With one GPU there is one
-// replica and nothing moves.
+// accelerations of its rows from every GPU's sums (pairs_once_kernels.cu). Everything that needs the
+// whole state at once (the collision stage, reductions, health, snapshots, state downloads, instances
+// for the renderer) runs on the home GPU (the first, which also renders), after a gather of the
+// slices; whatever it changes is scattered back before the next integration operation. So the
+// collision stage is literally the one-GPU code on the gathered state, and gives one GPU's counts and
+// dissipation by construction; its cost is O(N) on one GPU next to the O(N^2 / P) force passes, and
+// the gather and scatter move 2 x 24 bytes per particle over NVLink (microseconds at N = 65536).
+// With one GPU there is one replica and nothing moves.
 #pragma once
 
 #include <memory>
