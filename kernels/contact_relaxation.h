@@ -404,14 +404,37 @@ COREBOX_HD inline Real settleRow(const Real& lambda, Real& applied) {
 // energy), or for an isolated bouncing contact e times its approach speed at the listing
 // (contactRestitution), reached by its first update and then held.
 
+// Over-relaxation of the Gauss-Seidel velocity level (projected SOR). Every stopping update goes
+// omega times the way to vn = 0 (then lambda >= 0 is enforced): a column of k balls pressed into the
+// floor hands its momentum down about a layer per sweep at omega = 1, so the work grows with k^2 and a
+// capped relaxation leaves the column moving down, faster with height; over-relaxed, the error shrinks
+// about k times faster. It adds no kinetic energy at any stopping point: along one contact's impulse
+// the kinetic energy is a convex parabola with its minimum at vn = 0, a step of omega in (0, 2) times
+// the way to it lowers the energy by omega (2 - omega) / 2 of what the full step would, and the
+// clamp to lambda = 0 lands between the start and the over-relaxed point, no higher than the start.
+// Bouncing targets (an isolated contact aiming at e times its approach) are reached exactly (omega
+// 1): over-relaxed, one update would send the pair apart faster than it came.
+// Evidence (CPU, fp64, 2 threads, dt = 1/240, 16 sweeps a listing): 4,444 balls on a 10 x 10 floor
+// (40 layers, as deep as the 40,000-ball pile): at omega = 1 the kinetic energy stays at 5% of the
+// potential energy released from 2.5 s to 6 s (the top moving down at 6 sigma/tau, held up only by
+// the position level); 1.5: 1.4%; 1.8: 1.8e-3 at 3 s, 3.4e-5 at 6 s. The 10,000-ball pile (`corebox
+// bench pile`): 123 -> 105 ms a frame (fewer impacts from a pile that no longer sinks), at rest at
+// 3.25 s either way.
+constexpr double kGaussSeidelOverRelaxation = 1.8;
+
+template <class Real>
+COREBOX_HD inline Real stepFactor(Real target, Real omega) {
+    return target == Real(0) ? omega : Real(1);
+}
+
 // Moves the normal speed of particles i, j along n (from j to i) towards `target` >= 0 as far as
-// lambda >= 0 allows.
+// lambda >= 0 allows, over-relaxed by `omega` when the target is 0 (stepFactor).
 template <class Real>
 COREBOX_HD inline void stopPairContact(Vec3<Real>& vi, Vec3<Real>& vj, Real mi, Real mj, Vec3<Real> n, Real target, Real& lambda,
-                                       ContactResidual<Real>& residual) {
+                                       ContactResidual<Real>& residual, Real omega) {
     const Real vn = dot(vi - vj, n);
     const Real mu = mi * mj / (mi + mj);
-    const Real impulse = accumulateImpulse(lambda, mu * (target - vn));
+    const Real impulse = accumulateImpulse(lambda, stepFactor(target, omega) * mu * (target - vn));
     const Real change = (impulse < Real(0) ? -impulse : impulse) / mu;
     if (change > residual.speedChange) residual.speedChange = change;
     applyPairImpulse(vi, vj, mi, mj, n, impulse);
@@ -419,9 +442,9 @@ COREBOX_HD inline void stopPairContact(Vec3<Real>& vi, Vec3<Real>& vj, Real mi, 
 
 // The same against a wall with inward normal `inward` (+1 low wall, -1 high wall) on `axis`.
 template <class Real>
-COREBOX_HD inline void stopWallContact(Real& v, Real inward, Real target, Real& lambda, ContactResidual<Real>& residual) {
+COREBOX_HD inline void stopWallContact(Real& v, Real inward, Real target, Real& lambda, ContactResidual<Real>& residual, Real omega) {
     const Real vn = inward * v;
-    const Real push = accumulateImpulse(lambda, target - vn);  // impulse per unit mass
+    const Real push = accumulateImpulse(lambda, stepFactor(target, omega) * (target - vn));  // impulse per unit mass
     const Real change = push < Real(0) ? -push : push;
     if (change > residual.speedChange) residual.speedChange = change;
     v += push * inward;

@@ -508,7 +508,8 @@ public:
     // ---- collision stage, 2: contact relaxation ----
     // The CPU runs the Gauss-Seidel form of contact_relaxation.h: contacts one at a time, ordered from
     // the bottom of the pile up (by height against gravity, then by index), so that support reaches
-    // the top of a pile within a sweep.
+    // the top of a pile within a sweep, the stopping updates over-relaxed (kGaussSeidelOverRelaxation)
+    // so that a deep pile's momentum reaches the floor within the sweep cap.
     int64_t listContacts(const RestingContact<double>& resting) override {
         const int64_t n = size();
         // The impact search just looked at every pair and wall this listing could take: none was
@@ -618,13 +619,14 @@ public:
         const Vec3<Real> up = upOf(m_gravity);
         if (m_warmPending) applyWarmStart();
         m_warmPending = false;
+        const Real omega = Real(kGaussSeidelOverRelaxation);
         for (int sweep = 0; sweep < sweeps; ++sweep) {
             r = ContactResidual<Real>{0, 0};
             for (Contact& c : m_contacts) {
                 const size_t i = size_t(c.i);
                 if (isWallContact(c.partner)) {
                     const int code = int(-1 - c.partner), axis = code / 2;
-                    stopWallContact(m_v[i][axis], code % 2 == 0 ? Real(1) : Real(-1), c.target, c.lambda, r);
+                    stopWallContact(m_v[i][axis], code % 2 == 0 ? Real(1) : Real(-1), c.target, c.lambda, r, omega);
                     continue;
                 }
                 const size_t j = size_t(c.partner);
@@ -632,7 +634,7 @@ public:
                 const Real dist = std::sqrt(norm2(rij));
                 if (!(dist > Real(0))) continue;
                 stopPairContact(m_v[i], m_v[j], m_mass[size_t(m_species[i])], m_mass[size_t(m_species[j])], (Real(1) / dist) * rij, c.target,
-                                c.lambda, r);
+                                c.lambda, r, omega);
             }
             for (const Contact& c : m_contacts) {
                 const size_t i = size_t(c.i);
