@@ -4,7 +4,10 @@
 // (relaxParticle, sweepMomentum). No order-dependent atomics: a sweep reads only
 // the previous sweep's state, and the residual is a maximum (atomicMax on the bits of non-negative
 // doubles, which order like the values).
+#include <cooperative_groups.h>
 #include <cub/device/device_scan.cuh>
+
+#include <algorithm>
 
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
@@ -124,34 +127,46 @@ struct SweepImpulseRows {
     }
 };
 
-// `measure`: the batch's last sweep, whose residual is read. Its maxima are taken over each warp
-// first, one atomic a warp: every particle in contact has a residual, and 10^5 atomics a sweep on one
-// address queued behind each other (an H200, a 10^5-ball pile: 613 sweeps a step took 105 ms a step
-// with an atomic a particle in every sweep, 35 ms with one a warp in the last sweep of a batch).
-// Four threads a particle, each taking every fourth contact, made this pile's sweep slower (35 us
-// against 20: its L2 traffic went from 22% to 67% of peak), though faster at 10^4 balls.
+// One Jacobi sweep's update of particle i into dv[i], dx[i] (relaxParticle), its pair impulses added to
+// its virial row; returns its residual.
 template <class Real>
-__global__ void sweepKernel(ContactArgs<Real> a, bool measure, Real beta) {
-    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+__device__ ContactResidual<Real> sweepParticle(const ContactArgs<Real>& a, int64_t i, Real beta) {
     ContactResidual<Real> r{0, 0};
-    if (i < a.p.n) {
-        const int64_t first = a.contactStart[i];
-        const int count = int(a.contactStart[i + 1] - first);
-        SweepImpulseRows given{a.impulses, size_t(a.p.n), size_t(i)};
-        auto contactsOf = [&](int64_t j) { return int(a.contactStart[j + 1] - a.contactStart[j]); };
-        relaxParticle(i, count, [&](int c) { return a.partner[first + c]; }, contactsOf, a.lambda + first, a.p.x, a.p.v, a.p.species,
-                      a.table.mass, a.table.radius, a.box, a.up, a.bounce, a.dv[i], a.dx[i], r, given, a.applied + first, beta);
-        if (given.pairVirial != 0) a.impulses[size_t(kPairVirialRow) * size_t(a.p.n) + size_t(i)] += given.pairVirial;
-    }
-    if (!measure) return;  // the same for the whole grid: every lane of a warp reaches the shuffles
+    const int64_t first = a.contactStart[i];
+    const int count = int(a.contactStart[i + 1] - first);
+    SweepImpulseRows given{a.impulses, size_t(a.p.n), size_t(i)};
+    auto contactsOf = [&](int64_t j) { return int(a.contactStart[j + 1] - a.contactStart[j]); };
+    relaxParticle(i, count, [&](int c) { return a.partner[first + c]; }, contactsOf, a.lambda + first, a.p.x, a.p.v, a.p.species,
+                  a.table.mass, a.table.radius, a.box, a.up, a.bounce, a.dv[i], a.dx[i], r, given, a.applied + first, beta);
+    if (given.pairVirial != 0) a.impulses[size_t(kPairVirialRow) * size_t(a.p.n) + size_t(i)] += given.pairVirial;
+    return r;
+}
+
+// The residual's maxima over each warp, then one atomic a warp into residual[0..1]: every particle in
+// contact has a residual, and 10^5 atomics a sweep on one address queued behind each other (an H200, a
+// 10^5-ball pile: 613 sweeps a step took 105 ms a step with an atomic a particle in every sweep, 35 ms
+// with one a warp in the last sweep of a batch). Every lane of the warp must call it.
+template <class Real>
+__device__ void addResidual(ContactResidual<Real> r, unsigned long long* residual) {
     double speed = double(r.speedChange), overlap = double(r.overlap);
     for (int offset = 16; offset > 0; offset /= 2) {
         speed = fmax(speed, __shfl_xor_sync(0xffffffffu, speed, offset));
         overlap = fmax(overlap, __shfl_xor_sync(0xffffffffu, overlap, offset));
     }
     if (threadIdx.x % 32 != 0) return;
-    if (speed > 0) atomicMaxNonNegative(&a.residual[0], speed);
-    if (overlap > 0) atomicMaxNonNegative(&a.residual[1], overlap);
+    if (speed > 0) atomicMaxNonNegative(&residual[0], speed);
+    if (overlap > 0) atomicMaxNonNegative(&residual[1], overlap);
+}
+
+// `measure`: the batch's last sweep, whose residual is read.
+// Four threads a particle, each taking every fourth contact, made the 10^5-ball pile's sweep slower (35
+// us against 20: its L2 traffic went from 22% to 67% of peak), though faster at 10^4 balls.
+template <class Real>
+__global__ void sweepKernel(ContactArgs<Real> a, bool measure, Real beta) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    ContactResidual<Real> r{0, 0};
+    if (i < a.p.n) r = sweepParticle(a, i, beta);
+    if (measure) addResidual(r, a.residual);  // the same for the whole grid: every lane of a warp reaches the shuffles
 }
 
 template <class Real>
@@ -160,6 +175,95 @@ __global__ void applySweepKernel(ContactArgs<Real> a) {
     if (i >= a.p.n) return;
     a.p.v[i] += a.dv[i];
     a.p.x[i] += a.dx[i];
+}
+
+// The block's residual maxima, one atomic a block (every thread of the block calls it): the residual
+// of a sweep over 10^5 particles taken one atomic a warp, every sweep, made the sweeps of the 10^5-ball
+// pile 20% slower than the launches one by one, which take it once a batch (an H200).
+__device__ void addBlockResidual(double speed, double overlap, unsigned long long* residual) {
+    __shared__ double speedOf[kBlock / 32], overlapOf[kBlock / 32];
+    for (int offset = 16; offset > 0; offset /= 2) {
+        speed = fmax(speed, __shfl_xor_sync(0xffffffffu, speed, offset));
+        overlap = fmax(overlap, __shfl_xor_sync(0xffffffffu, overlap, offset));
+    }
+    const int warp = int(threadIdx.x / 32), lane = int(threadIdx.x % 32);
+    if (lane == 0) {
+        speedOf[warp] = speed;
+        overlapOf[warp] = overlap;
+    }
+    __syncthreads();
+    if (threadIdx.x == 0) {
+        for (int w = 1; w < kBlock / 32; ++w) {
+            speed = fmax(speed, speedOf[w]);
+            overlap = fmax(overlap, overlapOf[w]);
+        }
+        if (speed > 0) atomicMaxNonNegative(&residual[0], speed);
+        if (overlap > 0) atomicMaxNonNegative(&residual[1], overlap);
+    }
+    __syncthreads();  // the shared rows are free for the next sweep
+}
+
+// A listing's whole relaxation in one cooperative launch, on the schedule of RelaxationPlan: each sweep
+// (every thread a stride of particles), a grid-wide barrier, the update, a barrier. The residual is
+// taken in the sweeps the plan looks at (each thread's maxima over its particles, then one atomic a
+// block) into one of two slots, a check in each in turn, the other cleared for the next; after the barrier every thread
+// reads it and decides alike. The sweeps and their order are those of the launches one by one
+// (launchRelaxContacts), so the result is the same bits; what goes is a launch pair a sweep and a host
+// round trip a batch. Measured (`corebox bench pile`, H200, fp32, 5 s, the same run with both): the
+// contact phase of the 10^4-ball pile (126 sweeps a step) took 10.5 ms a frame instead of 12.3, of
+// 10^5 balls (233) 32.1 instead of 34.9, of 10^6 (288) 404 instead of 419; whole frames 18.9, 46.0
+// and 447 ms instead of 21.0, 48.9 and 462. The sweeps themselves are the cost where they are many
+// particles (a sweep of 10^6 reads some 500 bytes a particle); at 10^4 a sweep is a chain of
+// dependent loads a contact long, on few threads.
+// words: [0..3] the two residual slots, [4..5] the first sweep's residual, [6..7] the last's (double
+// bits), [8] the sweeps run.
+template <class Real>
+__global__ void __launch_bounds__(kBlock) relaxListingKernel(ContactArgs<Real> a, RelaxationPlan plan, unsigned long long* words) {
+    cooperative_groups::grid_group grid = cooperative_groups::this_grid();
+    const int64_t first = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    const int64_t stride = int64_t(gridDim.x) * blockDim.x;
+    const int64_t n = a.p.n;
+    int done = 0, checks = 0;
+    for (;;) {
+        unsigned long long* slot = words + 2 * (checks % 2);
+        const Real beta = sweepMomentum<Real>(done);
+        const bool measured = plan.checkedAfter(done + 1);
+        double speed = 0, overlap = 0;
+        for (int64_t i = first; i < n; i += stride) {
+            const ContactResidual<Real> r = sweepParticle(a, i, beta);
+            speed = fmax(speed, double(r.speedChange));
+            overlap = fmax(overlap, double(r.overlap));
+        }
+        if (measured) addBlockResidual(speed, overlap, slot);
+        grid.sync();
+        for (int64_t i = first; i < n; i += stride) {
+            a.p.v[i] += a.dv[i];
+            a.p.x[i] += a.dx[i];
+        }
+        ++done;
+        bool stop = false;
+        if (measured) {
+            const ContactResidual<double> residual{__longlong_as_double((long long)__ldcg(slot)),
+                                                   __longlong_as_double((long long)__ldcg(slot + 1))};
+            stop = !plan.continuesAfter(done, residual);
+            ++checks;
+            if (first == 0) {
+                unsigned long long* next = words + 2 * (checks % 2);  // last read at the check before
+                next[0] = next[1] = 0;
+                if (done == 1) {
+                    words[4] = __ldcg(slot);
+                    words[5] = __ldcg(slot + 1);
+                }
+                if (stop) {
+                    words[6] = __ldcg(slot);
+                    words[7] = __ldcg(slot + 1);
+                    words[8] = (unsigned long long)done;
+                }
+            }
+        }
+        grid.sync();
+        if (stop) return;
+    }
 }
 
 template <class Real>
@@ -228,6 +332,32 @@ void launchRelaxContacts(const ContactArgs<Real>& a, int sweeps, int firstSweep,
 }
 
 template <class Real>
+bool launchRelaxListing(const ContactArgs<Real>& a, const RelaxationPlan& plan, unsigned long long* words, cudaStream_t stream) {
+    if (a.p.n == 0 || plan.maxSweeps < 1 || plan.batch < 1) return false;
+    // As many blocks as can be resident at once (a cooperative launch needs every block running), no
+    // more than the particles need.
+    static const int residentPerSm = [] {
+        int device = 0, supported = 0, blocks = 0;
+        cudaGetDevice(&device);
+        cudaDeviceGetAttribute(&supported, cudaDevAttrCooperativeLaunch, device);
+        if (!supported) return 0;
+        cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks, relaxListingKernel<Real>, kBlock, 0);
+        return blocks;
+    }();
+    if (residentPerSm < 1) return false;
+    const int64_t blocks = std::min<int64_t>(int64_t(residentPerSm) * multiprocessorCount(), blocksFor(a.p.n));
+    const cudaError_t cleared = cudaMemsetAsync(words, 0, 4 * sizeof(unsigned long long), stream);
+    if (cleared != cudaSuccess) throw DeviceError(std::string("contact relaxation words: ") + cudaGetErrorString(cleared));
+    ContactArgs<Real> args = a;
+    RelaxationPlan schedule = plan;
+    void* params[] = {&args, &schedule, &words};
+    const cudaError_t e = cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(relaxListingKernel<Real>), dim3(unsigned(blocks)),
+                                                      dim3(kBlock), params, 0, stream);
+    if (e != cudaSuccess) throw DeviceError(std::string("contact relaxation kernel: ") + cudaGetErrorString(e));
+    return true;
+}
+
+template <class Real>
 void launchLiftWorkRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, const Vec3<Real>* xListed, double* row,
                        cudaStream_t stream) {
     if (p.n == 0) return;
@@ -241,6 +371,7 @@ void launchLiftWorkRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, 
     template void launchWarmStart<Real>(const ContactArgs<Real>&, cudaStream_t);                                   \
     template void launchSettleContacts<Real>(const ContactArgs<Real>&, cudaStream_t);                              \
     template void launchRelaxContacts<Real>(const ContactArgs<Real>&, int, int, cudaStream_t);                     \
+    template bool launchRelaxListing<Real>(const ContactArgs<Real>&, const RelaxationPlan&, unsigned long long*, cudaStream_t); \
     template void launchLiftWorkRow<Real>(const ParticleArrays<Real>&, SpeciesTable<Real>, const Vec3<Real>*, double*, cudaStream_t);
 COREBOX_INSTANTIATE(float)
 COREBOX_INSTANTIATE(double)

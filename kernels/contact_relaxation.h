@@ -249,6 +249,30 @@ struct ContactResidual {
     Real overlap;        // max over contacts of depth / contact distance (0 when none overlaps)
 };
 
+// The schedule of one listing's relaxation (collision_rounds.cpp), the same wherever it runs
+// (Backend::relaxListing on the host, relaxListingKernel on the GPU): the first sweep alone (its overlap
+// says whether the positions moved far enough to list again), then batches of `batch` sweeps, the
+// residual checked at the end of each, until it is within both tolerances or `maxSweeps` ran.
+struct RelaxationPlan {
+    int maxSweeps = 1;
+    int batch = 1;
+    double speedTolerance = 0;    // [sigma / tau]
+    double overlapTolerance = 0;  // fraction of a contact distance
+    COREBOX_HD bool converged(const ContactResidual<double>& r) const {
+        return r.speedChange <= speedTolerance && r.overlap <= overlapTolerance;
+    }
+    // Whether the residual is looked at after `done` sweeps: after the first and at each batch's end.
+    COREBOX_HD bool checkedAfter(int done) const { return done == 1 || (done - 1) % batch == 0 || done >= maxSweeps; }
+    // Whether the relaxation goes on after a check that saw `last`.
+    COREBOX_HD bool continuesAfter(int done, const ContactResidual<double>& last) const { return done < maxSweeps && !converged(last); }
+};
+
+struct RelaxationOutcome {
+    ContactResidual<double> first{0, 0};  // after the first sweep
+    ContactResidual<double> last{0, 0};   // after the last
+    int sweeps = 0;
+};
+
 // The unit vector against gravity, or 0 without gravity.
 template <class Real>
 COREBOX_HD inline Vec3<Real> upOf(Vec3<Real> gravity) {

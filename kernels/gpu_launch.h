@@ -381,6 +381,12 @@ void launchSettleContacts(const ContactArgs<Real>& args, cudaStream_t stream);
 // residual holds the maxima of the last sweep.
 template <class Real>
 void launchRelaxContacts(const ContactArgs<Real>& args, int sweeps, int firstSweep, cudaStream_t stream);
+// A listing's whole relaxation (the sweeps of launchRelaxContacts from the listing's first, on the
+// plan's schedule) in one cooperative launch; words (9): the outcome, read back by the caller ([4..5]
+// the first sweep's residual, [6..7] the last's, as double bits; [8] the sweeps run). Returns false,
+// launching nothing, where the device has no cooperative launch (the caller runs the sweeps itself).
+template <class Real>
+bool launchRelaxListing(const ContactArgs<Real>& args, const RelaxationPlan& plan, unsigned long long* words, cudaStream_t stream);
 // row[i] = -m_i g_i . (x_i - xListed_i): the work against the uniform field of particle i's species
 // (SpeciesTable::field) of its contact moves.
 template <class Real>

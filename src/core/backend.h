@@ -22,6 +22,7 @@
 // Kolmogorov-Smirnov statistics (computed by the core from state(), see speed_statistics.h).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -224,6 +225,21 @@ public:
     // Runs `sweeps` sweeps over the listed contacts (Gauss-Seidel or Jacobi, contact_relaxation.h);
     // returns the residual of the last one.
     virtual ContactResidual<double> relaxContacts(int sweeps) = 0;
+    // A listing's whole relaxation on the plan's schedule (RelaxationPlan): the first sweep alone, then
+    // batches until the residual is within tolerance at the end of a batch or the cap is reached. The
+    // default runs it from here, a read-back per batch; a backend may run the same schedule where its
+    // sweeps run (the CUDA backend: one kernel, no host round trip), with the same result.
+    virtual RelaxationOutcome relaxListing(const RelaxationPlan& plan) {
+        RelaxationOutcome outcome;
+        outcome.first = outcome.last = relaxContacts(1);
+        outcome.sweeps = 1;
+        while (plan.continuesAfter(outcome.sweeps, outcome.last)) {
+            const int batch = std::min(plan.batch, plan.maxSweeps - outcome.sweeps);
+            outcome.last = relaxContacts(batch);
+            outcome.sweeps += batch;
+        }
+        return outcome;
+    }
     // The relaxation of this listing is over: a backend whose sweeps carry momentum (the accelerated
     // Jacobi sweeps) leaves its velocities with the projected impulses (settleRow). Called before
     // contactLiftWork and contactImpulses.

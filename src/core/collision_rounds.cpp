@@ -7,7 +7,8 @@
 namespace corebox {
 namespace {
 
-// Sweeps run in batches between convergence checks: a check reads a residual back from the device.
+// Sweeps run in batches between convergence checks (RelaxationPlan): where the host drives the sweeps, a
+// check reads a residual back from the device.
 constexpr int kSweepBatch = 8;
 // A relaxation that started from overlaps deeper than this fraction of a diameter lists again, up to
 // kMaxListings times.
@@ -95,16 +96,11 @@ void resolveCollisions(Backend& backend, const CollisionSettings& settings, Step
         if (report.contacts == 0) kinetic0 = backend.kineticEnergy();  // listing changes no velocity
         report.contacts = std::max(report.contacts, listed);
         // The first sweep alone, to see how deep the overlaps were; then batches.
-        residual = backend.relaxContacts(1);
-        const double firstOverlap = residual.overlap;
-        int sweeps = 1;
-        while (sweeps < maxSweeps &&
-               !(residual.speedChange <= settings.speedTolerance && residual.overlap <= settings.overlapTolerance)) {
-            const int batch = std::min(kSweepBatch, maxSweeps - sweeps);
-            residual = backend.relaxContacts(batch);
-            sweeps += batch;
-        }
-        report.contactSweeps += sweeps;
+        const RelaxationOutcome relaxed =
+            backend.relaxListing(RelaxationPlan{maxSweeps, kSweepBatch, settings.speedTolerance, settings.overlapTolerance});
+        residual = relaxed.last;
+        const double firstOverlap = relaxed.first.overlap;
+        report.contactSweeps += relaxed.sweeps;
         backend.endRelaxation();
         liftWork += backend.contactLiftWork();
         report.impulses += backend.contactImpulses();  // a resting pile's weight reaches the floor here

@@ -11,9 +11,11 @@
 //    The number of rounds is capped; when the cap is hit, a last search says whether impacts remain
 //    (reported), and the contact phase takes what is left.
 // 2. Contacts. Every overlapping or touching pair and wall is relaxed together by sweeps
-//    (contact_relaxation.h: Gauss-Seidel on the CPU, accelerated Jacobi on the GPU): approach velocities stopped (restitution 0: resting contact), overlaps
-//    removed by moving positions without adding kinetic energy, until the largest approach speed and
-//    overlap are within tolerance or the sweep cap is reached. The kinetic energy this removes,
+//    (contact_relaxation.h: over-relaxed Gauss-Seidel on the CPU, accelerated Jacobi on the GPU):
+//    approach velocities stopped (restitution 0: resting contact), overlaps removed by moving
+//    positions without adding kinetic energy, until the largest approach speed and overlap are within
+//    tolerance or the sweep cap is reached (RelaxationPlan: the host checks after each batch, the GPU
+//    checks within its one launch on the same schedule). The kinetic energy this removes,
 //    minus the work done against gravity by the position moves, is booked as dissipated, so
 //    E_kin + E_pot + E_dissipated stays exact.
 // Both phases report their impulses (impulse_sums.h: what the walls received, r_ij . J_ij of the
@@ -36,16 +38,13 @@ struct CollisionSettings {
     // 0.05%; capped at 128, 420 ms). Jacobi carries support a layer per sweep and needs many (H200,
     // plain and warm-started with 16: a column of ten balls sank 1.6e-3 and a pile's overlaps reached
     // 1e-3); accelerated, fewer (contact_relaxation.h: 233 a step in a forming 10^5-ball pile).
-    // 16 Gauss-Seidel sweeps are too few for deep piles (CPU, fp64, 2 threads): 4444 balls on a 10 x 10 floor
-    // (a 40-layer pile, as deep as the 40,000-ball one) never settle at 16: from 3 s on each step
-    // leaves the pile moving down faster with height (6 sigma/tau at the top), the kinetic energy
-    // steady at 5% of the potential energy released; 128 settles it by 4 s (0.01%) but makes the
-    // 10,000-ball pile 3.5x slower (104 -> 362 ms a frame), going on past 16 only while a sweep
-    // still changes a speed by more than g dt settles it (0.4%) at 2x (202 ms), above 2 g dt to 0.7%
-    // at 1.25x (131 ms), yet with the top still moving down at 2.5 sigma/tau: a mask, not a cure;
-    // alternating the sweep direction, or going on only for deep overlaps or speed changes above
-    // 6 g dt, does not help. What would: a relaxation that carries a column's momentum to the floor
-    // in few sweeps (the GPU's accelerated Jacobi settles the 10^6-ball pile, as deep, by 2.25 s).
+    // Plain Gauss-Seidel hands a deep pile's momentum to the floor about a layer per sweep: 4444 balls on
+    // a 10 x 10 floor (a 40-layer pile, as deep as the 40,000-ball one, CPU fp64) never settled at 16
+    // sweeps (from 3 s on the pile moved down faster with height, 6 sigma/tau at the top, the kinetic
+    // energy steady at 5% of the potential energy released), and more sweeps only masked it (128: at
+    // rest by 4 s, the 10,000-ball pile 3.5x slower). Over-relaxed (contact_relaxation.h:
+    // kGaussSeidelOverRelaxation) 16 suffice: that pile at 6.5e-5 by 6 s, the 40,000-ball pile at rest
+    // by 2.25 s.
     int maxSweepsJacobi = 128;
     int maxSweepsGaussSeidel = 16;
     double speedTolerance = 0;     // contacts converged when no approach is faster than this ...

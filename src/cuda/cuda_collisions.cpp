@@ -449,6 +449,37 @@ ContactResidual<double> CudaDevice<Real>::relaxContacts(int sweeps) {
     return r;
 }
 
+// The listing's relaxation in one launch and one wait (gpu::launchRelaxListing), from its first sweep,
+// with CudaBackendOptions::fusedSteps; else the host's schedule, a launch pair a sweep and a wait a batch.
+template <class Real>
+RelaxationOutcome CudaDevice<Real>::relaxListing(const RelaxationPlan& plan) {
+    if (!m_fusedSteps || m_sweepsDone != 0) return Backend::relaxListing(plan);
+    beforeStateChange();
+    cudaStream_t s = stream();
+    if (m_warmPending) gpu::launchWarmStart(contactArgs(), s);
+    m_relaxationWords.resize(9);
+    if (!gpu::launchRelaxListing(contactArgs(), plan, m_relaxationWords.data(), s)) {
+        m_warmPending = false;
+        return Backend::relaxListing(plan);
+    }
+    m_warmPending = false;
+    homeChanged();
+    m_cellsMatchPositions = false;
+    unsigned long long* words = m_hostWords.resize(kHostWords);
+    static_assert(kHostWords >= 5, "the outcome's words");
+    cudaCheck(cudaMemcpyAsync(words, m_relaxationWords.data() + 4, 5 * sizeof(unsigned long long), cudaMemcpyDeviceToHost, s),
+              "contact relaxation");
+    sync();
+    RelaxationOutcome outcome;
+    std::memcpy(&outcome.first.speedChange, &words[0], sizeof(double));
+    std::memcpy(&outcome.first.overlap, &words[1], sizeof(double));
+    std::memcpy(&outcome.last.speedChange, &words[2], sizeof(double));
+    std::memcpy(&outcome.last.overlap, &words[3], sizeof(double));
+    outcome.sweeps = int(words[4]);
+    m_sweepsDone = outcome.sweeps;
+    return outcome;
+}
+
 template <class Real>
 void CudaDevice<Real>::endRelaxation() {
     if (m_sweepsDone == 0) return;

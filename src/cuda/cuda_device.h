@@ -102,6 +102,7 @@ public:
     std::vector<ContactRecord> contactLog() const override;
     int64_t listContacts(const RestingContact<double>& resting) override;
     ContactResidual<double> relaxContacts(int sweeps) override;
+    RelaxationOutcome relaxListing(const RelaxationPlan& plan) override;
     void endRelaxation() override;
     std::vector<ContactWarmStart> contactWarmStart() const override;
     void restoreContactWarmStart(const std::vector<ContactWarmStart>& impulses) override;
@@ -348,6 +349,7 @@ private:
     bool m_warmPending = false;     // the filled impulses are not applied to V yet
     DeviceBuffer<Vec3<Real>> m_xListed, m_dv, m_dx;
     DeviceBuffer<unsigned long long> m_residual;  // [speed change, overlap], double bits
+    DeviceBuffer<unsigned long long> m_relaxationWords;  // relaxListing's outcome (gpu::launchRelaxListing)
     DeviceBuffer<unsigned char> m_contactScanScratch;
     DeviceBuffer<CollisionEvent> m_events;
     DeviceBuffer<char> m_active, m_hasContactAcceleration;

@@ -67,6 +67,35 @@ TEST(CudaSanitized, SmallSceneWithCollisions) {
     runSmallScene(1, Exchange::Auto);
 }
 
+// A small pile: the contact phase's kernels, its relaxation in one cooperative launch among them
+// (grid-wide barriers, a block reduction in shared memory).
+TEST(CudaSanitized, ASmallPileRelaxedInOneLaunch) {
+    COREBOX_REQUIRE_GPU();
+    Scene scene;
+    SpeciesDef ball;
+    ball.name = "ball";
+    ball.count = 160;
+    ball.radius = 0.5;
+    ball.epsilon = 0;
+    scene.species = {ball};
+    scene.box.size = {4, 4, 10};  // the lattice's balls touch: contacts from the first step
+    scene.box.wallRestitution = 0.5;
+    scene.interaction.restitution = 0.5;
+    scene.interaction.gravity = {0, 0, -9.81};
+    scene.integrator.method = Method::Verlet;
+    scene.integrator.dt = 1.0 / 240.0;
+    scene.init.temperature = 0.1;
+    for (Precision p : {Precision::Fp64, Precision::Fp32}) {
+        scene.integrator.precision = p;
+        CudaBackendOptions options;
+        options.precision = p;
+        Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
+        int64_t sweeps = 0;
+        for (int s = 0; s < 40; ++s) sweeps += sim.step().contactSweeps;
+        EXPECT_GT(sweeps, 40);
+    }
+}
+
 // The same on two, four and eight GPUs with each exchange: peer copies, direct peer reads (the force
 // kernel's DA path) and NCCL. NCCL is apart: its own start-up probes kernels for other architectures
 // and so hits API errors of its own, which the memcheck run does not count against corebox

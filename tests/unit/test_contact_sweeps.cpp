@@ -187,4 +187,16 @@ TEST(ContactSweeps, AColumnSunkIntoTheFloorIsLiftedOutOfIt) {
     for (const auto& vi : c.v) EXPECT_EQ(norm2(vi), 0.0) << "the position level changes no velocity";
 }
 
+TEST(ContactSweeps, ThePlanLooksAfterTheFirstSweepAndAtTheEndOfEachBatch) {
+    const RelaxationPlan plan{20, 8, 0.1, 1e-3};
+    std::vector<int> checks;
+    for (int done = 1; done <= 20; ++done)
+        if (plan.checkedAfter(done)) checks.push_back(done);
+    EXPECT_EQ(checks, (std::vector<int>{1, 9, 17, 20}));  // the last batch cut short by the cap
+    EXPECT_TRUE(plan.continuesAfter(9, ContactResidual<double>{0.2, 0}));
+    EXPECT_TRUE(plan.continuesAfter(9, ContactResidual<double>{0, 2e-3}));
+    EXPECT_FALSE(plan.continuesAfter(9, ContactResidual<double>{0.1, 1e-3}));  // within both: done
+    EXPECT_FALSE(plan.continuesAfter(20, ContactResidual<double>{1, 1}));      // the cap
+}
+
 }  // namespace

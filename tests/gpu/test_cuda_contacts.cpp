@@ -1,0 +1,86 @@
+// The contact relaxation on the GPU (src/cuda/cuda_collisions.cpp: relaxListing): a listing's sweeps
+// in one cooperative launch that checks its own residual on the schedule the host would (RelaxationPlan)
+// give the bits of the sweeps launched a pair at a time with a read-back a batch, on one GPU and on two
+// (where the contacts run on the first, on the gathered state), in fp32 and fp64.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+#include <tuple>
+
+#include "gpu_fixture.h"
+#include "initial_conditions.h"
+#include "simulation.h"
+#include "state_hash.h"
+#include "vocabulary.h"
+
+using namespace corebox;
+
+namespace {
+
+// 600 balls of radius 0.5 dropped from a lattice into a 6 x 6 x 40 box (z up), restitution 0.5, g =
+// 9.81, dt = 1/240: by 1.5 s a pile some twenty layers deep, relaxed by many sweeps a step.
+Scene deepPile(Precision precision) {
+    Scene scene;
+    scene.box.size = {6.0, 6.0, 40.0};
+    scene.box.wallRestitution = 0.5;
+    SpeciesDef ball;
+    ball.name = "ball";
+    ball.count = 600;
+    ball.mass = 1.0;
+    ball.radius = 0.5;
+    ball.sigma = 1.0;
+    ball.epsilon = 0.0;
+    scene.species = {ball};
+    scene.interaction.restitution = 0.5;
+    scene.interaction.gravity = {0.0, 0.0, -9.81};
+    scene.integrator.method = Method::Verlet;
+    scene.integrator.dt = 1.0 / 240.0;
+    scene.integrator.precision = precision;
+    scene.thermostat.kind = ThermostatKind::None;
+    scene.init.temperature = 0.1;
+    scene.init.seed = 7;
+    scene.init.placement = Placement::Lattice;
+    return scene;
+}
+
+}  // namespace
+
+TEST(CudaContacts, OneLaunchRelaxationGivesTheBitsOfTheHostDrivenSweeps) {
+    COREBOX_REQUIRE_GPU();
+    auto run = [](const Scene& scene, int gpus, bool fused) {
+        CudaBackendOptions options;
+        options.precision = scene.integrator.precision;
+        options.gpus = gpus;
+        options.fusedSteps = fused;
+        Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
+        int64_t sweeps = 0, listings = 0, pairs = 0;
+        for (int k = 0; k < 360; ++k) {
+            const StepReport r = sim.step();
+            sweeps += r.contactSweeps;
+            listings += r.contactListings;
+            pairs += r.pairCollisions;
+        }
+        const ObservablesRow row = sim.observe();
+        return std::make_tuple(stateHash(sim.state()), sweeps, listings, pairs, row.dissipated, row.kinetic);
+    };
+    const int gpuCounts = cudaDeviceCount() >= 2 ? 2 : 1;
+    if (gpuCounts == 1) std::printf("one CUDA device: the two-GPU case skipped\n");
+    for (Precision p : {Precision::Fp32, Precision::Fp64}) {
+        const Scene scene = deepPile(p);
+        for (int gpus = 1; gpus <= gpuCounts; ++gpus) {
+            const auto fused = run(scene, gpus, true), separate = run(scene, gpus, false);
+            const std::string where = std::string(precisionName(p)) + ", " + std::to_string(gpus) + " GPU(s)";
+            EXPECT_EQ(std::get<0>(fused), std::get<0>(separate)) << where << ": the state";
+            EXPECT_EQ(std::get<1>(fused), std::get<1>(separate)) << where << ": the sweeps";
+            EXPECT_EQ(std::get<2>(fused), std::get<2>(separate)) << where << ": the listings";
+            EXPECT_EQ(std::get<3>(fused), std::get<3>(separate)) << where << ": the impacts";
+            EXPECT_EQ(std::get<4>(fused), std::get<4>(separate)) << where << ": the dissipated energy";
+            EXPECT_EQ(std::get<5>(fused), std::get<5>(separate)) << where << ": the kinetic energy";
+            // The pile formed and its contacts were relaxed by many sweeps: what the test is about.
+            EXPECT_GT(std::get<1>(fused), 20 * 360) << where;
+            std::printf("%s: %lld sweeps in %lld listings over 360 steps\n", where.c_str(), (long long)std::get<1>(fused),
+                        (long long)std::get<2>(fused));
+        }
+    }
+}
