@@ -12,7 +12,7 @@ namespace {
 template <class Real>
 __global__ void findEventsKernel(CollisionArgs<Real> a) {
     const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (k >= a.p.n) return;
+    if (k >= a.p.n || (a.gate && *a.gate == 0u)) return;
     // Threads take particles in the cell list's order: a warp's 27-cell walks overlap, so its loads of
     // the partners hit the caches (in index order, 10^7 particles took 14 ms per search on an H200).
     const int64_t i = a.grid.sorted[k];
@@ -66,7 +66,7 @@ __device__ void recordImpact(const CollisionArgs<Real>& a, int64_t i, int kind, 
 template <class Real>
 __global__ void resolveKernel(CollisionArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i >= a.p.n) return;
+    if (i >= a.p.n || (a.gate && *a.gate == 0u)) return;
     const CollisionEvent e = a.events[i];
     if (!isValid(e)) return;
     const int si = a.p.species[i];
@@ -166,7 +166,7 @@ __global__ void stageWallsKernel(CollisionArgs<Real> a, const Vec3<Real>* accele
 template <class Real>
 __global__ void updateActiveKernel(CollisionArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i >= a.p.n) return;
+    if (i >= a.p.n || (a.gate && *a.gate == 0u)) return;
     a.active[i] = isValid(a.events[i]);
 }
 

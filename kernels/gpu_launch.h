@@ -305,6 +305,9 @@ struct CollisionArgs {
     // order: the host sorts), room for every particle with an event this round left by the caller.
     ImpactRecord<Real>* log;
     int32_t logRound;  // the applyEvents call of this step
+    // When set, the search, the resolution and the active flags do nothing where *gate == 0: a round
+    // queued behind one that found no event (CudaDevice::runImpactRounds).
+    const unsigned int* gate;
 };
 // Each particle's earliest event (all neighbours when active, else only active ones); counts the
 // particles with an event into counters[1], and lists those that still need a contact acceleration

@@ -67,6 +67,12 @@ struct ForceCounters {
     int64_t allPairsEvaluations = 0;  // pair evaluations of the all-pairs full passes (ordered pairs, or each pair once)
 };
 
+// What runImpactRounds did: the rounds run, and whether the last found no event.
+struct ImpactRounds {
+    int rounds = 0;
+    bool settled = false;
+};
+
 struct CollisionTally {
     int64_t pairCollisions = 0;   // particle-particle impulses applied
     int64_t wallCollisions = 0;   // wall reflections applied
@@ -202,6 +208,19 @@ public:
     // Resolves every event that is the earliest of each particle it touches (a matching, so no two
     // resolutions write one particle), then marks the particles that had an event as active.
     virtual void applyEvents() = 0;
+    // Rounds of findEvents(Active) and applyEvents until a round finds no event (it counts) or maxRounds
+    // ran. The default runs them from here, a read-back a round; a backend may queue several rounds and
+    // read their counts once (the CUDA backend, where no pair force makes a round's accelerations
+    // depend on what the last one found), with the same result.
+    virtual ImpactRounds runImpactRounds(int maxRounds) {
+        ImpactRounds r;
+        while (r.rounds < maxRounds && !r.settled) {
+            ++r.rounds;
+            r.settled = findEvents(EventScope::Active) == 0;
+            if (!r.settled) applyEvents();
+        }
+        return r;
+    }
     virtual CollisionTally collisionTally() = 0;  // since beginCollisions
     // The contact log: when on, applyEvents records every impact it resolves and beginCollisions
     // clears the record; contactLog() returns the step's records ordered by (round, a), the same on

@@ -70,10 +70,10 @@ void resolveCollisions(Backend& backend, const CollisionSettings& settings, Step
             settled = true;
         }
     }
-    for (int round = 0; round < settings.maxRounds && !settled; ++round) {
-        report.rounds = round + 1;
-        settled = backend.findEvents(EventScope::Active) == 0;
-        if (!settled) backend.applyEvents();
+    if (!settled && settings.maxRounds > 0) {
+        const ImpactRounds rounds = backend.runImpactRounds(settings.maxRounds);
+        report.rounds = rounds.rounds;
+        settled = rounds.settled;
     }
     if (!settled) report.roundCapHit = backend.findEvents(EventScope::All) > 0;
     const CollisionTally tally = backend.collisionTally();

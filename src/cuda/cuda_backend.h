@@ -23,7 +23,8 @@ struct CudaBackendOptions {
     bool pairsOnce = true;
     // One GPU: a Verlet step's launches fused and its screened collision stage decided on the device,
     // with one host wait a step (cuda_device.h, the one-wait step); any GPU count: each listing's
-    // contact sweeps in one launch that checks its own residual (cuda_collisions.cpp: relaxListing);
+    // contact sweeps in one launch that checks its own residual (cuda_collisions.cpp: relaxListing),
+    // and without pair forces the impact rounds queued in batches (runImpactRounds);
     // false: every operation on its own (the same bits, for comparison and tests).
     bool fusedSteps = true;
 };

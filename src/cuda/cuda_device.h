@@ -97,6 +97,7 @@ public:
     void beginCollisions(const ImpactWindow<double>& window) override;
     int64_t findEvents(EventScope scope) override;
     void applyEvents() override;
+    ImpactRounds runImpactRounds(int maxRounds) override;
     CollisionTally collisionTally() override;
     void setContactLog(bool on) override { m_logContacts = on; }
     std::vector<ContactRecord> contactLog() const override;
@@ -334,6 +335,8 @@ private:
     CellListView m_cellList{};  // of the last findEvents or listContacts
     bool m_cellsMatchPositions = false;  // m_cellList was built from the current positions
     bool m_eventsApplied = false;        // applyEvents ran since beginCollisions
+    DeviceBuffer<unsigned int> m_roundCounters;  // runImpactRounds: counters [0..1] of each round queued
+    int m_lastImpactRounds = 0;                  // rounds of the last stage: the next one's first batch
     ImpactWindow<Real> m_window{0, 0};
     RestingContact<Real> m_resting{0, 0};
     DeviceBuffer<int64_t> m_contactStart, m_contactPartner;

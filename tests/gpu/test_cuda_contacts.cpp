@@ -1,7 +1,9 @@
-// The contact relaxation on the GPU (src/cuda/cuda_collisions.cpp: relaxListing): a listing's sweeps
-// in one cooperative launch that checks its own residual on the schedule the host would (RelaxationPlan)
-// give the bits of the sweeps launched a pair at a time with a read-back a batch, on one GPU and on two
-// (where the contacts run on the first, on the gathered state), in fp32 and fp64.
+// The collision stage of a pile on the GPU with its host waits taken out (CudaBackendOptions::fusedSteps,
+// src/cuda/cuda_collisions.cpp): a listing's sweeps in one cooperative launch that checks its own
+// residual on the schedule the host would (relaxListing, RelaxationPlan), and the impact rounds queued
+// in batches gated on each round's count (runImpactRounds), give the bits of the sweeps launched a pair
+// at a time with a read-back a batch and of the rounds one at a time, on one GPU and on two (where the
+// stage runs on the first, on the gathered state), in fp32 and fp64.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -46,7 +48,7 @@ Scene deepPile(Precision precision) {
 
 }  // namespace
 
-TEST(CudaContacts, OneLaunchRelaxationGivesTheBitsOfTheHostDrivenSweeps) {
+TEST(CudaContacts, TheStageWithoutHostWaitsGivesTheBitsOfTheHostDrivenOne) {
     COREBOX_REQUIRE_GPU();
     auto run = [](const Scene& scene, int gpus, bool fused) {
         CudaBackendOptions options;
@@ -54,15 +56,16 @@ TEST(CudaContacts, OneLaunchRelaxationGivesTheBitsOfTheHostDrivenSweeps) {
         options.gpus = gpus;
         options.fusedSteps = fused;
         Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
-        int64_t sweeps = 0, listings = 0, pairs = 0;
+        int64_t sweeps = 0, listings = 0, pairs = 0, rounds = 0;
         for (int k = 0; k < 360; ++k) {
             const StepReport r = sim.step();
             sweeps += r.contactSweeps;
             listings += r.contactListings;
             pairs += r.pairCollisions;
+            rounds += r.rounds;
         }
         const ObservablesRow row = sim.observe();
-        return std::make_tuple(stateHash(sim.state()), sweeps, listings, pairs, row.dissipated, row.kinetic);
+        return std::make_tuple(stateHash(sim.state()), sweeps, listings, pairs, row.dissipated, row.kinetic, rounds);
     };
     const int gpuCounts = cudaDeviceCount() >= 2 ? 2 : 1;
     if (gpuCounts == 1) std::printf("one CUDA device: the two-GPU case skipped\n");
@@ -77,10 +80,12 @@ TEST(CudaContacts, OneLaunchRelaxationGivesTheBitsOfTheHostDrivenSweeps) {
             EXPECT_EQ(std::get<3>(fused), std::get<3>(separate)) << where << ": the impacts";
             EXPECT_EQ(std::get<4>(fused), std::get<4>(separate)) << where << ": the dissipated energy";
             EXPECT_EQ(std::get<5>(fused), std::get<5>(separate)) << where << ": the kinetic energy";
+            EXPECT_EQ(std::get<6>(fused), std::get<6>(separate)) << where << ": the impact rounds";
+            EXPECT_GT(std::get<6>(fused), 2 * 360) << where << ": rounds beyond the first of a step";
             // The pile formed and its contacts were relaxed by many sweeps: what the test is about.
             EXPECT_GT(std::get<1>(fused), 20 * 360) << where;
-            std::printf("%s: %lld sweeps in %lld listings over 360 steps\n", where.c_str(), (long long)std::get<1>(fused),
-                        (long long)std::get<2>(fused));
+            std::printf("%s: %lld sweeps in %lld listings, %lld impact rounds over 360 steps\n", where.c_str(),
+                        (long long)std::get<1>(fused), (long long)std::get<2>(fused), (long long)std::get<6>(fused));
         }
     }
 }
