@@ -7,8 +7,9 @@
 # path (the only kernel change with several GPUs); copies and NCCL run no corebox kernel of their own.
 # Both also run the pairs-once all-pairs pass (shared-memory column sums; memcheck also its share of
 # two GPUs, peer reads) and the list pass with its collision screen and the walls-at-once stage
-# (CudaPairsOnce.*, CudaNeighbourList.TheCollisionScreen*), and a small pile, whose contact sweeps run in one
-# cooperative launch (CudaSanitized.ASmallPile*).
+# (CudaPairsOnce.*, CudaNeighbourList.TheCollisionScreen*). memcheck also runs a small pile, whose contact sweeps
+# run in one cooperative launch (CudaSanitized.ASmallPile*); racecheck does not, since it did not get through
+# that launch's grid-wide barriers (80 steps of 160 balls still running after 120 s on an H100).
 set -u
 tool=$1 binary=$2
 if ! nvidia-smi -L >/dev/null 2>&1; then echo "no GPU: compute-sanitizer $tool skipped"; exit 77; fi
@@ -19,4 +20,4 @@ if [ "$tool" = memcheck ]; then
   exec "$sanitizer" --tool memcheck --report-api-errors no --error-exitcode 1 "$binary" --gtest_filter='CudaSanitized.*Nccl*:CudaPairsOnce.*Nccl*'
 fi
 exec "$sanitizer" --tool "$tool" --error-exitcode 1 "$binary" \
-  --gtest_filter='CudaSanitized.SmallSceneWithCollisions:CudaSanitized.ASmallPile*:CudaSanitized.*DirectAccess:CudaPairsOnce.GivesTheSameBitsRunToRun:CudaNeighbourList.TheCollisionScreen*'
+  --gtest_filter='CudaSanitized.SmallSceneWithCollisions:CudaSanitized.*DirectAccess:CudaPairsOnce.GivesTheSameBitsRunToRun:CudaNeighbourList.TheCollisionScreen*'
