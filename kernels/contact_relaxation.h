@@ -39,7 +39,8 @@
 // Two schedules of the same contact arithmetic:
 //   - Gauss-Seidel (the CPU): one contact at a time in a fixed order, bottom-up against gravity, with
 //     the latest values of both particles and an accumulated impulse lambda >= 0 per contact
-//     (sequential impulses). Support reaches the top of a pile within a sweep.
+//     (sequential impulses). Support reaches the top of a pile within a sweep; the momentum of a deep
+//     pile reaches the floor in few sweeps only over-relaxed (kGaussSeidelOverRelaxation).
 //   - Jacobi (the GPU, relaxParticle): each particle from the previous sweep's values only, with the
 //     relaxation w = 1 / max(k_i, k_j) (k: listed contacts; mass splitting) so that the sum of a
 //     particle's updates does not overshoot, and an accumulated impulse lambda >= 0 per contact held
