@@ -442,9 +442,10 @@ COREBOX_HD inline Real settleRow(const Real& lambda, Real& applied) {
 // Evidence (CPU, fp64, 2 threads, dt = 1/240, 16 sweeps a listing): 4,444 balls on a 10 x 10 floor
 // (40 layers, as deep as the 40,000-ball pile): at omega = 1 the kinetic energy stays at 5% of the
 // potential energy released from 2.5 s to 6 s (the top moving down at 6 sigma/tau, held up only by
-// the position level); 1.5: 1.4%; 1.8: 1.8e-3 at 3 s, 3.4e-5 at 6 s. The 10,000-ball pile (`corebox
-// bench pile`): 123 -> 105 ms a frame (fewer impacts from a pile that no longer sinks), at rest at
-// 3.25 s either way.
+// the position level); 1.6: 0.8% at 6 s; 1.8: 3.0e-3 at 3 s, 6.5e-5 at 6 s; 1.9: 0.16% (it
+// oscillates). `corebox bench pile` (Bullet in the same run): the 40,000-ball pile at rest at 2.25 s
+// (before: not within 8 s), 842 ms a frame against 1937 before; 10,000 balls at rest at 3.25 s as
+// before, 114 ms a frame (Bullet 279).
 constexpr double kGaussSeidelOverRelaxation = 1.8;
 
 template <class Real>
