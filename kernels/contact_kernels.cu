@@ -142,6 +142,14 @@ __device__ ContactResidual<Real> sweepParticle(const ContactArgs<Real>& a, int64
     return r;
 }
 
+// Both maxima over the warp, left in every lane. Every lane of the warp must call it.
+__device__ void warpMax(double& speed, double& overlap) {
+    for (int offset = 16; offset > 0; offset /= 2) {
+        speed = fmax(speed, __shfl_xor_sync(0xffffffffu, speed, offset));
+        overlap = fmax(overlap, __shfl_xor_sync(0xffffffffu, overlap, offset));
+    }
+}
+
 // The residual's maxima over each warp, then one atomic a warp into residual[0..1]: every particle in
 // contact has a residual, and 10^5 atomics a sweep on one address queued behind each other (an H200, a
 // 10^5-ball pile: 613 sweeps a step took 105 ms a step with an atomic a particle in every sweep, 35 ms
@@ -149,10 +157,7 @@ __device__ ContactResidual<Real> sweepParticle(const ContactArgs<Real>& a, int64
 template <class Real>
 __device__ void addResidual(ContactResidual<Real> r, unsigned long long* residual) {
     double speed = double(r.speedChange), overlap = double(r.overlap);
-    for (int offset = 16; offset > 0; offset /= 2) {
-        speed = fmax(speed, __shfl_xor_sync(0xffffffffu, speed, offset));
-        overlap = fmax(overlap, __shfl_xor_sync(0xffffffffu, overlap, offset));
-    }
+    warpMax(speed, overlap);
     if (threadIdx.x % 32 != 0) return;
     if (speed > 0) atomicMaxNonNegative(&residual[0], speed);
     if (overlap > 0) atomicMaxNonNegative(&residual[1], overlap);
@@ -182,10 +187,7 @@ __global__ void applySweepKernel(ContactArgs<Real> a) {
 // pile 20% slower than the launches one by one, which take it once a batch (an H200).
 __device__ void addBlockResidual(double speed, double overlap, unsigned long long* residual) {
     __shared__ double speedOf[kBlock / 32], overlapOf[kBlock / 32];
-    for (int offset = 16; offset > 0; offset /= 2) {
-        speed = fmax(speed, __shfl_xor_sync(0xffffffffu, speed, offset));
-        overlap = fmax(overlap, __shfl_xor_sync(0xffffffffu, overlap, offset));
-    }
+    warpMax(speed, overlap);
     const int warp = int(threadIdx.x / 32), lane = int(threadIdx.x % 32);
     if (lane == 0) {
         speedOf[warp] = speed;

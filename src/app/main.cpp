@@ -262,6 +262,10 @@ int main(int argc, char** argv) {
     pileCmd->add_option("--substeps", pile.substeps, "Steps per 1/60 s frame (dt = 1/(60 substeps))")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
+    pileCmd->add_option("--contact-sweeps", pile.contactSweeps,
+                        "The scene's [interaction] contact_sweeps: cap on contact sweeps per listing (0: the backend's own)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     pileCmd->add_option("--threads", pile.threads, "CPU threads (0: all cores)")->capture_default_str();
     pileCmd->add_option("--bullet", pile.bulletPath,
                         "The Bullet driver (default: corebox_bullet_pile beside corebox when built; none: no Bullet)");

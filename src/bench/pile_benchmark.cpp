@@ -98,13 +98,15 @@ void measureFinalState(const ParticleState& state, PileRunResult& r) {
 
 // What the collision stage did per step, summed over the run.
 struct PilePhaseSums {
-    int64_t steps = 0, rounds = 0, sweeps = 0, listings = 0;
+    int64_t steps = 0, rounds = 0, sweeps = 0, listings = 0, cappedSpeed = 0, cappedOverlap = 0;
     double collide = 0, all = 0, impacts = 0, contacts = 0;
     void add(const StepReport& s) {
         ++steps;
         rounds += s.rounds;
         sweeps += s.contactSweeps;
         listings += s.contactListings;
+        cappedSpeed += s.contactCappedSpeed;
+        cappedOverlap += s.contactCappedOverlap;
         collide += s.secondsCollide;
         impacts += s.secondsImpacts;
         contacts += s.secondsContacts;
@@ -115,6 +117,8 @@ struct PilePhaseSums {
         r.meanRounds = double(rounds) / double(steps);
         r.meanContactSweeps = double(sweeps) / double(steps);
         r.meanListings = double(listings) / double(steps);
+        r.cappedSpeedPerStep = double(cappedSpeed) / double(steps);
+        r.cappedOverlapPerStep = double(cappedOverlap) / double(steps);
         r.collideShare = all > 0 ? collide / all : -1;
         r.impactShare = collide > 0 ? impacts / collide : -1;
         r.contactShare = collide > 0 ? contacts / collide : -1;
@@ -125,8 +129,10 @@ PileRunResult runCorebox(const PileBenchmarkOptions& o, const std::string& backe
                          const ParticleState& initial) {
     Scene scene = pileScene(n, precision);
     scene.integrator.dt = kFrameSeconds / o.substeps;
+    scene.interaction.contactSweeps = o.contactSweeps;
     PileRunResult r = recordFor(o, scene, n);
     r.engine = "corebox";
+    r.contactSweepCap = o.contactSweeps;
     r.backend = backend;
     r.precision = precisionName(precision);
     r.threads = o.threads > 0 ? o.threads : hostHardware().hardwareThreads;
@@ -304,6 +310,9 @@ nlohmann::json resultJson(const PileRunResult& r) {
             {"mean_rounds", r.meanRounds >= 0 ? nlohmann::json(r.meanRounds) : nlohmann::json(nullptr)},
             {"mean_contact_sweeps", r.meanContactSweeps >= 0 ? nlohmann::json(r.meanContactSweeps) : nlohmann::json(nullptr)},
             {"mean_listings", r.meanListings >= 0 ? nlohmann::json(r.meanListings) : nlohmann::json(nullptr)},
+            {"contact_sweeps_cap", r.contactSweepCap >= 0 ? nlohmann::json(r.contactSweepCap) : nlohmann::json(nullptr)},
+            {"capped_speed_per_step", r.cappedSpeedPerStep >= 0 ? nlohmann::json(r.cappedSpeedPerStep) : nlohmann::json(nullptr)},
+            {"capped_overlap_per_step", r.cappedOverlapPerStep >= 0 ? nlohmann::json(r.cappedOverlapPerStep) : nlohmann::json(nullptr)},
             {"collide_share", r.collideShare >= 0 ? nlohmann::json(r.collideShare) : nlohmann::json(nullptr)},
             {"impact_share", r.impactShare >= 0 ? nlohmann::json(r.impactShare) : nlohmann::json(nullptr)},
             {"contact_share", r.contactShare >= 0 ? nlohmann::json(r.contactShare) : nlohmann::json(nullptr)},
@@ -318,14 +327,15 @@ const char* const kCsvHeader =
     "ms_per_frame_mean,ms_per_frame_last_second,max_overlap_fraction,max_wall_penetration_fraction,outside,energy_"
     "start,energy_end,"
     "energy_change_relative,potential_released,dissipated,time_to_rest,round_cap_hits,max_rounds,mean_rounds,mean_"
-    "contact_sweeps,mean_listings,collide_share,impact_share,contact_share,final_state,outcome,"
+    "contact_sweeps,mean_listings,contact_sweeps_cap,capped_speed_per_step,capped_overlap_per_step,collide_share,impact_share,"
+    "contact_share,final_state,outcome,"
     "message\n";
 
 std::string csvRow(const PileRunResult& r) {
     char line[1024];
     std::snprintf(line, sizeof line,
                   "%s,%s,%s,%s,%d,%lld,%g,%g,%g,%d,%d,%.9g,%g,%.6g,%lld,%.4f,%.4f,%.6g,%.6g,%lld,%.10g,%.10g,%.6g,%."
-                  "10g,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,",
+                  "10g,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,",
                   r.engine.c_str(), r.backend.c_str(), csvQuote(r.device).c_str(), r.precision.c_str(), r.threads,
                   (long long)r.n, r.box[0], r.box[1], r.box[2], r.boxGrown ? 1 : 0, r.substeps, r.dt,
                   r.secondsRequested, r.secondsSimulated, (long long)r.frames, r.msPerFrameMean, r.msPerFrameLastSecond,
@@ -337,6 +347,9 @@ std::string csvRow(const PileRunResult& r) {
                   r.maxRounds >= 0 ? std::to_string(r.maxRounds).c_str() : "", r.meanRounds >= 0 ? shortText(r.meanRounds).c_str() : "",
                   r.meanContactSweeps >= 0 ? shortText(r.meanContactSweeps).c_str() : "",
                   r.meanListings >= 0 ? shortText(r.meanListings).c_str() : "",
+                  r.contactSweepCap >= 0 ? std::to_string(r.contactSweepCap).c_str() : "",
+                  r.cappedSpeedPerStep >= 0 ? shortText(r.cappedSpeedPerStep).c_str() : "",
+                  r.cappedOverlapPerStep >= 0 ? shortText(r.cappedOverlapPerStep).c_str() : "",
                   r.collideShare >= 0 ? shortText(r.collideShare).c_str() : "",
                   r.impactShare >= 0 ? shortText(r.impactShare).c_str() : "",
                   r.contactShare >= 0 ? shortText(r.contactShare).c_str() : "", r.finalState.c_str(), r.outcome.c_str());

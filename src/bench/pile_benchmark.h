@@ -34,6 +34,7 @@ struct PileBenchmarkOptions {
     // by ~4 s (Bullet: 3.3 s at 10,000 balls, 3.9 s at 2,000), so 3 s cannot show rest.
     double seconds = 5.0;
     int substeps = 4;          // steps per 1/60 s frame: dt = 1 / (60 substeps)
+    int contactSweeps = 0;     // [interaction] contact_sweeps of the scene (0: the backend's own cap)
     std::string bulletPath;    // the Bullet driver; "": corebox_bullet_pile beside this program if built; "none": skip
     std::string outputPrefix;  // writes PREFIX.csv and PREFIX.json; "": CSV on stdout only
     std::string commandLine;
@@ -70,6 +71,9 @@ struct PileRunResult {
     double meanRounds = -1;            // impact rounds per step, mean (-1: not applicable)
     double meanContactSweeps = -1;     // contact sweeps per step, mean (-1: not applicable)
     double meanListings = -1;          // contact lists made per step, mean (-1: not applicable)
+    int contactSweepCap = -1;          // the scene's contact_sweeps (0: the backend's own; -1: not applicable)
+    // Listings whose sweeps hit the cap with the approach speed / the overlap above tolerance, per step
+    double cappedSpeedPerStep = -1, cappedOverlapPerStep = -1;
     double collideShare = -1;          // share of the step's marked phases spent in the collision stage
     double impactShare = -1;           // of the collision stage's time: the screen and the impact rounds ...
     double contactShare = -1;          // ... and the contact phase (listings and sweeps)

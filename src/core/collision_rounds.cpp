@@ -29,6 +29,7 @@ constexpr double kRestingSteps = 6.0;
 CollisionSettings collisionSettingsFor(const InteractionDef& interaction, double dt, double smallestContact) {
     CollisionSettings settings;
     settings.maxRounds = interaction.maxCollisionRounds;
+    if (interaction.contactSweeps > 0) settings.maxSweepsJacobi = settings.maxSweepsGaussSeidel = interaction.contactSweeps;
     settings.dt = dt;
     const double g = std::sqrt(interaction.gravity[0] * interaction.gravity[0] + interaction.gravity[1] * interaction.gravity[1] +
                                interaction.gravity[2] * interaction.gravity[2]);
@@ -96,9 +97,13 @@ void resolveCollisions(Backend& backend, const CollisionSettings& settings, Step
         if (report.contacts == 0) kinetic0 = backend.kineticEnergy();  // listing changes no velocity
         report.contacts = std::max(report.contacts, listed);
         // The first sweep alone, to see how deep the overlaps were; then batches.
-        const RelaxationOutcome relaxed =
-            backend.relaxListing(RelaxationPlan{maxSweeps, kSweepBatch, settings.speedTolerance, settings.overlapTolerance});
+        const RelaxationPlan plan{maxSweeps, kSweepBatch, settings.speedTolerance, settings.overlapTolerance};
+        const RelaxationOutcome relaxed = backend.relaxListing(plan);
         residual = relaxed.last;
+        if (relaxed.sweeps >= maxSweeps) {
+            report.contactCappedSpeed += residual.speedChange > plan.speedTolerance;
+            report.contactCappedOverlap += residual.overlap > plan.overlapTolerance;
+        }
         const double firstOverlap = relaxed.first.overlap;
         report.contactSweeps += relaxed.sweeps;
         backend.endRelaxation();

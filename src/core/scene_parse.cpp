@@ -29,7 +29,7 @@ const char* const kRootKeys[] = {"box", "species", "interaction", "integrator", 
 const char* const kBoxKeys[] = {"size", "wall_restitution"};
 const char* const kSpeciesKeys[] = {"name", "count", "mass", "radius", "sigma", "epsilon", "color", "acceleration"};
 const char* const kInteractionKeys[] = {"mixing",      "cutoff",  "shift", "restitution", "gravity", "elastic_below_speed",
-                                        "max_collision_rounds", "forces", "skin"};
+                                        "max_collision_rounds", "contact_sweeps", "forces", "skin"};
 const char* const kIntegratorKeys[] = {"method", "dt", "precision", "adaptive", "tolerance"};
 const char* const kThermostatKeys[] = {"kind", "temperature", "tau"};
 const char* const kInitKeys[] = {"temperature", "seed", "placement", "particles"};
@@ -247,6 +247,12 @@ private:
         check(rounds, roundCount <= INT_MAX, "must be <= " + std::to_string(INT_MAX));
         // Any count below 1 fails validation alike; clamping keeps the narrowing well defined.
         in->maxCollisionRounds = static_cast<int>(std::max<int64_t>(roundCount, 0));
+
+        Field sweeps = field(t, "interaction", "contact_sweeps");
+        int64_t sweepCount = in->contactSweeps;
+        readInteger(sweeps, &sweepCount);
+        check(sweeps, sweepCount <= INT_MAX, "must be <= " + std::to_string(INT_MAX));
+        in->contactSweeps = static_cast<int>(std::max<int64_t>(sweepCount, -1));
     }
 
     // x_ij: S rows of S numbers (validation checks them); an empty array means 1 for every pair.

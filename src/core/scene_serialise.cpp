@@ -105,6 +105,7 @@ std::string sceneToToml(const Scene& scene) {
         << "gravity = " << numberList(in.gravity) << "\n"
         << "elastic_below_speed = " << number(in.elasticBelowSpeed) << "\n"
         << "max_collision_rounds = " << in.maxCollisionRounds << "\n"
+        << "contact_sweeps = " << in.contactSweeps << "\n"
         << "forces = " << quoted(forceModelName(in.forces)) << "\n"
         << "skin = " << number(in.skin) << "\n";
 

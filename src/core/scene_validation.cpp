@@ -102,6 +102,7 @@ private:
         checkUnitInterval("interaction.restitution", in.restitution);
         checkNonNegative("interaction.elastic_below_speed", in.elasticBelowSpeed);
         check("interaction.max_collision_rounds", in.maxCollisionRounds >= 1, "must be >= 1");
+        check("interaction.contact_sweeps", in.contactSweeps >= 0, "must be >= 0 (0: the backend's own cap)");
         // A zero skin would rebuild the lists whenever anything moves, i.e. every step.
         check("interaction.skin", finite(in.skin) && in.skin > 0,
               "must be a finite number > 0 (neighbour lists reach r_c + skin and are rebuilt when a particle has moved skin / 2; 0.3 is typical)");

@@ -21,6 +21,9 @@ struct StepReport {
     bool roundCapHit = false;      // impacts remained after InteractionDef::maxCollisionRounds
     int contactSweeps = 0;         // sweeps of the contact relaxation (all listings)
     int contactListings = 0;       // contact lists made (a deep overlap lists again)
+    // Listings whose sweeps reached the cap (CollisionSettings) with the approach speed, or the
+    // overlap, still above its tolerance: which of the two levels the cap cut short.
+    int contactCappedSpeed = 0, contactCappedOverlap = 0;
     double contactOverlap = 0;     // largest overlap left, as a fraction of the contact distance
     ImpulseSums impulses;          // impacts and contacts: given to the walls, r_ij . J_ij of the pairs
     // Where the step's time went [s]: force passes, the rest of the integration, collisions.

@@ -242,18 +242,20 @@ int CudaDevice<Real>::resolveWallImpacts() {
     return int(read[0]) + 1;
 }
 
+// The impact search's cells at the current positions, at least the largest contact distance wide
+// (cell_list.h: the one rule); none when the screen showed that no pair can meet in this stage
+// (screenStage).
+template <class Real>
+CellListView CudaDevice<Real>::impactCells() {
+    if (m_pairsClear) return emptyCells();
+    return m_contactCells.build(home().x.data(), m_n, cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_model.maxRadius()), stream());
+}
+
 template <class Real>
 int64_t CudaDevice<Real>::findEvents(EventScope scope) {
     cudaStream_t s = stream();
-    // Cells at least the largest contact distance wide (cell_list.h: the one rule); none when the
-    // screen showed that no pair can meet in this stage (screenStage).
-    if (m_pairsClear) {
-        m_cellList = emptyCells();
-        m_cellsMatchPositions = false;
-    } else {
-        m_cellList = m_contactCells.build(home().x.data(), m_n, cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_model.maxRadius()), s);
-        m_cellsMatchPositions = true;
-    }
+    m_cellList = impactCells();
+    m_cellsMatchPositions = !m_pairsClear;
     const gpu::CollisionArgs<Real> a = collisionArgs();
     if (scope == EventScope::All) cudaCheck(cudaMemsetAsync(m_active.data(), 1, size_t(m_n), s), "memset");
     cudaCheck(cudaMemsetAsync(m_counters.data(), 0, 2 * sizeof(unsigned int), s), "memset");
@@ -326,14 +328,14 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
     gpu::launchForces(f, s);
     m_roundCounters.resize(2 * size_t(maxRounds));
     cudaCheck(cudaMemsetAsync(m_roundCounters.data(), 0, 2 * size_t(maxRounds) * sizeof(unsigned int), s), "memset");
-    const CellGeometry geometry = cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_model.maxRadius());
     ImpactRounds result;
+    bool applied = false;
     int batch = std::clamp(m_lastImpactRounds, 2, maxRounds);
     std::vector<unsigned int> counts;
     while (result.rounds < maxRounds && !result.settled) {
         const int first = result.rounds, queued = std::min(batch, maxRounds - first);
         for (int r = first; r < first + queued; ++r) {
-            m_cellList = m_pairsClear ? emptyCells() : m_contactCells.build(home().x.data(), m_n, geometry, s);
+            m_cellList = impactCells();
             gpu::CollisionArgs<Real> a = collisionArgs();
             a.counters = m_roundCounters.data() + 2 * r;
             a.gate = r > first ? a.counters - 1 : nullptr;  // the round before (known to have found events when r == first)
@@ -352,13 +354,16 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
             result.settled = counts[2 * size_t(k) + 1] == 0;
             if (!result.settled) {
                 ++m_logRound;
-                m_eventsApplied = true;
+                applied = true;
             }
         }
         batch = 4;
     }
     m_lastImpactRounds = result.rounds;
-    if (m_eventsApplied) homeChanged();
+    if (applied) {
+        m_eventsApplied = true;
+        homeChanged();
+    }
     // Cells at the positions the rounds leave when the last found nothing to move.
     m_cellsMatchPositions = result.settled && !m_pairsClear;
     return result;
@@ -495,11 +500,17 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     return total;
 }
 
+// The first listing of a step begins from the last step's impulses (listContacts filled them in).
+template <class Real>
+void CudaDevice<Real>::applyPendingWarmStart() {
+    if (m_warmPending) gpu::launchWarmStart(contactArgs(), stream());
+    m_warmPending = false;
+}
+
 template <class Real>
 ContactResidual<double> CudaDevice<Real>::relaxContacts(int sweeps) {
     beforeStateChange();
-    if (m_warmPending) gpu::launchWarmStart(contactArgs(), stream());
-    m_warmPending = false;
+    applyPendingWarmStart();
     gpu::launchRelaxContacts(contactArgs(), sweeps, m_sweepsDone, stream());
     m_sweepsDone += sweeps;
     homeChanged();
@@ -520,13 +531,9 @@ RelaxationOutcome CudaDevice<Real>::relaxListing(const RelaxationPlan& plan) {
     if (!m_fusedSteps || m_sweepsDone != 0) return Backend::relaxListing(plan);
     beforeStateChange();
     cudaStream_t s = stream();
-    if (m_warmPending) gpu::launchWarmStart(contactArgs(), s);
+    applyPendingWarmStart();
     m_relaxationWords.resize(9);
-    if (!gpu::launchRelaxListing(contactArgs(), plan, m_relaxationWords.data(), s)) {
-        m_warmPending = false;
-        return Backend::relaxListing(plan);
-    }
-    m_warmPending = false;
+    if (!gpu::launchRelaxListing(contactArgs(), plan, m_relaxationWords.data(), s)) return Backend::relaxListing(plan);
     homeChanged();
     m_cellsMatchPositions = false;
     unsigned long long* words = m_hostWords.resize(kHostWords);

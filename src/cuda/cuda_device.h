@@ -314,6 +314,8 @@ private:
     // searches take their particles in the view's order).
     DeviceBuffer<int32_t> m_emptyCellStart, m_indexOrder;
     CellListView emptyCells();
+    CellListView impactCells();
+    void applyPendingWarmStart();
     int64_t m_refreshes = 0;
     // Verlet's refresh after collisions (one GPU, lists): A matched X at the last full pass and X has
     // not changed since, X as the collision stage found it, and whether both held then.

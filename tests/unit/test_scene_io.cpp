@@ -52,6 +52,7 @@ void expectSameScene(const Scene& a, const Scene& b) {
     EXPECT_EQ(a.interaction.gravity, b.interaction.gravity);
     EXPECT_EQ(a.interaction.elasticBelowSpeed, b.interaction.elasticBelowSpeed);
     EXPECT_EQ(a.interaction.maxCollisionRounds, b.interaction.maxCollisionRounds);
+    EXPECT_EQ(a.interaction.contactSweeps, b.interaction.contactSweeps);
     EXPECT_EQ(a.interaction.forces, b.interaction.forces);
     EXPECT_EQ(a.interaction.skin, b.interaction.skin);
     EXPECT_EQ(a.integrator.method, b.integrator.method);
@@ -219,6 +220,7 @@ TEST(SceneIoRoundTrip, EveryNonDefaultFieldSurvives) {
     scene.interaction.gravity = {0.5, -1e-12, -9.81};
     scene.interaction.elasticBelowSpeed = 0;
     scene.interaction.maxCollisionRounds = 1;
+    scene.interaction.contactSweeps = 24;
     scene.interaction.forces = ForceModel::NeighbourList;
     scene.interaction.skin = 0.45;
     scene.integrator.method = Method::Dp5;
@@ -263,6 +265,7 @@ TEST(SceneIoParse, MissingKeysTakeTheStructDefaults) {
     EXPECT_TRUE(scene.interaction.mixing.empty());
     EXPECT_EQ(scene.interaction.shift, defaults.interaction.shift);
     EXPECT_EQ(scene.interaction.maxCollisionRounds, defaults.interaction.maxCollisionRounds);
+    EXPECT_EQ(scene.interaction.contactSweeps, defaults.interaction.contactSweeps);
     EXPECT_EQ(scene.integrator.method, defaults.integrator.method);
     EXPECT_EQ(scene.integrator.dt, defaults.integrator.dt);
     EXPECT_EQ(scene.thermostat.kind, defaults.thermostat.kind);
@@ -515,6 +518,7 @@ INSTANTIATE_TEST_SUITE_P(
                  "interaction.elastic_below_speed", ">= 0"},
         BadScene{"MaxCollisionRoundsZero", kOne + "[interaction]\nmax_collision_rounds = 0 # <-\n",
                  "interaction.max_collision_rounds", ">= 1"},
+        BadScene{"ContactSweepsNegative", kOne + "[interaction]\ncontact_sweeps = -3 # <-\n", "interaction.contact_sweeps", ">= 0"},
         BadScene{"MaxCollisionRoundsHuge", kOne + "[interaction]\nmax_collision_rounds = 9999999999 # <-\n",
                  "interaction.max_collision_rounds", "<="},
         // Integrator
