@@ -1,9 +1,9 @@
 // The contact relaxation on the GPU (contact_relaxation.h): per-particle contact lists built from the
 // cell list in the order the CPU builds them (count, scan, fill, each contact's warm-start impulse
-// from the last step's rows), the warm start, then accelerated Jacobi sweeps, one thread per particle
-// (relaxParticle, sweepMomentum). No order-dependent atomics: a sweep reads only
-// the previous sweep's state, and the residual is a maximum (atomicMax on the bits of non-negative
-// doubles, which order like the values).
+// from the last step's rows), the warm start, then either the coloured Gauss-Seidel sweeps of
+// contact_gauss_seidel.cu or the accelerated Jacobi sweeps here, one thread per particle
+// (relaxParticle, sweepMomentum). No order-dependent atomics: a Jacobi sweep reads only the previous
+// sweep's state, and the residual is a maximum (contact_residual.cuh).
 #include <cooperative_groups.h>
 #include <cub/device/device_scan.cuh>
 
@@ -11,6 +11,7 @@
 
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
+#include "contact_residual.cuh"
 
 namespace corebox::gpu {
 namespace {
@@ -56,6 +57,25 @@ __device__ Real warmLambdaOf(const ContactArgs<Real>& a, int64_t i, int64_t part
     return Real(0);
 }
 
+// The normal speed an isolated contact's Gauss-Seidel update aims at (contactRestitution): e times its
+// approach when it approaches faster than the resting speed (it bounces), else 0 (it stops).
+template <class Real>
+__device__ Real contactTarget(const ContactArgs<Real>& a, int64_t i, int64_t partner) {
+    const Vec3<Real> xi = a.p.x[i], vi = a.p.v[i];
+    Real vn = 0, e = 0;
+    if (isWallContact(partner)) {
+        const int code = int(-1 - partner);
+        vn = (code % 2 == 0 ? Real(1) : Real(-1)) * vi[code / 2];
+        e = a.bounce.wallRestitution;
+    } else {
+        const Vec3<Real> r = xi - a.p.x[partner];
+        const Real dist = realSqrt(norm2(r));
+        vn = dist > Real(0) ? dot(vi - a.p.v[partner], r) / dist : Real(0);
+        e = a.bounce.restitution;
+    }
+    return vn < Real(0) ? -contactRestitution(true, vn, e, a.bounce) * vn : Real(0);
+}
+
 // Particle i's own impulse rows (no atomics): summed in a fixed order when asked.
 template <class Real>
 __device__ void addImpulseRows(const ContactArgs<Real>& a, int64_t i, const ImpulseSums& given) {
@@ -76,10 +96,14 @@ __global__ void fillContactsKernel(ContactArgs<Real> a) {
     int64_t slot = first;
     forEachContact(a, i, [&](int64_t partner) {
         a.partner[slot] = partner;
-        // An isolated contact may bounce (relaxParticle): nothing to warm-start. Both rows of a pair
-        // decide alike (both counts are 1, or not).
+        // An isolated contact may bounce. Jacobi (relaxParticle) decides it sweep by sweep: nothing to
+        // warm-start. Gauss-Seidel decides it here (contactTarget) and warm-starts it unless it bounces,
+        // as the CPU does. Both rows of a pair decide alike (both counts are 1, or not; vn is symmetric).
         const bool isolated = count == 1 && (isWallContact(partner) || a.contactStart[partner + 1] - a.contactStart[partner] == 1);
-        a.lambda[slot] = a.warm && !isolated ? warmLambdaOf(a, i, partner) : Real(0);
+        const Real target = a.gaussSeidel && isolated ? contactTarget(a, i, partner) : Real(0);
+        if (a.gaussSeidel) a.target[slot] = target;
+        const bool warm = a.warm && (a.gaussSeidel ? !(target > Real(0)) : !isolated);
+        a.lambda[slot] = warm ? warmLambdaOf(a, i, partner) : Real(0);
         a.applied[slot] = a.lambda[slot];
         ++slot;
     });
@@ -107,10 +131,6 @@ __global__ void rowImpulsesKernel(ContactArgs<Real> a, bool settle) {
                                   given);
     }
     addImpulseRows(a, i, given);
-}
-
-__device__ void atomicMaxNonNegative(unsigned long long* target, double value) {
-    atomicMax(target, static_cast<unsigned long long>(__double_as_longlong(value)));
 }
 
 // A sweep's impulses on particle i (relaxParticle's `given`), added to its rows as they come: an
@@ -142,27 +162,6 @@ __device__ ContactResidual<Real> sweepParticle(const ContactArgs<Real>& a, int64
     return r;
 }
 
-// Both maxima over the warp, left in every lane. Every lane of the warp must call it.
-__device__ void warpMax(double& speed, double& overlap) {
-    for (int offset = 16; offset > 0; offset /= 2) {
-        speed = fmax(speed, __shfl_xor_sync(0xffffffffu, speed, offset));
-        overlap = fmax(overlap, __shfl_xor_sync(0xffffffffu, overlap, offset));
-    }
-}
-
-// The residual's maxima over each warp, then one atomic a warp into residual[0..1]: every particle in
-// contact has a residual, and 10^5 atomics a sweep on one address queued behind each other (an H200, a
-// 10^5-ball pile: 613 sweeps a step took 105 ms a step with an atomic a particle in every sweep, 35 ms
-// with one a warp in the last sweep of a batch). Every lane of the warp must call it.
-template <class Real>
-__device__ void addResidual(ContactResidual<Real> r, unsigned long long* residual) {
-    double speed = double(r.speedChange), overlap = double(r.overlap);
-    warpMax(speed, overlap);
-    if (threadIdx.x % 32 != 0) return;
-    if (speed > 0) atomicMaxNonNegative(&residual[0], speed);
-    if (overlap > 0) atomicMaxNonNegative(&residual[1], overlap);
-}
-
 // `measure`: the batch's last sweep, whose residual is read.
 // Four threads a particle, each taking every fourth contact, made the 10^5-ball pile's sweep slower (35
 // us against 20: its L2 traffic went from 22% to 67% of peak), though faster at 10^4 balls.
@@ -180,29 +179,6 @@ __global__ void applySweepKernel(ContactArgs<Real> a) {
     if (i >= a.p.n) return;
     a.p.v[i] += a.dv[i];
     a.p.x[i] += a.dx[i];
-}
-
-// The block's residual maxima, one atomic a block (every thread of the block calls it): the residual
-// of a sweep over 10^5 particles taken one atomic a warp, every sweep, made the sweeps of the 10^5-ball
-// pile 20% slower than the launches one by one, which take it once a batch (an H200).
-__device__ void addBlockResidual(double speed, double overlap, unsigned long long* residual) {
-    __shared__ double speedOf[kBlock / 32], overlapOf[kBlock / 32];
-    warpMax(speed, overlap);
-    const int warp = int(threadIdx.x / 32), lane = int(threadIdx.x % 32);
-    if (lane == 0) {
-        speedOf[warp] = speed;
-        overlapOf[warp] = overlap;
-    }
-    __syncthreads();
-    if (threadIdx.x == 0) {
-        for (int w = 1; w < kBlock / 32; ++w) {
-            speed = fmax(speed, speedOf[w]);
-            overlap = fmax(overlap, overlapOf[w]);
-        }
-        if (speed > 0) atomicMaxNonNegative(&residual[0], speed);
-        if (overlap > 0) atomicMaxNonNegative(&residual[1], overlap);
-    }
-    __syncthreads();  // the shared rows are free for the next sweep
 }
 
 // A listing's whole relaxation in one cooperative launch, on the schedule of RelaxationPlan: each sweep

@@ -6,6 +6,7 @@
 #include <cuda_runtime_api.h>
 
 #include <cstdint>
+#include <vector>
 
 #include "butcher_tableau.h"
 #include "cell_list.h"
@@ -363,7 +364,23 @@ struct ContactArgs {
     // Per listed contact, as lambda: the extrapolated impulse the velocities hold (the accelerated
     // sweeps, contact_relaxation.h: acceleratedImpulse).
     Real* applied;
+    // Gauss-Seidel in colours (contact_gauss_seidel.cu). A pair's own row is the one in its lower
+    // index's list (a wall's, its particle's); per row: its particle, the pair's own row (mirror), the
+    // colour (own rows) and the normal speed its stopping update aims at (0 but for a bounce; the fill
+    // sets it when gaussSeidel).
+    bool gaussSeidel;
+    int64_t* rowParticle;
+    int64_t* mirror;
+    uint8_t* colour;
+    Real* target;
+    int64_t* order;        // own rows by colour (the first `ownRows` entries; then the other rows)
+    int32_t* colourStart;  // kMaxContactColours + 1: colour c's rows are order[colourStart[c] .. colourStart[c + 1])
+    Real omega;            // over-relaxation of the stopping updates (kGaussSeidelOverRelaxation)
 };
+
+// The most colours a listing's pairs may take: a particle's colours are a 64-bit mask. A listing that
+// needs more (a particle with more than ~32 contacts) is relaxed with Jacobi sweeps.
+constexpr int kMaxContactColours = 64;
 // contactStart[i + 1] = particle i's contact count (contactStart[0] = 0); the caller scans it.
 template <class Real>
 void launchCountContacts(const ContactArgs<Real>& args, cudaStream_t stream);
@@ -390,6 +407,31 @@ void launchRelaxContacts(const ContactArgs<Real>& args, int sweeps, int firstSwe
 // launching nothing, where the device has no cooperative launch (the caller runs the sweeps itself).
 template <class Real>
 bool launchRelaxListing(const ContactArgs<Real>& args, const RelaxationPlan& plan, unsigned long long* words, cudaStream_t stream);
+// ---- Gauss-Seidel in colours (contact_gauss_seidel.cu) ----
+// Colours the listing's pairs and walls so that no particle has two contacts of one colour (each
+// pair from its own row; rowParticle, mirror and the bounce targets filled on the way), then sorts
+// the own rows by colour into order and colourStart. words (4): [0] the colours used, [1] 1 if more
+// than kMaxContactColours were needed (then nothing after the colouring is valid), [2] the own rows,
+// [3] the colouring's rounds. Scratch: contactColouringScratchBytes. Returns false, launching
+// nothing, where the device has no cooperative launch.
+size_t contactColouringScratchBytes(int64_t n, int64_t rows);
+template <class Real>
+bool launchColourContacts(const ContactArgs<Real>& args, int64_t rows, void* scratch, size_t scratchBytes, unsigned int* words,
+                          cudaStream_t stream);
+// `sweeps` Gauss-Seidel sweeps over the colours 0 .. colours - 1 (sizes from colourStart as the host
+// read it), a launch a colour; the residual holds the maxima of the last sweep.
+template <class Real>
+void launchGaussSeidelSweeps(const ContactArgs<Real>& args, const std::vector<int32_t>& colourStart, int sweeps, cudaStream_t stream);
+// The relaxation of launchRelaxListing in coloured Gauss-Seidel sweeps: one cooperative launch, the
+// same words. Returns false, launching nothing, without cooperative launch.
+template <class Real>
+bool launchGaussSeidelListing(const ContactArgs<Real>& args, int colours, const RelaxationPlan& plan, unsigned long long* words,
+                              cudaStream_t stream);
+// Each pair's other row takes the impulse of its own row (as Jacobi leaves both): the rows the next
+// step's warm start and a checkpoint read.
+template <class Real>
+void launchMirrorImpulses(const ContactArgs<Real>& args, int64_t rows, cudaStream_t stream);
+
 // row[i] = -m_i g_i . (x_i - xListed_i): the work against the uniform field of particle i's species
 // (SpeciesTable::field) of its contact moves.
 template <class Real>

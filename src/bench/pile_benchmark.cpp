@@ -99,7 +99,7 @@ void measureFinalState(const ParticleState& state, PileRunResult& r) {
 // What the collision stage did per step, summed over the run.
 struct PilePhaseSums {
     int64_t steps = 0, rounds = 0, sweeps = 0, listings = 0, cappedSpeed = 0, cappedOverlap = 0;
-    double collide = 0, all = 0, impacts = 0, contacts = 0;
+    double collide = 0, all = 0, impacts = 0, contacts = 0, listingSeconds = 0;
     void add(const StepReport& s) {
         ++steps;
         rounds += s.rounds;
@@ -110,6 +110,7 @@ struct PilePhaseSums {
         collide += s.secondsCollide;
         impacts += s.secondsImpacts;
         contacts += s.secondsContacts;
+        listingSeconds += s.secondsListings;
         all += s.secondsForces + s.secondsIntegrate + s.secondsCollide;
     }
     void fill(PileRunResult& r) const {
@@ -122,6 +123,7 @@ struct PilePhaseSums {
         r.collideShare = all > 0 ? collide / all : -1;
         r.impactShare = collide > 0 ? impacts / collide : -1;
         r.contactShare = collide > 0 ? contacts / collide : -1;
+        r.listingShare = contacts > 0 ? listingSeconds / contacts : -1;
     }
 };
 
@@ -316,6 +318,7 @@ nlohmann::json resultJson(const PileRunResult& r) {
             {"collide_share", r.collideShare >= 0 ? nlohmann::json(r.collideShare) : nlohmann::json(nullptr)},
             {"impact_share", r.impactShare >= 0 ? nlohmann::json(r.impactShare) : nlohmann::json(nullptr)},
             {"contact_share", r.contactShare >= 0 ? nlohmann::json(r.contactShare) : nlohmann::json(nullptr)},
+            {"listing_share", r.listingShare >= 0 ? nlohmann::json(r.listingShare) : nlohmann::json(nullptr)},
             {"final_state", r.finalState},
             {"outcome", r.outcome},
             {"message", r.message}};
@@ -328,14 +331,14 @@ const char* const kCsvHeader =
     "start,energy_end,"
     "energy_change_relative,potential_released,dissipated,time_to_rest,round_cap_hits,max_rounds,mean_rounds,mean_"
     "contact_sweeps,mean_listings,contact_sweeps_cap,capped_speed_per_step,capped_overlap_per_step,collide_share,impact_share,"
-    "contact_share,final_state,outcome,"
+    "contact_share,listing_share,final_state,outcome,"
     "message\n";
 
 std::string csvRow(const PileRunResult& r) {
     char line[1024];
     std::snprintf(line, sizeof line,
                   "%s,%s,%s,%s,%d,%lld,%g,%g,%g,%d,%d,%.9g,%g,%.6g,%lld,%.4f,%.4f,%.6g,%.6g,%lld,%.10g,%.10g,%.6g,%."
-                  "10g,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,",
+                  "10g,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,",
                   r.engine.c_str(), r.backend.c_str(), csvQuote(r.device).c_str(), r.precision.c_str(), r.threads,
                   (long long)r.n, r.box[0], r.box[1], r.box[2], r.boxGrown ? 1 : 0, r.substeps, r.dt,
                   r.secondsRequested, r.secondsSimulated, (long long)r.frames, r.msPerFrameMean, r.msPerFrameLastSecond,
@@ -352,7 +355,8 @@ std::string csvRow(const PileRunResult& r) {
                   r.cappedOverlapPerStep >= 0 ? shortText(r.cappedOverlapPerStep).c_str() : "",
                   r.collideShare >= 0 ? shortText(r.collideShare).c_str() : "",
                   r.impactShare >= 0 ? shortText(r.impactShare).c_str() : "",
-                  r.contactShare >= 0 ? shortText(r.contactShare).c_str() : "", r.finalState.c_str(), r.outcome.c_str());
+                  r.contactShare >= 0 ? shortText(r.contactShare).c_str() : "",
+                  r.listingShare >= 0 ? shortText(r.listingShare).c_str() : "", r.finalState.c_str(), r.outcome.c_str());
     return line + csvQuote(r.message) + "\n";
 }
 

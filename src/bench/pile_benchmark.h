@@ -77,6 +77,7 @@ struct PileRunResult {
     double collideShare = -1;          // share of the step's marked phases spent in the collision stage
     double impactShare = -1;           // of the collision stage's time: the screen and the impact rounds ...
     double contactShare = -1;          // ... and the contact phase (listings and sweeps)
+    double listingShare = -1;          // of the contact phase's time: the listings (and colourings)
     std::string finalState;            // "end" or "last_good" (the state before the failing step)
     std::string outcome;               // ok | instability | device_error | error
     std::string message;

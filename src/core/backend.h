@@ -229,8 +229,10 @@ public:
     virtual std::vector<ContactRecord> contactLog() const = 0;
 
     // ---- collision stage, 2: contact relaxation (contact_relaxation.h) ----
-    // Whether the backend sweeps Gauss-Seidel (contact_relaxation.h): a warm-started Gauss-Seidel
-    // relaxation needs few sweeps (CollisionSettings::maxSweepsGaussSeidel), a Jacobi one many more.
+    // Whether the backend sweeps the current listing Gauss-Seidel (contact_relaxation.h): a
+    // warm-started Gauss-Seidel relaxation needs few sweeps (CollisionSettings::maxSweepsGaussSeidel),
+    // a Jacobi one many more. Asked after each listContacts (the CUDA backend falls back to Jacobi for
+    // a listing it cannot colour).
     virtual bool relaxesGaussSeidel() const { return false; }
     // The impulses the last relaxation ended with, which warm-start the next step's: checkpoints carry
     // them so that a restarted run stays bit-identical. Empty from a backend that does not warm-start

@@ -87,16 +87,18 @@ void resolveCollisions(Backend& backend, const CollisionSettings& settings, Step
 
     // 2. Contacts. Deep overlaps (handed in, or left by a capped impact phase) move particles by a
     // good part of a diameter, into neighbours that were not listed: list again after such a pass.
-    const int maxSweeps = backend.relaxesGaussSeidel() ? settings.maxSweepsGaussSeidel : settings.maxSweepsJacobi;
     double kinetic0 = 0, liftWork = 0;  // kinetic0: only read when something was listed (a reduction)
     ContactResidual<double> residual{0, 0};
     for (int listing = 0; listing < kMaxListings; ++listing) {
+        const Clock::time_point listingStart = Clock::now();
         const int64_t listed = backend.listContacts(RestingContact<double>{settings.restingSpeed, settings.restingSpeed * settings.dt});
+        report.secondsListings += std::chrono::duration<double>(Clock::now() - listingStart).count();
         if (listed == 0) break;
         ++report.contactListings;
         if (report.contacts == 0) kinetic0 = backend.kineticEnergy();  // listing changes no velocity
         report.contacts = std::max(report.contacts, listed);
         // The first sweep alone, to see how deep the overlaps were; then batches.
+        const int maxSweeps = backend.relaxesGaussSeidel() ? settings.maxSweepsGaussSeidel : settings.maxSweepsJacobi;
         const RelaxationPlan plan{maxSweeps, kSweepBatch, settings.speedTolerance, settings.overlapTolerance};
         const RelaxationOutcome relaxed = backend.relaxListing(plan);
         residual = relaxed.last;

@@ -28,8 +28,9 @@ struct StepReport {
     ImpulseSums impulses;          // impacts and contacts: given to the walls, r_ij . J_ij of the pairs
     // Where the step's time went [s]: force passes, the rest of the integration, collisions.
     double secondsForces = 0, secondsIntegrate = 0, secondsCollide = 0;
-    // secondsCollide split: the impact rounds (with the screen) and the contact phase [s].
-    double secondsImpacts = 0, secondsContacts = 0;
+    // secondsCollide split: the impact rounds (with the screen) and the contact phase [s], and of the
+    // contact phase the listings (contact lists, and the colouring where the sweeps are coloured) [s].
+    double secondsImpacts = 0, secondsContacts = 0, secondsListings = 0;
 };
 
 }  // namespace corebox

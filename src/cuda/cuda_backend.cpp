@@ -65,6 +65,7 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
     }
     m_pairsOnce = options.pairsOnce;
     m_fusedSteps = options.fusedSteps;
+    m_gaussSeidelContacts = options.gaussSeidelContacts;
     const bool peerAccess = peerAccessProblem(devicesOf(options)).empty();
     m_pairsOnceAcross = options.pairsOnce && options.gpus > 1 && peerAccess;
     const Exchange exchange = options.exchange != Exchange::Auto ? options.exchange : fastestExchange(options.gpus, peerAccess);

@@ -27,6 +27,11 @@ struct CudaBackendOptions {
     // and without pair forces the impact rounds queued in batches (runImpactRounds);
     // false: every operation on its own (the same bits, for comparison and tests).
     bool fusedSteps = true;
+    // The contact phase's sweeps: Gauss-Seidel in colours (kernels/contact_gauss_seidel.cu), as the
+    // CPU relaxes contacts; false: accelerated Jacobi sweeps (contact_relaxation.h: relaxParticle), for
+    // comparison and tests. A listing whose contacts need more than gpu::kMaxContactColours colours is
+    // relaxed with Jacobi sweeps either way.
+    bool gaussSeidelContacts = true;
 };
 
 // Number of usable CUDA devices; 0 when there is no driver or no GPU (never throws).

@@ -447,7 +447,38 @@ gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
     a.warmPartner = m_warmPartner.data();
     a.warmLambda = m_warmLambda.data();
     a.applied = m_contactApplied.data();
+    a.gaussSeidel = m_gaussSeidelContacts;
+    a.rowParticle = m_rowParticle.data();
+    a.mirror = m_rowMirror.data();
+    a.colour = m_rowColour.data();
+    a.target = m_rowTarget.data();
+    a.order = m_colourOrder.data();
+    a.colourStart = m_colourStartOnDevice.data();
+    a.omega = Real(kGaussSeidelOverRelaxation);
     return a;
+}
+
+// Colours the listing's contacts for Gauss-Seidel sweeps (kernels/contact_gauss_seidel.cu) and reads
+// back how many colours they took and where each begins: one wait. False (the listing is relaxed with
+// Jacobi sweeps) where the device has no cooperative launch or the contacts need more than
+// gpu::kMaxContactColours colours.
+template <class Real>
+bool CudaDevice<Real>::colourListing(int64_t rows) {
+    cudaStream_t s = stream();
+    for (auto* b : {&m_rowParticle, &m_rowMirror, &m_colourOrder}) b->resize(size_t(rows));
+    m_rowColour.resize(size_t(rows));
+    m_colourStartOnDevice.resize(gpu::kMaxContactColours + 1);
+    m_colouringWords.resize(6);
+    m_colouringScratch.resize(gpu::contactColouringScratchBytes(m_n, rows));
+    if (!gpu::launchColourContacts(contactArgs(), rows, m_colouringScratch.data(), m_colouringScratch.size(), m_colouringWords.data(), s))
+        return false;
+    unsigned int words[4] = {0, 0, 0, 0};
+    cudaCheck(cudaMemcpyAsync(words, m_colouringWords.data(), sizeof words, cudaMemcpyDeviceToHost, s), "contact colouring");
+    sync();
+    if (words[1] != 0 || words[0] < 1) return false;
+    m_colourStart.assign(size_t(words[0]) + 1, 0);
+    m_colourStartOnDevice.download(m_colourStart.data(), m_colourStart.size());
+    return true;
 }
 
 template <class Real>
@@ -492,10 +523,12 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     m_sweepsDone = 0;
     m_contactImpulses.resize(size_t(kImpulseRows) * size_t(m_n));
     cudaCheck(cudaMemsetAsync(m_contactImpulses.data(), 0, size_t(kImpulseRows) * size_t(m_n) * sizeof(double), s), "memset");
+    if (m_gaussSeidelContacts) m_rowTarget.resize(size_t(total));  // the fill sets the targets
     gpu::ContactArgs<Real> fill = contactArgs();
     fill.warm = warm;
     gpu::launchFillContacts(fill, s);
     m_warmPending = warm;
+    m_gaussSeidel = m_gaussSeidelContacts && colourListing(total);
     cudaCheck(cudaMemcpyAsync(m_xListed.data(), home().x.data(), size_t(m_n) * sizeof(Vec3<Real>), cudaMemcpyDeviceToDevice, s), "contacts");
     return total;
 }
@@ -511,7 +544,8 @@ template <class Real>
 ContactResidual<double> CudaDevice<Real>::relaxContacts(int sweeps) {
     beforeStateChange();
     applyPendingWarmStart();
-    gpu::launchRelaxContacts(contactArgs(), sweeps, m_sweepsDone, stream());
+    if (m_gaussSeidel) gpu::launchGaussSeidelSweeps(contactArgs(), m_colourStart, sweeps, stream());
+    else gpu::launchRelaxContacts(contactArgs(), sweeps, m_sweepsDone, stream());
     m_sweepsDone += sweeps;
     homeChanged();
     m_cellsMatchPositions = false;
@@ -533,7 +567,9 @@ RelaxationOutcome CudaDevice<Real>::relaxListing(const RelaxationPlan& plan) {
     cudaStream_t s = stream();
     applyPendingWarmStart();
     m_relaxationWords.resize(9);
-    if (!gpu::launchRelaxListing(contactArgs(), plan, m_relaxationWords.data(), s)) return Backend::relaxListing(plan);
+    const bool launched = m_gaussSeidel ? gpu::launchGaussSeidelListing(contactArgs(), int(m_colourStart.size()) - 1, plan, m_relaxationWords.data(), s)
+                                        : gpu::launchRelaxListing(contactArgs(), plan, m_relaxationWords.data(), s);
+    if (!launched) return Backend::relaxListing(plan);
     homeChanged();
     m_cellsMatchPositions = false;
     unsigned long long* words = m_hostWords.resize(kHostWords);
@@ -554,7 +590,10 @@ RelaxationOutcome CudaDevice<Real>::relaxListing(const RelaxationPlan& plan) {
 template <class Real>
 void CudaDevice<Real>::endRelaxation() {
     if (m_sweepsDone == 0) return;
-    gpu::launchSettleContacts(contactArgs(), stream());
+    // Gauss-Seidel sweeps hold each pair's impulse in its own row, with nothing extrapolated: the other
+    // row takes it. Jacobi's rows go from their applied impulses to their projected ones.
+    if (m_gaussSeidel) gpu::launchMirrorImpulses(contactArgs(), m_contactPartner.size(), stream());
+    else gpu::launchSettleContacts(contactArgs(), stream());
     homeChanged();
     m_sweepsDone = 0;
 }

@@ -102,6 +102,7 @@ public:
     void setContactLog(bool on) override { m_logContacts = on; }
     std::vector<ContactRecord> contactLog() const override;
     int64_t listContacts(const RestingContact<double>& resting) override;
+    bool relaxesGaussSeidel() const override { return m_gaussSeidel; }
     ContactResidual<double> relaxContacts(int sweeps) override;
     RelaxationOutcome relaxListing(const RelaxationPlan& plan) override;
     void endRelaxation() override;
@@ -345,6 +346,18 @@ private:
     DeviceBuffer<Real> m_contactLambda;  // per listed contact: its accumulated impulse
     DeviceBuffer<Real> m_contactApplied;  // per listed contact: the extrapolated impulse the velocities hold
     int m_sweepsDone = 0;                 // sweeps since the listing: the momentum's index
+    // Gauss-Seidel in colours (CudaBackendOptions::gaussSeidelContacts; contact_gauss_seidel.cu): the
+    // listing's rows as the colouring leaves them, and its colours' bounds as the host read them.
+    bool m_gaussSeidelContacts = true;
+    bool m_gaussSeidel = false;  // the current listing is coloured: its sweeps are Gauss-Seidel
+    DeviceBuffer<int64_t> m_rowParticle, m_rowMirror, m_colourOrder;
+    DeviceBuffer<uint8_t> m_rowColour;
+    DeviceBuffer<Real> m_rowTarget;
+    DeviceBuffer<int32_t> m_colourStartOnDevice;
+    DeviceBuffer<unsigned int> m_colouringWords;
+    DeviceBuffer<unsigned char> m_colouringScratch;
+    std::vector<int32_t> m_colourStart;  // colours + 1 bounds into m_colourOrder
+    bool colourListing(int64_t rows);
     // Warm start (contact_relaxation.h): the last step's final rows, swapped in at beginCollisions.
     DeviceBuffer<int64_t> m_warmStart, m_warmPartner;
     DeviceBuffer<Real> m_warmLambda;

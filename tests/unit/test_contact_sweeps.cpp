@@ -1,5 +1,6 @@
-// The GPU's contact sweeps (kernels/contact_relaxation.h: relaxParticle, acceleratedImpulse,
-// sweepMomentum) run here on the host in the kernels' schedule: every particle from the previous
+// The GPU's Jacobi contact sweeps (kernels/contact_relaxation.h: relaxParticle, acceleratedImpulse,
+// sweepMomentum; its fallback from the coloured Gauss-Seidel sweeps) run here on the host in the
+// kernels' schedule: every particle from the previous
 // sweep's values, then the update, in batches of eight, and the settling of the rows where the host
 // stops (settleRow). On a column of balls standing on the floor just after gravity's kick (the deep
 // pile in one dimension: support climbs a ball per sweep), the accelerated sweeps stop the column in a
