@@ -53,12 +53,14 @@ __device__ bool beats(int64_t a, int64_t b) {
     return pa > pb || (pa == pb && a < b);
 }
 
-// Per row: its particle and the pair's own row, uncoloured; per particle: no colour yet.
+// Particle i's rows: their particle, their pair's own row, uncoloured; returns the deepest overlap of
+// its own rows at the listed positions.
 template <class Real>
-__global__ void prepareRowsKernel(ContactArgs<Real> a, unsigned long long* used) {
-    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i >= a.p.n) return;
-    used[i] = 0;
+__device__ Real prepareRowsOf(const ContactArgs<Real>& a, int64_t i) {
+    const int si = a.p.species[i];
+    const Real ai = a.table.radius[si];
+    const Vec3<Real> xi = a.p.x[i];
+    Real deepest = 0;
     for (int64_t s = a.contactStart[i]; s < a.contactStart[i + 1]; ++s) {
         const int64_t p = a.partner[s];
         a.rowParticle[s] = i;
@@ -74,7 +76,32 @@ __global__ void prepareRowsKernel(ContactArgs<Real> a, unsigned long long* used)
             continue;
         }
         a.mirror[s] = s;
+        Real overlap = 0;
+        if (isWallContact(p)) {
+            const int code = int(-1 - p);
+            overlap = wallDepth(xi[code / 2], ai, a.box[code / 2], code % 2) / (Real(2) * ai);
+        } else {
+            const Real d = ai + a.table.radius[a.p.species[p]];
+            overlap = (d * (Real(1) - contactSlack<Real>()) - realSqrt(norm2(xi - a.p.x[p]))) / d;
+        }
+        if (overlap > deepest) deepest = overlap;
     }
+    return deepest;
+}
+
+// Per row: its particle and the pair's own row, uncoloured; per particle: no colour yet. The deepest
+// overlap of the own rows at the listed positions (ContactResidual::overlap) into *deepest (double bits).
+template <class Real>
+__global__ void prepareRowsKernel(ContactArgs<Real> a, unsigned long long* used, unsigned long long* deepest) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    double overlap = 0;
+    if (i < a.p.n) {
+        used[i] = 0;
+        overlap = double(prepareRowsOf(a, i));
+    }
+    double none = 0;
+    warpMax(none, overlap);  // every lane: the warp's shuffles
+    if (threadIdx.x % 32 == 0 && overlap > 0) atomicMaxNonNegative(deepest, overlap);
 }
 
 // The rounds of the colouring (design note above), in one cooperative launch. words: [0] colours
@@ -340,7 +367,7 @@ size_t contactColouringScratchBytes(int64_t n, int64_t rows) {
 
 template <class Real>
 bool launchColourContacts(const ContactArgs<Real>& a, int64_t rows, void* scratch, size_t scratchBytes, unsigned int* words,
-                          cudaStream_t stream) {
+                          unsigned long long* deepest, cudaStream_t stream) {
     if (a.p.n == 0 || rows == 0) return false;
     static const int resident = residentBlocks(colourRowsKernel<Real>);
     if (resident < 1) return false;
@@ -348,7 +375,9 @@ bool launchColourContacts(const ContactArgs<Real>& a, int64_t rows, void* scratc
     ColouringScratch c = carve(scratch, a.p.n, rows);
     cudaError_t e = cudaMemsetAsync(words, 0, 6 * sizeof(unsigned int), stream);
     if (e != cudaSuccess) throw DeviceError(std::string("contact colouring words: ") + cudaGetErrorString(e));
-    prepareRowsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, c.used);
+    e = cudaMemsetAsync(deepest, 0, sizeof(unsigned long long), stream);
+    if (e != cudaSuccess) throw DeviceError(std::string("contact colouring: ") + cudaGetErrorString(e));
+    prepareRowsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, c.used, deepest);
     checkLaunch("contact row kernel");
     // The candidates of rows never looked at (not own) stay out of every contest.
     e = cudaMemsetAsync(c.candidate, kUncoloured, size_t(rows), stream);
@@ -413,7 +442,8 @@ void launchMirrorImpulses(const ContactArgs<Real>& a, int64_t rows, cudaStream_t
 }
 
 #define COREBOX_INSTANTIATE(Real)                                                                                            \
-    template bool launchColourContacts<Real>(const ContactArgs<Real>&, int64_t, void*, size_t, unsigned int*, cudaStream_t);  \
+    template bool launchColourContacts<Real>(const ContactArgs<Real>&, int64_t, void*, size_t, unsigned int*, unsigned long long*, \
+                                             cudaStream_t);                                                              \
     template void launchGaussSeidelSweeps<Real>(const ContactArgs<Real>&, const std::vector<int32_t>&, int, cudaStream_t);   \
     template bool launchGaussSeidelListing<Real>(const ContactArgs<Real>&, int, const RelaxationPlan&, unsigned long long*, \
                                                  cudaStream_t);                                                            \

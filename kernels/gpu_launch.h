@@ -410,14 +410,15 @@ bool launchRelaxListing(const ContactArgs<Real>& args, const RelaxationPlan& pla
 // ---- Gauss-Seidel in colours (contact_gauss_seidel.cu) ----
 // Colours the listing's pairs and walls so that no particle has two contacts of one colour (each
 // pair from its own row; rowParticle, mirror and the bounce targets filled on the way), then sorts
-// the own rows by colour into order and colourStart. words (4): [0] the colours used, [1] 1 if more
+// the own rows by colour into order and colourStart. words (6): [0] the colours used, [1] 1 if more
 // than kMaxContactColours were needed (then nothing after the colouring is valid), [2] the own rows,
-// [3] the colouring's rounds. Scratch: contactColouringScratchBytes. Returns false, launching
+// [3] the colouring's rounds; *deepest: the deepest overlap of the listed contacts (double bits,
+// ContactResidual::overlap). Scratch: contactColouringScratchBytes. Returns false, launching
 // nothing, where the device has no cooperative launch.
 size_t contactColouringScratchBytes(int64_t n, int64_t rows);
 template <class Real>
 bool launchColourContacts(const ContactArgs<Real>& args, int64_t rows, void* scratch, size_t scratchBytes, unsigned int* words,
-                          cudaStream_t stream);
+                          unsigned long long* deepest, cudaStream_t stream);
 // `sweeps` Gauss-Seidel sweeps over the colours 0 .. colours - 1 (sizes from colourStart as the host
 // read it), a launch a colour; the residual holds the maxima of the last sweep.
 template <class Real>

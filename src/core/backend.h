@@ -243,6 +243,15 @@ public:
     // positions and keeps those positions; returns the number of listed contacts (0: nothing to do).
     // `resting`: which touching contacts are stopped too (relaxParticle).
     virtual int64_t listContacts(const RestingContact<double>& resting) = 0;
+    // The deepest overlap of the last listing's contacts, as a fraction of the contact distance
+    // (ContactResidual::overlap), or -1 where the backend does not measure it: then the first sweep's
+    // overlap stands for it (collision_rounds.cpp: a deep one lists again). A Jacobi sweep measures it
+    // on the listed positions; the CPU's bottom-up Gauss-Seidel sweep on positions its earlier updates
+    // moved, so a column's lifts add up along it, and that larger measure is what the CPU's relisting
+    // was tuned on (measured at the listing instead, the 400-ball pile of
+    // DenseContact.ASettledPileHoldsEveryLayer fell at 0.0112 per ball, above the test's 0.0102). The
+    // GPU's coloured sweeps measure it at the listing (contact_gauss_seidel.cu).
+    virtual double listedOverlap() const { return -1; }
     // Runs `sweeps` sweeps over the listed contacts (Gauss-Seidel or Jacobi, contact_relaxation.h);
     // returns the residual of the last one.
     virtual ContactResidual<double> relaxContacts(int sweeps) = 0;

@@ -106,7 +106,7 @@ void resolveCollisions(Backend& backend, const CollisionSettings& settings, Step
             report.contactCappedSpeed += residual.speedChange > plan.speedTolerance;
             report.contactCappedOverlap += residual.overlap > plan.overlapTolerance;
         }
-        const double firstOverlap = relaxed.first.overlap;
+        const double firstOverlap = backend.listedOverlap() >= 0 ? backend.listedOverlap() : relaxed.first.overlap;
         report.contactSweeps += relaxed.sweeps;
         backend.endRelaxation();
         liftWork += backend.contactLiftWork();

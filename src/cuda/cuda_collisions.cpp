@@ -468,13 +468,18 @@ bool CudaDevice<Real>::colourListing(int64_t rows) {
     for (auto* b : {&m_rowParticle, &m_rowMirror, &m_colourOrder}) b->resize(size_t(rows));
     m_rowColour.resize(size_t(rows));
     m_colourStartOnDevice.resize(gpu::kMaxContactColours + 1);
-    m_colouringWords.resize(6);
+    m_colouringWords.resize(8);  // [6..7]: the deepest overlap's bits
     m_colouringScratch.resize(gpu::contactColouringScratchBytes(m_n, rows));
-    if (!gpu::launchColourContacts(contactArgs(), rows, m_colouringScratch.data(), m_colouringScratch.size(), m_colouringWords.data(), s))
+    auto* deepest = reinterpret_cast<unsigned long long*>(m_colouringWords.data() + 6);
+    if (!gpu::launchColourContacts(contactArgs(), rows, m_colouringScratch.data(), m_colouringScratch.size(), m_colouringWords.data(),
+                                   deepest, s))
         return false;
-    unsigned int words[4] = {0, 0, 0, 0};
+    unsigned int words[8] = {0, 0, 0, 0, 0, 0, 0, 0};
     cudaCheck(cudaMemcpyAsync(words, m_colouringWords.data(), sizeof words, cudaMemcpyDeviceToHost, s), "contact colouring");
     sync();
+    unsigned long long bits = 0;
+    std::memcpy(&bits, words + 6, sizeof bits);
+    std::memcpy(&m_listedOverlap, &bits, sizeof m_listedOverlap);
     if (words[1] != 0 || words[0] < 1) return false;
     m_colourStart.assign(size_t(words[0]) + 1, 0);
     m_colourStartOnDevice.download(m_colourStart.data(), m_colourStart.size());
@@ -528,7 +533,9 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     fill.warm = warm;
     gpu::launchFillContacts(fill, s);
     m_warmPending = warm;
+    m_listedOverlap = -1;  // Jacobi's first sweep measures it
     m_gaussSeidel = m_gaussSeidelContacts && colourListing(total);
+    if (!m_gaussSeidel) m_listedOverlap = -1;
     cudaCheck(cudaMemcpyAsync(m_xListed.data(), home().x.data(), size_t(m_n) * sizeof(Vec3<Real>), cudaMemcpyDeviceToDevice, s), "contacts");
     return total;
 }

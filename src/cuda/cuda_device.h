@@ -103,6 +103,7 @@ public:
     std::vector<ContactRecord> contactLog() const override;
     int64_t listContacts(const RestingContact<double>& resting) override;
     bool relaxesGaussSeidel() const override { return m_gaussSeidel; }
+    double listedOverlap() const override { return m_listedOverlap; }
     ContactResidual<double> relaxContacts(int sweeps) override;
     RelaxationOutcome relaxListing(const RelaxationPlan& plan) override;
     void endRelaxation() override;
@@ -357,6 +358,7 @@ private:
     DeviceBuffer<unsigned int> m_colouringWords;
     DeviceBuffer<unsigned char> m_colouringScratch;
     std::vector<int32_t> m_colourStart;  // colours + 1 bounds into m_colourOrder
+    double m_listedOverlap = -1;         // the colouring's measure of the listing (listedOverlap)
     bool colourListing(int64_t rows);
     // Warm start (contact_relaxation.h): the last step's final rows, swapped in at beginCollisions.
     DeviceBuffer<int64_t> m_warmStart, m_warmPartner;
