@@ -98,7 +98,7 @@ void measureFinalState(const ParticleState& state, PileRunResult& r) {
 
 // What the collision stage did per step, summed over the run.
 struct PilePhaseSums {
-    int64_t steps = 0, rounds = 0, sweeps = 0, listings = 0, cappedSpeed = 0, cappedOverlap = 0;
+    int64_t steps = 0, rounds = 0, sweeps = 0, listings = 0, cappedSpeed = 0, cappedOverlap = 0, jacobiListings = 0;
     double collide = 0, all = 0, impacts = 0, contacts = 0, listingSeconds = 0;
     void add(const StepReport& s) {
         ++steps;
@@ -107,6 +107,7 @@ struct PilePhaseSums {
         listings += s.contactListings;
         cappedSpeed += s.contactCappedSpeed;
         cappedOverlap += s.contactCappedOverlap;
+        jacobiListings += s.contactListingsJacobi;
         collide += s.secondsCollide;
         impacts += s.secondsImpacts;
         contacts += s.secondsContacts;
@@ -120,6 +121,7 @@ struct PilePhaseSums {
         r.meanListings = double(listings) / double(steps);
         r.cappedSpeedPerStep = double(cappedSpeed) / double(steps);
         r.cappedOverlapPerStep = double(cappedOverlap) / double(steps);
+        r.jacobiListingsPerStep = double(jacobiListings) / double(steps);
         r.collideShare = all > 0 ? collide / all : -1;
         r.impactShare = collide > 0 ? impacts / collide : -1;
         r.contactShare = collide > 0 ? contacts / collide : -1;
@@ -204,6 +206,7 @@ PileRunResult runCorebox(const PileBenchmarkOptions& o, const std::string& backe
     r.frameMs = times.ms;
     r.msPerFrameMean = times.mean();
     r.msPerFrameLastSecond = times.meanOfLast(60);
+    for (double ms : times.ms) r.msPerFrameMax = std::max(r.msPerFrameMax, ms);
     r.energyChangeRelative = r.energyStart != 0 ? (r.energyEnd - r.energyStart) / r.energyStart : 0;
     return r;
 }
@@ -248,6 +251,7 @@ PileRunResult runBullet(const PileBenchmarkOptions& o, const std::string& driver
     r.msPerFrameMean = j.value("ms_per_frame_mean", 0.0);
     r.msPerFrameLastSecond = j.value("ms_per_frame_last_second", 0.0);
     r.frameMs = j.value("ms_per_frame", std::vector<double>{});
+    for (double ms : r.frameMs) r.msPerFrameMax = std::max(r.msPerFrameMax, ms);
     r.maxOverlap = j.value("max_overlap_fraction", 0.0);
     r.maxWallPenetration = j.value("max_wall_penetration_fraction", 0.0);
     r.outside = j.value("outside", int64_t(0)) + j.value("non_finite", int64_t(0));
@@ -296,6 +300,7 @@ nlohmann::json resultJson(const PileRunResult& r) {
             {"frames", r.frames},
             {"ms_per_frame_mean", r.msPerFrameMean},
             {"ms_per_frame_last_second", r.msPerFrameLastSecond},
+            {"ms_per_frame_max", r.msPerFrameMax},
             {"frames_per_second", r.msPerFrameMean > 0 ? 1e3 / r.msPerFrameMean : 0.0},
             {"max_overlap_fraction", r.maxOverlap},
             {"max_wall_penetration_fraction", r.maxWallPenetration},
@@ -315,6 +320,7 @@ nlohmann::json resultJson(const PileRunResult& r) {
             {"contact_sweeps_cap", r.contactSweepCap >= 0 ? nlohmann::json(r.contactSweepCap) : nlohmann::json(nullptr)},
             {"capped_speed_per_step", r.cappedSpeedPerStep >= 0 ? nlohmann::json(r.cappedSpeedPerStep) : nlohmann::json(nullptr)},
             {"capped_overlap_per_step", r.cappedOverlapPerStep >= 0 ? nlohmann::json(r.cappedOverlapPerStep) : nlohmann::json(nullptr)},
+            {"jacobi_listings_per_step", r.jacobiListingsPerStep >= 0 ? nlohmann::json(r.jacobiListingsPerStep) : nlohmann::json(nullptr)},
             {"collide_share", r.collideShare >= 0 ? nlohmann::json(r.collideShare) : nlohmann::json(nullptr)},
             {"impact_share", r.impactShare >= 0 ? nlohmann::json(r.impactShare) : nlohmann::json(nullptr)},
             {"contact_share", r.contactShare >= 0 ? nlohmann::json(r.contactShare) : nlohmann::json(nullptr)},
@@ -327,22 +333,23 @@ nlohmann::json resultJson(const PileRunResult& r) {
 const char* const kCsvHeader =
     "engine,backend,device,precision,threads,n,box_x,box_y,box_z,box_grown,substeps,dt,seconds_requested,seconds_"
     "simulated,frames,"
-    "ms_per_frame_mean,ms_per_frame_last_second,max_overlap_fraction,max_wall_penetration_fraction,outside,energy_"
+    "ms_per_frame_mean,ms_per_frame_last_second,ms_per_frame_max,max_overlap_fraction,max_wall_penetration_fraction,outside,energy_"
     "start,energy_end,"
     "energy_change_relative,potential_released,dissipated,time_to_rest,round_cap_hits,max_rounds,mean_rounds,mean_"
-    "contact_sweeps,mean_listings,contact_sweeps_cap,capped_speed_per_step,capped_overlap_per_step,collide_share,impact_share,"
+    "contact_sweeps,mean_listings,contact_sweeps_cap,capped_speed_per_step,capped_overlap_per_step,jacobi_listings_per_step,"
+    "collide_share,impact_share,"
     "contact_share,listing_share,final_state,outcome,"
     "message\n";
 
 std::string csvRow(const PileRunResult& r) {
     char line[1024];
     std::snprintf(line, sizeof line,
-                  "%s,%s,%s,%s,%d,%lld,%g,%g,%g,%d,%d,%.9g,%g,%.6g,%lld,%.4f,%.4f,%.6g,%.6g,%lld,%.10g,%.10g,%.6g,%."
-                  "10g,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,",
+                  "%s,%s,%s,%s,%d,%lld,%g,%g,%g,%d,%d,%.9g,%g,%.6g,%lld,%.4f,%.4f,%.4f,%.6g,%.6g,%lld,%.10g,%.10g,%.6g,%."
+                  "10g,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,",
                   r.engine.c_str(), r.backend.c_str(), csvQuote(r.device).c_str(), r.precision.c_str(), r.threads,
                   (long long)r.n, r.box[0], r.box[1], r.box[2], r.boxGrown ? 1 : 0, r.substeps, r.dt,
                   r.secondsRequested, r.secondsSimulated, (long long)r.frames, r.msPerFrameMean, r.msPerFrameLastSecond,
-                  r.maxOverlap, r.maxWallPenetration, (long long)r.outside, r.energyStart, r.energyEnd,
+                  r.msPerFrameMax, r.maxOverlap, r.maxWallPenetration, (long long)r.outside, r.energyStart, r.energyEnd,
                   r.energyChangeRelative, r.potentialReleased,
                   r.engine == "corebox" ? shortText(r.dissipated).c_str() : "",
                   r.timeToRest ? shortText(*r.timeToRest).c_str() : "",
@@ -353,6 +360,7 @@ std::string csvRow(const PileRunResult& r) {
                   r.contactSweepCap >= 0 ? std::to_string(r.contactSweepCap).c_str() : "",
                   r.cappedSpeedPerStep >= 0 ? shortText(r.cappedSpeedPerStep).c_str() : "",
                   r.cappedOverlapPerStep >= 0 ? shortText(r.cappedOverlapPerStep).c_str() : "",
+                  r.jacobiListingsPerStep >= 0 ? shortText(r.jacobiListingsPerStep).c_str() : "",
                   r.collideShare >= 0 ? shortText(r.collideShare).c_str() : "",
                   r.impactShare >= 0 ? shortText(r.impactShare).c_str() : "",
                   r.contactShare >= 0 ? shortText(r.contactShare).c_str() : "",

@@ -74,6 +74,8 @@ struct PileRunResult {
     int contactSweepCap = -1;          // the scene's contact_sweeps (0: the backend's own; -1: not applicable)
     // Listings whose sweeps hit the cap with the approach speed / the overlap above tolerance, per step
     double cappedSpeedPerStep = -1, cappedOverlapPerStep = -1;
+    double jacobiListingsPerStep = -1;  // listings relaxed with Jacobi sweeps, per step
+    double msPerFrameMax = 0;           // the slowest frame
     double collideShare = -1;          // share of the step's marked phases spent in the collision stage
     double impactShare = -1;           // of the collision stage's time: the screen and the impact rounds ...
     double contactShare = -1;          // ... and the contact phase (listings and sweeps)

@@ -99,6 +99,7 @@ void resolveCollisions(Backend& backend, const CollisionSettings& settings, Step
         report.contacts = std::max(report.contacts, listed);
         // The first sweep alone, to see how deep the overlaps were; then batches.
         const int maxSweeps = backend.relaxesGaussSeidel() ? settings.maxSweepsGaussSeidel : settings.maxSweepsJacobi;
+        report.contactListingsJacobi += backend.relaxesGaussSeidel() ? 0 : 1;
         const RelaxationPlan plan{maxSweeps, kSweepBatch, settings.speedTolerance, settings.overlapTolerance};
         const RelaxationOutcome relaxed = backend.relaxListing(plan);
         residual = relaxed.last;

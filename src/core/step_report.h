@@ -24,6 +24,7 @@ struct StepReport {
     // Listings whose sweeps reached the cap (CollisionSettings) with the approach speed, or the
     // overlap, still above its tolerance: which of the two levels the cap cut short.
     int contactCappedSpeed = 0, contactCappedOverlap = 0;
+    int contactListingsJacobi = 0;  // listings the backend relaxed with Jacobi sweeps (relaxesGaussSeidel false)
     double contactOverlap = 0;     // largest overlap left, as a fraction of the contact distance
     ImpulseSums impulses;          // impacts and contacts: given to the walls, r_ij . J_ij of the pairs
     // Where the step's time went [s]: force passes, the rest of the integration, collisions.

@@ -324,10 +324,11 @@ pile="$work/out/pile"
 if "$COREBOX" bench pile --n 200 --seconds 0.2 --precision fp32,fp64 --out "$pile" >/dev/null 2>"$work/err"; then
     pass
     columns='engine,backend,device,precision,threads,n,box_x,box_y,box_z,box_grown,substeps,dt,seconds_requested,'
-    columns+='seconds_simulated,frames,ms_per_frame_mean,ms_per_frame_last_second,max_overlap_fraction,'
+    columns+='seconds_simulated,frames,ms_per_frame_mean,ms_per_frame_last_second,ms_per_frame_max,max_overlap_fraction,'
     columns+='max_wall_penetration_fraction,outside,energy_start,energy_end,energy_change_relative,potential_released,'
     columns+='dissipated,time_to_rest,round_cap_hits,max_rounds,mean_rounds,mean_contact_sweeps,mean_listings,'
-    columns+='collide_share,impact_share,contact_share,final_state,outcome,message'
+    columns+='contact_sweeps_cap,capped_speed_per_step,capped_overlap_per_step,jacobi_listings_per_step,'
+    columns+='collide_share,impact_share,contact_share,listing_share,final_state,outcome,message'
     head -1 "$pile.csv" | grep -q '^# corebox bench pile --n 200' && pass || fail "pile CSV does not start with the command"
     [ "$(sed -n 2p "$pile.csv")" = "$columns" ] && pass || fail "pile CSV header: $(sed -n 2p "$pile.csv")"
     corebox_rows=$(grep -cE '^corebox,cpu,.*,(fp32|fp64),[0-9]+,200,' "$pile.csv")
