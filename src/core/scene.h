@@ -45,8 +45,8 @@ struct InteractionDef {
     double elasticBelowSpeed = 1e-3;         // contacts slower than this are elastic [sigma / tau]
     int maxCollisionRounds = 64;             // cap on parallel resolution rounds per step
     // Cap on the contact phase's sweeps per listing (collision_rounds.h); 0: the backend's own (16
-    // Gauss-Seidel sweeps on the CPU, 128 Jacobi sweeps on the GPU). Fewer trade resting accuracy for
-    // speed, as a game engine's iteration count does.
+    // Gauss-Seidel sweeps, CPU and GPU; 128 where the GPU falls back to Jacobi sweeps). Fewer trade
+    // resting accuracy for speed, as a game engine's iteration count does.
     int contactSweeps = 0;
     ForceModel forces = ForceModel::Auto;    // how pair forces are summed (force_model.h)
     double skin = 0.3;                       // neighbour lists: cells and lists of r_c + skin [sigma]
