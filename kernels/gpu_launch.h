@@ -426,7 +426,8 @@ void launchGaussSeidelSweeps(const ContactArgs<Real>& args, const std::vector<in
 // The relaxation of launchRelaxListing in coloured Gauss-Seidel sweeps: one cooperative launch, the
 // same words. Returns false, launching nothing, without cooperative launch.
 template <class Real>
-bool launchGaussSeidelListing(const ContactArgs<Real>& args, int colours, const RelaxationPlan& plan, unsigned long long* words,
+bool launchGaussSeidelListing(const ContactArgs<Real>& args, const std::vector<int32_t>& colourStart, const RelaxationPlan& plan,
+                              unsigned long long* words,
                               cudaStream_t stream);
 // Each pair's other row takes the impulse of its own row (as Jacobi leaves both): the rows the next
 // step's warm start and a checkpoint read.

@@ -578,7 +578,7 @@ RelaxationOutcome CudaDevice<Real>::relaxListing(const RelaxationPlan& plan) {
     cudaStream_t s = stream();
     applyPendingWarmStart();
     m_relaxationWords.resize(9);
-    const bool launched = m_gaussSeidel ? gpu::launchGaussSeidelListing(contactArgs(), int(m_colourStart.size()) - 1, plan, m_relaxationWords.data(), s)
+    const bool launched = m_gaussSeidel ? gpu::launchGaussSeidelListing(contactArgs(), m_colourStart, plan, m_relaxationWords.data(), s)
                                         : gpu::launchRelaxListing(contactArgs(), plan, m_relaxationWords.data(), s);
     if (!launched) return Backend::relaxListing(plan);
     homeChanged();
