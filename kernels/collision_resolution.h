@@ -176,7 +176,13 @@ COREBOX_HD inline int resolveWallEvent(Real& x, Real& v, Real a, Real mass, Real
         *wallImpulse += double(mass) * (double(vOut) - double(vContact));
         if (detail) detail->impulse = mass * (vOut - vContact);
     }
-    Real pEnd = vOut * s + Real(0.5) * aIn * s * s;
+    // Where the rewind stopped at its bound short of the wall (a penetration older than the step: the
+    // straight-line time fits the window, the parabola's does not), the particle turns where the
+    // rewind left it, still inside, and moves on from there; turning it at the wall plane instead lifted
+    // it unbooked (a 400-ball pile gained 7.7e-4 of its 47,550 in one step, m g times the depth left).
+    const Real pRewound = p - vIn * s + Real(0.5) * aIn * s * s;
+    const Real pTurn = s >= maxRewind && pRewound < Real(0) ? pRewound : Real(0);
+    Real pEnd = pTurn + vOut * s + Real(0.5) * aIn * s * s;
     Real vEnd = vOut + aIn * s;
     if (pEnd < Real(0)) {
         // Resting contact: pressed onto the wall harder than it rebounds. It stays on the wall and
