@@ -82,7 +82,7 @@ __device__ Real prepareRowsOf(const ContactArgs<Real>& a, int64_t i) {
             overlap = wallDepth(xi[code / 2], ai, a.box[code / 2], code % 2) / (Real(2) * ai);
         } else {
             const Real d = ai + a.table.radius[a.p.species[p]];
-            overlap = (d * (Real(1) - contactSlack<Real>()) - realSqrt(norm2(xi - a.p.x[p]))) / d;
+            overlap = contactGap(d, realSqrt(norm2(xi - a.p.x[p]))) / d;
         }
         if (overlap > deepest) deepest = overlap;
     }
@@ -105,7 +105,7 @@ __global__ void prepareRowsKernel(ContactArgs<Real> a, unsigned long long* used,
 }
 
 // The rounds of the colouring (design note above), in one cooperative launch. words: [0] colours
-// used, [1] failed, [4..5] the uncoloured rows left by a round (two slots, in turn), [3] rounds.
+// used, [1] failed, [4..5] the uncoloured rows left by a round (two slots, in turn).
 template <class Real>
 __global__ void __launch_bounds__(kBlock) colourRowsKernel(ContactArgs<Real> a, unsigned long long* used, uint8_t* candidate,
                                                            unsigned int* words) {
@@ -164,10 +164,7 @@ __global__ void __launch_bounds__(kBlock) colourRowsKernel(ContactArgs<Real> a, 
         if (threadIdx.x == 0 && blockLeft > 0) atomicAdd(&words[4 + round % 2], blockLeft);
         grid.sync();
         const bool done = __ldcg(&words[4 + round % 2]) == 0 || __ldcg(&words[1]) != 0;
-        if (done) {
-            if (first == 0) words[3] = unsigned(round + 1);
-            return;
-        }
+        if (done) return;
         // Colours into the masks; coloured rows leave the contest.
         if (first == 0) words[4 + (round + 1) % 2] = 0;
         for (int64_t i = first; i < n; i += stride) {
@@ -192,8 +189,8 @@ __global__ void colourKeysKernel(const uint8_t* colour, const int64_t* mirror, i
     index[s] = s;
 }
 
-// colourStart[c + 1] = the end of colour c in the sorted keys; words[2] = the own rows.
-__global__ void colourBoundsKernel(const uint8_t* sortedKeys, int64_t rows, int32_t* colourStart, unsigned int* words) {
+// colourStart[c + 1] = the end of colour c in the sorted keys.
+__global__ void colourBoundsKernel(const uint8_t* sortedKeys, int64_t rows, int32_t* colourStart) {
     const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (k >= rows) return;
     if (k == 0) colourStart[0] = 0;
@@ -201,7 +198,6 @@ __global__ void colourBoundsKernel(const uint8_t* sortedKeys, int64_t rows, int3
     const uint8_t next = k + 1 < rows ? sortedKeys[k + 1] : kUncoloured;
     if (key == kUncoloured || next == key) return;
     colourStart[key + 1] = int32_t(k + 1);
-    if (next == kUncoloured) words[2] = unsigned(k + 1);
 }
 
 // One contact's Gauss-Seidel update from its own row s: the velocity level (stopPairContact,
@@ -282,23 +278,8 @@ __global__ void __launch_bounds__(kBlock) gaussSeidelListingKernel(ContactArgs<R
         if (!measured) continue;
         addBlockResidual(double(r.speedChange), double(r.overlap), slot);
         grid.sync();
-        const ContactResidual<double> residual{__longlong_as_double((long long)__ldcg(slot)), __longlong_as_double((long long)__ldcg(slot + 1))};
-        const bool stop = !plan.continuesAfter(done, residual);
-        ++checks;
-        if (first == 0) {
-            unsigned long long* next = words + 2 * (checks % 2);  // read at the check before; written again after a colour's barrier
-            next[0] = next[1] = 0;
-            if (done == 1) {
-                words[4] = __ldcg(slot);
-                words[5] = __ldcg(slot + 1);
-            }
-            if (stop) {
-                words[6] = __ldcg(slot);
-                words[7] = __ldcg(slot + 1);
-                words[8] = (unsigned long long)done;
-            }
-        }
-        if (stop) return;
+        // The other slot is written again only after a colour's barrier: no barrier needed here.
+        if (checkListingResidual(plan, done, checks, slot, words, first == 0)) return;
     }
 }
 
@@ -309,17 +290,6 @@ __global__ void mirrorImpulsesKernel(ContactArgs<Real> a, int64_t rows) {
     const Real lambda = a.lambda[a.mirror[s]];  // own rows read themselves; no own row is written
     a.lambda[s] = lambda;
     a.applied[s] = lambda;
-}
-
-// Blocks of `kernel` that can be resident at once on the current device, 0 without cooperative launch.
-template <class Kernel>
-int residentBlocks(Kernel kernel) {
-    int device = 0, supported = 0, blocks = 0;
-    cudaGetDevice(&device);
-    cudaDeviceGetAttribute(&supported, cudaDevAttrCooperativeLaunch, device);
-    if (!supported) return 0;
-    cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks, kernel, kBlock, 0);
-    return blocks * multiprocessorCount();
 }
 
 struct ColouringScratch {
@@ -369,7 +339,7 @@ template <class Real>
 bool launchColourContacts(const ContactArgs<Real>& a, int64_t rows, void* scratch, size_t scratchBytes, unsigned int* words,
                           unsigned long long* deepest, cudaStream_t stream) {
     if (a.p.n == 0 || rows == 0) return false;
-    static const int resident = residentBlocks(colourRowsKernel<Real>);
+    static const int resident = cooperativeResidentBlocks(colourRowsKernel<Real>);
     if (resident < 1) return false;
     if (scratchBytes < contactColouringScratchBytes(a.p.n, rows)) throw DeviceError("contact colouring: scratch too small");
     ColouringScratch c = carve(scratch, a.p.n, rows);
@@ -395,7 +365,7 @@ bool launchColourContacts(const ContactArgs<Real>& a, int64_t rows, void* scratc
     size_t sortBytes = c.sortBytes;
     e = cub::DeviceRadixSort::SortPairs(c.sort, sortBytes, c.keys, c.sortedKeys, c.index, a.order, int(rows), 0, 8, stream);
     if (e != cudaSuccess) throw DeviceError(std::string("contact colour sort: ") + cudaGetErrorString(e));
-    colourBoundsKernel<<<blocksFor(rows), kBlock, 0, stream>>>(c.sortedKeys, rows, a.colourStart, words);
+    colourBoundsKernel<<<blocksFor(rows), kBlock, 0, stream>>>(c.sortedKeys, rows, a.colourStart);
     checkLaunch("contact colour bounds kernel");
     return true;
 }
@@ -422,7 +392,7 @@ bool launchGaussSeidelListing(const ContactArgs<Real>& a, const std::vector<int3
     if (a.p.n == 0 || colours < 1 || plan.maxSweeps < 1 || plan.batch < 1) return false;
     int64_t largest = 0;
     for (int c = 0; c < colours; ++c) largest = std::max<int64_t>(largest, colourStart[size_t(c) + 1] - colourStart[size_t(c)]);
-    static const int resident = residentBlocks(gaussSeidelListingKernel<Real>);
+    static const int resident = cooperativeResidentBlocks(gaussSeidelListingKernel<Real>);
     if (resident < 1) return false;
     const cudaError_t cleared = cudaMemsetAsync(words, 0, 4 * sizeof(unsigned long long), stream);
     if (cleared != cudaSuccess) throw DeviceError(std::string("contact relaxation words: ") + cudaGetErrorString(cleared));

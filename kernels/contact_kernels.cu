@@ -57,8 +57,7 @@ __device__ Real warmLambdaOf(const ContactArgs<Real>& a, int64_t i, int64_t part
     return Real(0);
 }
 
-// The normal speed an isolated contact's Gauss-Seidel update aims at (contactRestitution): e times its
-// approach when it approaches faster than the resting speed (it bounces), else 0 (it stops).
+// The normal speed an isolated contact's Gauss-Seidel update aims at (isolatedContactTarget).
 template <class Real>
 __device__ Real contactTarget(const ContactArgs<Real>& a, int64_t i, int64_t partner) {
     const Vec3<Real> xi = a.p.x[i], vi = a.p.v[i];
@@ -73,7 +72,7 @@ __device__ Real contactTarget(const ContactArgs<Real>& a, int64_t i, int64_t par
         vn = dist > Real(0) ? dot(vi - a.p.v[partner], r) / dist : Real(0);
         e = a.bounce.restitution;
     }
-    return vn < Real(0) ? -contactRestitution(true, vn, e, a.bounce) * vn : Real(0);
+    return isolatedContactTarget(vn, e, a.bounce);
 }
 
 // Particle i's own impulse rows (no atomics): summed in a fixed order when asked.
@@ -223,26 +222,7 @@ __global__ void __launch_bounds__(kBlock) relaxListingKernel(ContactArgs<Real> a
             a.p.x[i] += a.dx[i];
         }
         ++done;
-        bool stop = false;
-        if (measured) {
-            const ContactResidual<double> residual{__longlong_as_double((long long)__ldcg(slot)),
-                                                   __longlong_as_double((long long)__ldcg(slot + 1))};
-            stop = !plan.continuesAfter(done, residual);
-            ++checks;
-            if (first == 0) {
-                unsigned long long* next = words + 2 * (checks % 2);  // last read at the check before
-                next[0] = next[1] = 0;
-                if (done == 1) {
-                    words[4] = __ldcg(slot);
-                    words[5] = __ldcg(slot + 1);
-                }
-                if (stop) {
-                    words[6] = __ldcg(slot);
-                    words[7] = __ldcg(slot + 1);
-                    words[8] = (unsigned long long)done;
-                }
-            }
-        }
+        const bool stop = measured && checkListingResidual(plan, done, checks, slot, words, first == 0);
         grid.sync();
         if (stop) return;
     }
@@ -318,16 +298,9 @@ bool launchRelaxListing(const ContactArgs<Real>& a, const RelaxationPlan& plan, 
     if (a.p.n == 0 || plan.maxSweeps < 1 || plan.batch < 1) return false;
     // As many blocks as can be resident at once (a cooperative launch needs every block running), no
     // more than the particles need.
-    static const int residentPerSm = [] {
-        int device = 0, supported = 0, blocks = 0;
-        cudaGetDevice(&device);
-        cudaDeviceGetAttribute(&supported, cudaDevAttrCooperativeLaunch, device);
-        if (!supported) return 0;
-        cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks, relaxListingKernel<Real>, kBlock, 0);
-        return blocks;
-    }();
-    if (residentPerSm < 1) return false;
-    const int64_t blocks = std::min<int64_t>(int64_t(residentPerSm) * multiprocessorCount(), blocksFor(a.p.n));
+    static const int resident = cooperativeResidentBlocks(relaxListingKernel<Real>);
+    if (resident < 1) return false;
+    const int64_t blocks = std::min<int64_t>(resident, blocksFor(a.p.n));
     const cudaError_t cleared = cudaMemsetAsync(words, 0, 4 * sizeof(unsigned long long), stream);
     if (cleared != cudaSuccess) throw DeviceError(std::string("contact relaxation words: ") + cudaGetErrorString(cleared));
     ContactArgs<Real> args = a;

@@ -194,6 +194,13 @@ struct RestingContact {
     Real gap;
 };
 
+// The overlap of a pair at centre distance `dist` beyond the contact slack of collision.h (> 0:
+// overlapping; < 0: apart) [sigma]. Phase 1 sees the same slack.
+template <class Real>
+COREBOX_HD inline Real contactGap(Real d, Real dist) {
+    return d * (Real(1) - contactSlack<Real>()) - dist;
+}
+
 // A listed contact is one the relaxation acts on: overlapping beyond the contact slack of
 // collision.h (phase 1 sees the same), or resting. A faster touching approach is an impact of the
 // next step, with its restitution; a centre beyond a wall plane has escaped (the health check reports
@@ -205,7 +212,7 @@ COREBOX_HD inline bool pairContactActive(Vec3<Real> xi, Vec3<Real> vi, Vec3<Real
     const Real reach = d + resting.gap;
     if (!(r2 < reach * reach)) return false;
     const Real dist = realSqrt(r2);
-    const Real gap = d * (Real(1) - contactSlack<Real>()) - dist;
+    const Real gap = contactGap(d, dist);
     if (gap > Real(0)) return true;
     const Real vn = dist > Real(0) ? dot(vi - vj, r) / dist : Real(0);
     return -vn < resting.speed;
@@ -247,6 +254,14 @@ struct ContactBounce {
 template <class Real>
 COREBOX_HD inline Real contactRestitution(bool isolated, Real vn, Real e, ContactBounce<Real> bounce) {
     return isolated && -vn > bounce.speed ? effectiveRestitution(e, vn, bounce.elasticBelow) : Real(0);
+}
+
+// The normal speed an isolated contact's Gauss-Seidel update aims at, from its normal speed vn at the
+// listing: e times its approach when it approaches faster than the resting speed (it bounces), else 0
+// (it stops). The CPU's and the GPU's listings set it alike.
+template <class Real>
+COREBOX_HD inline Real isolatedContactTarget(Real vn, Real e, ContactBounce<Real> bounce) {
+    return vn < Real(0) ? -contactRestitution(true, vn, e, bounce) * vn : Real(0);
 }
 
 // The largest approach speed and relative overlap a sweep saw: how far from converged it is.
@@ -379,7 +394,7 @@ COREBOX_HD inline void relaxParticle(int64_t i, int count, Partner&& partner, Co
         }
         const Real change = (impulse < Real(0) ? -impulse : impulse) / (w * mu);
         if (change > residual.speedChange) residual.speedChange = change;
-        const Real gap = d * (Real(1) - contactSlack<Real>()) - dist;  // overlap beyond the contact slack
+        const Real gap = contactGap(d, dist);
         if (gap > Real(0)) {
             dx += (w * gap * overlapShare(mi, mj, n, up)) * n;
             if (gap / d > residual.overlap) residual.overlap = gap / d;
@@ -490,7 +505,7 @@ COREBOX_HD inline void separatePair(Vec3<Real>& xi, Vec3<Real>& xj, Real mi, Rea
                                     ContactResidual<Real>& residual) {
     const Vec3<Real> r = xi - xj;
     const Real dist = realSqrt(norm2(r));
-    const Real gap = d * (Real(1) - contactSlack<Real>()) - dist;
+    const Real gap = contactGap(d, dist);
     if (!(gap > Real(0)) || !(dist > Real(0))) return;
     if (gap / d > residual.overlap) residual.overlap = gap / d;
     const Vec3<Real> n = (Real(1) / dist) * r;

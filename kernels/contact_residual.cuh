@@ -3,6 +3,7 @@
 // Jacobi (contact_kernels.cu) and Gauss-Seidel (contact_gauss_seidel.cu) sweeps.
 #pragma once
 
+#include "contact_relaxation.h"
 #include "gpu_common.cuh"
 
 namespace corebox::gpu {
@@ -53,6 +54,32 @@ __device__ inline void addBlockResidual(double speed, double overlap, unsigned l
         if (overlap > 0) atomicMaxNonNegative(&residual[1], overlap);
     }
     __syncthreads();  // the shared rows are free for the next sweep
+}
+
+// A cooperative listing's check after `done` sweeps (relaxListingKernel, gaussSeidelListingKernel):
+// every thread reads the residual of `slot` (the grid barrier after addBlockResidual made it whole)
+// and decides alike whether to stop; the leader (thread 0 of the grid) clears the other slot for the
+// next check (read at the check before) and records the outcome in words: [4..5] the first sweep's
+// residual, [6..7] the last's (double bits), [8] the sweeps run. Returns whether the relaxation stops.
+__device__ inline bool checkListingResidual(const RelaxationPlan& plan, int done, int& checks, unsigned long long* slot,
+                                            unsigned long long* words, bool leader) {
+    const ContactResidual<double> residual{__longlong_as_double((long long)__ldcg(slot)), __longlong_as_double((long long)__ldcg(slot + 1))};
+    const bool stop = !plan.continuesAfter(done, residual);
+    ++checks;
+    if (leader) {
+        unsigned long long* next = words + 2 * (checks % 2);
+        next[0] = next[1] = 0;
+        if (done == 1) {
+            words[4] = __ldcg(slot);
+            words[5] = __ldcg(slot + 1);
+        }
+        if (stop) {
+            words[6] = __ldcg(slot);
+            words[7] = __ldcg(slot + 1);
+            words[8] = (unsigned long long)done;
+        }
+    }
+    return stop;
 }
 
 }  // namespace corebox::gpu

@@ -27,6 +27,18 @@ inline int multiprocessorCount() {
     return count;
 }
 
+// Blocks of kBlock threads of `kernel` that can be resident at once on the current device (what a
+// cooperative launch may use), 0 where the device has no cooperative launch.
+template <class Kernel>
+int cooperativeResidentBlocks(Kernel kernel) {
+    int device = 0, supported = 0, blocks = 0;
+    cudaGetDevice(&device);
+    cudaDeviceGetAttribute(&supported, cudaDevAttrCooperativeLaunch, device);
+    if (!supported) return 0;
+    cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks, kernel, kBlock, 0);
+    return blocks * multiprocessorCount();
+}
+
 // atomicAdd(counter, 1) for each calling thread, one atomic a warp: the threads that call together
 // share it and each gets its own slot (in lane order within the warp's block of slots). Thousands of
 // threads on one address queue behind each other otherwise.

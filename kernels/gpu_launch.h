@@ -373,7 +373,7 @@ struct ContactArgs {
     int64_t* mirror;
     uint8_t* colour;
     Real* target;
-    int64_t* order;        // own rows by colour (the first `ownRows` entries; then the other rows)
+    int64_t* order;        // own rows by colour, then the other rows
     int32_t* colourStart;  // kMaxContactColours + 1: colour c's rows are order[colourStart[c] .. colourStart[c + 1])
     Real omega;            // over-relaxation of the stopping updates (kGaussSeidelOverRelaxation)
 };
@@ -411,8 +411,8 @@ bool launchRelaxListing(const ContactArgs<Real>& args, const RelaxationPlan& pla
 // Colours the listing's pairs and walls so that no particle has two contacts of one colour (each
 // pair from its own row; rowParticle, mirror and the bounce targets filled on the way), then sorts
 // the own rows by colour into order and colourStart. words (6): [0] the colours used, [1] 1 if more
-// than kMaxContactColours were needed (then nothing after the colouring is valid), [2] the own rows,
-// [3] the colouring's rounds; *deepest: the deepest overlap of the listed contacts (double bits,
+// than kMaxContactColours were needed (then nothing after the colouring is valid), [4..5] the
+// colouring's own; *deepest: the deepest overlap of the listed contacts (double bits,
 // ContactResidual::overlap). Scratch: contactColouringScratchBytes. Returns false, launching
 // nothing, where the device has no cooperative launch.
 size_t contactColouringScratchBytes(int64_t n, int64_t rows);

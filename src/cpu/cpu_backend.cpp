@@ -600,7 +600,7 @@ public:
             if (isWallContact(c.partner)) {
                 const int code = int(-1 - c.partner);
                 const Real vn = (code % 2 == 0 ? Real(1) : Real(-1)) * m_v[i][code / 2];
-                if (vn < Real(0)) c.target = -contactRestitution(true, vn, bounce.wallRestitution, bounce) * vn;
+                c.target = isolatedContactTarget(vn, bounce.wallRestitution, bounce);
                 if (c.target > Real(0)) c.lambda = Real(0);  // an impact: nothing to warm-start
                 continue;
             }
@@ -610,7 +610,7 @@ public:
             const Real dist = std::sqrt(norm2(rij));
             if (!(dist > Real(0))) continue;
             const Real vn = dot(m_v[i] - m_v[j], rij) / dist;
-            if (vn < Real(0)) c.target = -contactRestitution(true, vn, bounce.restitution, bounce) * vn;
+            c.target = isolatedContactTarget(vn, bounce.restitution, bounce);
             if (c.target > Real(0)) c.lambda = Real(0);
         }
     }

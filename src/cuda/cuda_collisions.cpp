@@ -537,9 +537,8 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     fill.warm = warm;
     gpu::launchFillContacts(fill, s);
     m_warmPending = warm;
-    m_listedOverlap = -1;  // Jacobi's first sweep measures it
     m_gaussSeidel = m_gaussSeidelContacts && colourListing(total);
-    if (!m_gaussSeidel) m_listedOverlap = -1;
+    if (!m_gaussSeidel) m_listedOverlap = -1;  // Jacobi's first sweep measures it
     cudaCheck(cudaMemcpyAsync(m_xListed.data(), home().x.data(), size_t(m_n) * sizeof(Vec3<Real>), cudaMemcpyDeviceToDevice, s), "contacts");
     return total;
 }
