@@ -138,6 +138,20 @@ COREBOX_HD inline void forEachNeighbourCell(const CellGeometry& g, CellCoords c,
     }
 }
 
+// The 27 cells around c as 9 runs of consecutive keys (x is fastest): run r in [0, 9) is the row at
+// z = c.z - 1 + r / 3, y = c.y - 1 + r % 3, its cells x = c.x - 1 .. c.x + 1 clipped to the grid, keys
+// [*first, *last]. False where that row lies outside the grid. A cell list's particles of a run are
+// one contiguous range of its order (cellStart[*first] .. cellStart[*last + 1]).
+COREBOX_HD inline bool neighbourCellRun(const CellGeometry& g, CellCoords c, int r, int* first, int* last) {
+    const int z = c.z - 1 + r / 3, y = c.y - 1 + r % 3;
+    if (z < 0 || z >= g.dims[2] || y < 0 || y >= g.dims[1]) return false;
+    const int x0 = c.x > 0 ? c.x - 1 : 0;
+    const int x1 = c.x + 1 < g.dims[0] ? c.x + 1 : g.dims[0] - 1;
+    *first = cellKey(g, CellCoords{x0, y, z});
+    *last = cellKey(g, CellCoords{x1, y, z});
+    return true;
+}
+
 // A built cell list, owned elsewhere (host vectors or device buffers).
 struct CellListView {
     CellGeometry geometry;

@@ -31,12 +31,22 @@
 namespace corebox::gpu {
 namespace {
 
-// The build's sort key of partner j: (j % lanes) perLane + j / lanes, perLane = ceil(n / lanes), which
-// orders by (j % lanes, j) and fits an int for any n an int indexes; and back.
-__device__ inline int32_t laneKey(int32_t j, int lanes, int32_t perLane) { return lanes == 1 ? j : (j % lanes) * perLane + j / lanes; }
-__device__ inline int32_t partnerOfKey(int32_t key, int lanes, int32_t perLane) {
-    return lanes == 1 ? key : (key % perLane) * lanes + key / perLane;
+// The warp build's sort key of partner j with kLanes lanes (a power of two): the residue j % kLanes
+// in the top bits, j / kLanes below, which orders by (j % kLanes, j) in shifts alone for any j an int
+// holds; and back.
+template <int kLanes>
+__device__ inline int32_t laneKey(int32_t j) {
+    constexpr int kBits = kLanes == 8 ? 3 : kLanes == 4 ? 2 : 1;
+    return int32_t((unsigned(j) & unsigned(kLanes - 1)) << (31 - kBits) | (unsigned(j) >> kBits));
 }
+template <int kLanes>
+__device__ inline int32_t partnerOfKey(int32_t key) {
+    constexpr int kBits = kLanes == 8 ? 3 : kLanes == 4 ? 2 : 1;
+    return int32_t((unsigned(key) & ((1u << (31 - kBits)) - 1u)) << kBits | (unsigned(key) >> (31 - kBits)));
+}
+// A warp's scratch in the warp-per-row build: its keys as found, then in order; odd, so that the
+// block's column-by-column reads of its warps' rows meet no bank conflict.
+__host__ __device__ inline int buildRowStride(int space) { return 2 * space + 1; }
 
 // Large systems (one lane a row: rows by ascending partner): a thread per row. Rows are collected in shared memory, column-major per block
 // (partner c of the block's thread t at c * blockDim + t: no bank conflicts), sorted there by insertion
@@ -86,13 +96,14 @@ __global__ void buildListRowsKernel(NeighbourListArgs<Real> a) {
 // Small systems (listLanes > 1, whose rows are too few to hide a thread's walk and sort): a warp per
 // row. Its lanes walk the 27 cells together (a lane a candidate, the cell-ordered entries
 // read coalesced), append the partners within reach to the warp's space in shared memory (in ballot
-// order) and sort them there by key with a bitonic network (padding keys sort last); then the block
-// writes its rows column by column (consecutive rows of a column are neighbours in memory: a warp
-// writing its own row alone scattered 4-byte stores, 11 ms a step at 10^7), and each row's first
-// lane writes where the force pass's lanes begin. A thread per row that sorted by insertion took
-// 438 us for 64000 rows of an LJ liquid on an H200 (a fifth of the SMs' warps resident, most cycles
-// in the sort). `space` is a power of two at least maxNeighbours (buildSpaceFor).
-template <class Real>
+// order) and sort them there by key (a rank sort); then the block writes its rows column by column
+// (consecutive rows of a column are neighbours in memory: a warp writing its own row alone scattered
+// 4-byte stores, 11 ms a step at 10^7), and each row's first lanes write where the force pass's lanes
+// begin. A thread per row that sorted by insertion took 438 us for 64000 rows of an LJ liquid on an
+// H200 (a fifth of the SMs' warps resident, most cycles in the sort); this kernel with a bitonic
+// sort, 424 us (cell by cell) and 343 (runs of cells); `space` is at least maxNeighbours
+// (buildSpaceFor).
+template <class Real, int kLanes>
 __global__ void buildListWarpsKernel(NeighbourListArgs<Real> a, int space) {
     extern __shared__ int32_t rowScratch[];
     __shared__ int32_t stored[32];  // each warp's row length to write (0: none)
@@ -101,31 +112,56 @@ __global__ void buildListWarpsKernel(NeighbourListArgs<Real> a, int space) {
     const int64_t row = firstRow + warp;
     const int lane = int(threadIdx.x % 32);
     const int64_t rows = a.end - a.begin;
-    int32_t* keys = rowScratch + size_t(warp) * size_t(space);
-    const int lanes = a.lanes;
-    const int32_t perLane = int32_t((a.n + lanes - 1) / lanes);
+    // A warp's scratch: the keys as found, then the keys in order; an odd stride between warps.
+    const int rowStride = buildRowStride(space);
+    int32_t* keys = rowScratch + size_t(warp) * size_t(rowStride);
+    int32_t* ranked = keys + space;
     int32_t count = 0;
     if (row < rows) {  // the warp's lanes alike
         const int64_t i = a.rowParticle[row];
         const Vec3<Real> xi = a.x[i];
-        forEachNeighbourCell(a.cells.geometry, cellCoords(a.cells.geometry, xi), [&](int cell) {
-            const int32_t begin = a.cells.cellStart[cell], end = a.cells.cellStart[cell + 1];
-            for (int32_t k0 = begin; k0 < end; k0 += 32) {
-                const int32_t k = k0 + lane;
-                bool near = false;
-                int32_t j = 0;
-                if (k < end) {
-                    const CellEntry<Real> e = a.cellEntries[k];
-                    const Vec3<Real> d{xi.x - e.x, xi.y - e.y, xi.z - e.z};
-                    j = e.index;
-                    near = norm2(d) < a.reach2 && e.index != i;
-                }
-                const unsigned taken = __ballot_sync(0xffffffffu, near);
-                const int32_t slot = count + __popc(taken & ((1u << lane) - 1u));
-                if (near && slot < space) keys[slot] = laneKey(j, lanes, perLane);
-                count += __popc(taken);
+        // The 27 cells are 9 runs of the cell-ordered entries (neighbourCellRun): lane r < 9 reads run
+        // r's range, a scan lays the runs end to end, and the warp takes the ~500 candidates of an LJ
+        // liquid's row 32 at a time, each lane finding its run among the 9 ends it holds. Walking the
+        // cells one by one took 27 dependent rounds of range and entry loads, half the lanes idle in
+        // each (a cell holds ~18 particles at r_c + skin = 2.8, density 0.8): 424 us a build of
+        // 64000 rows on an H200.
+        const CellCoords c = cellCoords(a.cells.geometry, xi);
+        int first = 0, last = 0;
+        int32_t runBegin = 0, runLength = 0;
+        if (lane < 9 && neighbourCellRun(a.cells.geometry, c, lane, &first, &last)) {
+            runBegin = a.cells.cellStart[first];
+            runLength = a.cells.cellStart[last + 1] - runBegin;
+        }
+        int32_t runEnd = runLength;  // inclusive scan: where run `lane` ends in the laid-out candidates
+        for (int offset = 1; offset < 16; offset *= 2) {
+            const int32_t before = __shfl_up_sync(0xffffffffu, runEnd, offset);
+            if (lane >= offset) runEnd += before;
+        }
+        int32_t ends[9];
+#pragma unroll
+        for (int r = 0; r < 9; ++r) ends[r] = __shfl_sync(0xffffffffu, runEnd, r);
+        const int32_t shift = runBegin - (runEnd - runLength);  // candidate t of run `lane` is entry t + shift
+        const int32_t total = ends[8];
+        for (int32_t t0 = 0; t0 < total; t0 += 32) {
+            const int32_t t = t0 + lane;
+            int run = 0;
+#pragma unroll
+            for (int r = 0; r < 8; ++r) run += t >= ends[r] ? 1 : 0;
+            const int32_t k = t + __shfl_sync(0xffffffffu, shift, run);
+            bool near = false;
+            int32_t j = 0;
+            if (t < total) {
+                const CellEntry<Real> e = a.cellEntries[k];
+                const Vec3<Real> d{xi.x - e.x, xi.y - e.y, xi.z - e.z};
+                j = e.index;
+                near = norm2(d) < a.reach2 && e.index != i;
             }
-        });
+            const unsigned taken = __ballot_sync(0xffffffffu, near);
+            const int32_t slot = count + __popc(taken & ((1u << lane) - 1u));
+            if (near && slot < space) keys[slot] = laneKey<kLanes>(j);
+            count += __popc(taken);
+        }
         if (lane == 0) {
             a.neighbourCount[row] = count;
             // An atomic only above the largest seen so far: 10^6 rows on one address would queue.
@@ -134,29 +170,34 @@ __global__ void buildListWarpsKernel(NeighbourListArgs<Real> a, int space) {
     }
     const bool store = row < rows && count <= a.maxNeighbours;  // else the list grows and is built again
     if (store) {
-        int32_t size = 32;
-        while (size < count) size *= 2;
-        for (int32_t c = count + lane; c < size; c += 32) keys[c] = INT32_MAX;
+        // Rank sort: a key's place is the number of smaller keys (the keys are distinct partners).
+        // Each lane takes four keys and counts them against the row's keys, which the lanes read in
+        // step (broadcasts): a load and eight instructions for four comparisons. The bitonic network
+        // this replaces spent most of the build's 340 us (64000 rows, H200) in 28 passes over 128 keys.
         __syncwarp();
-        for (int32_t block = 2; block <= size; block *= 2) {
-            for (int32_t stride = block / 2; stride > 0; stride /= 2) {
-                for (int32_t c = lane; c < size; c += 32) {
-                    const int32_t partner = c ^ stride;
-                    if (partner <= c) continue;
-                    const int32_t l = keys[c], r = keys[partner];
-                    if ((l > r) == ((c & block) == 0)) {
-                        keys[c] = r;
-                        keys[partner] = l;
-                    }
-                }
-                __syncwarp();
+        for (int32_t base = 0; base < count; base += 128) {
+            int32_t mine[4], rank[4];
+#pragma unroll
+            for (int u = 0; u < 4; ++u) {
+                const int32_t c = base + 32 * u + lane;
+                mine[u] = c < count ? keys[c] : INT32_MAX;
+                rank[u] = 0;
             }
+            for (int32_t m = 0; m < count; ++m) {
+                const int32_t key = keys[m];
+#pragma unroll
+                for (int u = 0; u < 4; ++u) rank[u] += key < mine[u] ? 1 : 0;
+            }
+#pragma unroll
+            for (int u = 0; u < 4; ++u)
+                if (base + 32 * u + lane < count) ranked[rank[u]] = partnerOfKey<kLanes>(mine[u]);
         }
-        if (lanes > 1 && lane < lanes) {  // lane t's partners begin at the first key of residue t
+        __syncwarp();
+        if (lane < kLanes) {  // lane t's partners begin at the first of residue t
             int32_t lo = 0, hi = count;
             while (lo < hi) {
                 const int32_t mid = (lo + hi) / 2;
-                if (keys[mid] / perLane < lane) lo = mid + 1;
+                if (int(unsigned(ranked[mid]) % unsigned(kLanes)) < lane) lo = mid + 1;
                 else hi = mid;
             }
             a.laneStart[int64_t(lane) * rows + row] = lo;
@@ -164,10 +205,10 @@ __global__ void buildListWarpsKernel(NeighbourListArgs<Real> a, int space) {
     }
     if (lane == 0) stored[warp] = store ? count : 0;
     __syncthreads();
-    for (int32_t k = int32_t(threadIdx.x); k < warps * space; k += int32_t(blockDim.x)) {
+    for (int32_t k = int32_t(threadIdx.x); k < warps * space; k += int32_t(blockDim.x)) {  // rowStride odd: no bank conflicts
         const int w = k % warps;
         const int32_t c = k / warps;
-        if (c < stored[w]) a.neighbours[int64_t(c) * rows + firstRow + w] = partnerOfKey(rowScratch[size_t(w) * size_t(space) + size_t(c)], lanes, perLane);
+        if (c < stored[w]) a.neighbours[int64_t(c) * rows + firstRow + w] = rowScratch[size_t(w) * size_t(rowStride) + size_t(space + c)];
     }
 }
 
@@ -200,15 +241,11 @@ inline int buildBlockFor(int32_t maxNeighbours) {
     return fit == 64 ? 64 : fit >= 32 ? 32 : fit;
 }
 
-// The build's shared space per row: a power of two at least maxNeighbours (the bitonic sort's size).
-inline int buildSpaceFor(int32_t maxNeighbours) {
-    int space = 32;
-    while (space < maxNeighbours) space *= 2;
-    return space;
-}
+// The build's shared space per row for its keys: maxNeighbours (at least a warp's width).
+inline int buildSpaceFor(int32_t maxNeighbours) { return maxNeighbours > 32 ? int(maxNeighbours) : 32; }
 
 // Warps per block of the warp-per-row build: up to 32 (1 KB kept for the static counts and the driver).
-inline int buildWarpsFor(int space) { return rowsThatFit(space, int64_t(space) * int64_t(sizeof(int32_t)), 1024, 32); }
+inline int buildWarpsFor(int space) { return rowsThatFit(space, int64_t(buildRowStride(space)) * int64_t(sizeof(int32_t)), 1024, 32); }
 
 template <class Real>
 __global__ void listMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBuilt, int64_t begin, int64_t end, Real halfSkin2,
@@ -281,9 +318,8 @@ __global__ void listForceKernel(ForceArgs<Real> a) {
     double energy = 0;
     const int32_t first = kLanes > 1 ? a.laneStart[int64_t(lane) * rows + row] : 0;
     const int32_t last = kLanes > 1 && lane + 1 < kLanes ? a.laneStart[int64_t(lane + 1) * rows + row] : count;
-    for (int32_t c = first; c < last; ++c) {
-        const int32_t j = a.neighbours[int64_t(c) * rows + row];
-        const Vec3<Real> d = xi - a.x[j];
+    auto add = [&](int32_t j, const Vec3<Real>& xj) {
+        const Vec3<Real> d = xi - xj;
         const int sj = kSingleSpecies ? 0 : a.species[j];
         const PairCoefficients<Real>& p = kSingleSpecies ? single : a.table.pairs[si * s + sj];
         Real u = 0;
@@ -299,6 +335,23 @@ __global__ void listForceKernel(ForceArgs<Real> a) {
             }
             nearest = fmin(nearest, r2 * inverse);
         }
+    };
+    // Partners in batches of four: their indices, then their positions, are loaded before any is used,
+    // so a lane has four gathers in flight instead of one (the terms still add in list order).
+    int32_t c = first;
+    for (; c + 4 <= last; c += 4) {
+        int32_t j[4];
+        Vec3<Real> xj[4];
+#pragma unroll
+        for (int u = 0; u < 4; ++u) j[u] = a.neighbours[int64_t(c + u) * rows + row];
+#pragma unroll
+        for (int u = 0; u < 4; ++u) xj[u] = a.x[j[u]];
+#pragma unroll
+        for (int u = 0; u < 4; ++u) add(j[u], xj[u]);
+    }
+    for (; c < last; ++c) {
+        const int32_t j = a.neighbours[int64_t(c) * rows + row];
+        add(j, a.x[j]);
     }
     if (kLanes > 1) {
         const unsigned group = (kLanes == 32 ? 0xffffffffu : ((1u << kLanes) - 1u)) << (threadIdx.x % 32 / kLanes * kLanes);
@@ -414,9 +467,11 @@ void launchBuildNeighbourList(const NeighbourListArgs<Real>& a, cudaStream_t str
     } else {
         const int space = buildSpaceFor(a.maxNeighbours);
         const int warps = buildWarpsFor(space);
-        const size_t shared = size_t(warps) * size_t(space) * sizeof(int32_t);
-        if (shared > 32 * 1024) cudaFuncSetAttribute(buildListWarpsKernel<Real>, cudaFuncAttributeMaxDynamicSharedMemorySize, int(shared));
-        buildListWarpsKernel<Real><<<blocksFor(rows, warps), unsigned(32 * warps), shared, stream>>>(a, space);
+        const size_t shared = size_t(warps) * size_t(buildRowStride(space)) * sizeof(int32_t);
+        auto kernel = a.lanes == 8 ? buildListWarpsKernel<Real, 8> : buildListWarpsKernel<Real, 4>;
+        if (a.lanes != 8 && a.lanes != 4) throw DeviceError("neighbour list: the warp build takes 4 or 8 lanes");
+        if (shared > 32 * 1024) cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, int(shared));
+        kernel<<<blocksFor(rows, warps), unsigned(32 * warps), shared, stream>>>(a, space);
     }
     checkLaunch("neighbour list kernel");
 }

@@ -292,7 +292,9 @@ public:
 
     // ---- timing and output ----
     virtual void markPhase(StepPhase phase) = 0;
-    virtual PhaseSeconds phaseSeconds() = 0;  // of the step between the last Integrate and Done marks
+    // The phases of the step between the last Integrate and Done marks; a backend that reads them
+    // without a wait (CUDA) may report a step whose marks are not done yet with the next one instead.
+    virtual PhaseSeconds phaseSeconds() = 0;
     virtual void writeInstances(const InstanceTarget& target) = 0;
     virtual void finish() = 0;  // returns when all queued work is done (benchmarks, interop)
 };

@@ -27,7 +27,8 @@ struct StepReport {
     int contactListingsJacobi = 0;  // listings the backend relaxed with Jacobi sweeps (relaxesGaussSeidel false)
     double contactOverlap = 0;     // largest overlap left, as a fraction of the contact distance
     ImpulseSums impulses;          // impacts and contacts: given to the walls, r_ij . J_ij of the pairs
-    // Where the step's time went [s]: force passes, the rest of the integration, collisions.
+    // Where the step's time went [s]: force passes, the rest of the integration, collisions (on a GPU
+    // the device's own clock, possibly one step late: Backend::phaseSeconds).
     double secondsForces = 0, secondsIntegrate = 0, secondsCollide = 0;
     // secondsCollide split: the impact rounds (with the screen) and the contact phase [s], and of the
     // contact phase the listings (contact lists, and the colouring where the sweeps are coloured) [s].

@@ -284,9 +284,18 @@ private:
     int64_t m_n = 0;
     std::vector<int32_t> m_hostSpecies;
 
-    cudaEvent_t m_phase[3] = {};  // Integrate, Collide, Done marks
-    std::vector<cudaEvent_t> m_timingEvents;
-    size_t m_forceEvents = 0;
+    // A step's timing marks: Integrate, Collide, Done, and a pair around each force pass. Two sets, a
+    // step's in one while the last step's may still be unread (phaseSeconds: read without a wait).
+    struct PhaseEvents {
+        cudaEvent_t marks[3] = {};
+        std::vector<cudaEvent_t> forces;
+        size_t forceEvents = 0;
+        bool unread = false;  // all three marks recorded, not reported yet
+    };
+    PhaseEvents m_phaseSets[2];
+    int m_phaseSet = 0;  // the set of the step being marked
+    PhaseEvents& phaseEvents() { return m_phaseSets[m_phaseSet]; }
+    static void addPhases(PhaseEvents& set, PhaseSeconds& s);
     int64_t m_fullPasses = 0;
     int64_t m_allPairsEvaluations = 0;  // ForceCounters::allPairsEvaluations
     bool m_pairsOnce = true;            // CudaBackendOptions::pairsOnce

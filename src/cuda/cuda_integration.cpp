@@ -43,13 +43,14 @@ gpu::ForceArgs<Real> CudaDevice<Real>::homeForceArgs(const Vec3<Real>* x, Vec3<R
 template <class Real>
 void CudaDevice<Real>::markForceTime() {
     if (!m_timingForces) return;  // outside a step (energies, benchmarks): nothing to attribute the time to
-    if (m_forceEvents + 1 > m_timingEvents.size()) {
+    PhaseEvents& set = phaseEvents();
+    if (set.forceEvents + 1 > set.forces.size()) {
         cudaEvent_t e;
         cudaCheck(cudaEventCreate(&e), "cudaEventCreate");
-        m_timingEvents.push_back(e);
+        set.forces.push_back(e);
     }
-    cudaCheck(cudaEventRecord(m_timingEvents[m_forceEvents], stream()), "event");
-    ++m_forceEvents;
+    cudaCheck(cudaEventRecord(set.forces[set.forceEvents], stream()), "event");
+    ++set.forceEvents;
 }
 
 template <class Real>

@@ -282,6 +282,34 @@ TEST(CellList, EmptyListVisitsNothing) {
     EXPECT_EQ(list.cellStart().back(), 0);
 }
 
+// The GPU list build walks the 27 cells as 9 runs of consecutive keys: together they are exactly the
+// cells forEachNeighbourCell visits, each once, at every cell of grids with edges of one to four cells.
+TEST(CellList, TheNineRunsAreTheTwentySevenCells) {
+    for (int dx = 1; dx <= 4; ++dx)
+        for (int dy = 1; dy <= 3; ++dy)
+            for (int dz = 1; dz <= 4; ++dz) {
+                CellGeometry g{};
+                g.dims[0] = dx;
+                g.dims[1] = dy;
+                g.dims[2] = dz;
+                for (int z = 0; z < dz; ++z)
+                    for (int y = 0; y < dy; ++y)
+                        for (int x = 0; x < dx; ++x) {
+                            const CellCoords c{x, y, z};
+                            std::vector<int> walked, runs;
+                            forEachNeighbourCell(g, c, [&](int key) { walked.push_back(key); });
+                            for (int r = 0; r < 9; ++r) {
+                                int first = -1, last = -1;
+                                if (!neighbourCellRun(g, c, r, &first, &last)) continue;
+                                ASSERT_LE(first, last);
+                                for (int key = first; key <= last; ++key) runs.push_back(key);
+                            }
+                            std::sort(runs.begin(), runs.end());
+                            EXPECT_EQ(runs, walked) << "grid " << dx << "x" << dy << "x" << dz << ", cell " << x << "," << y << "," << z;
+                        }
+            }
+}
+
 TEST(IncrementalCellList, VisitsWhatASortedListOfTheInsertedParticlesVisits) {
     const Vec3<double> box{10, 10, 10};
     const std::vector<Vec3<double>> x = randomPositions<double>(1200, box, 5);
