@@ -529,10 +529,36 @@ template <class Real>
 void launchStepCheck(const StepCheckArgs<Real>& args, cudaStream_t stream);
 // v += h a, then x += dt v (verletKick, verletDrift) in one pass; with snapshotX set, (x, v) are
 // copied there first (Backend::keepSnapshot); with reset set, the step words are reset as
-// launchResetStepWords does.
+// launchResetStepWords does. The results go to xOut and vOut (x and v where those are null), and
+// nothing at all is done where the gate is closed.
 template <class Real>
-void launchKickDrift(Vec3<Real>* x, Vec3<Real>* v, const Vec3<Real>* a, int64_t n, Real h, Real dt, Vec3<Real>* snapshotX,
-                     Vec3<Real>* snapshotV, StepWords* reset, cudaStream_t stream);
+struct KickDriftArgs {
+    const Vec3<Real>* x;
+    const Vec3<Real>* v;
+    const Vec3<Real>* a;
+    Vec3<Real>* xOut;
+    Vec3<Real>* vOut;
+    int64_t n;
+    Real h, dt;
+    Vec3<Real>* snapshotX;
+    Vec3<Real>* snapshotV;
+    StepWords* reset;
+    StageGate gate;
+};
+template <class Real>
+void launchKickDrift(const KickDriftArgs<Real>& args, cudaStream_t stream);
+
+// Whether the step these words close leaves nothing for the host to do before the next Verlet step
+// (src/cuda/cuda_step.cpp, running ahead): a quiet stage, or walls the device resolved with every
+// moved row within the lists and no wall contact to list; the lists good for the next kick-drift;
+// every particle finite and inside. Read alike on the device (launchOpenRunAhead) and on the host.
+COREBOX_HD inline bool runAheadOpen(const StepWords& w) {
+    const bool stageDone = w.stage == unsigned(StageScreen::Quiet) ||
+                           (w.stage == unsigned(StageScreen::WallsOnly) && w.wallStats[2] == 0 && (w.wallStats[1] == 0 || w.wallContacts == 0));
+    return stageDone && w.listForecast == 0 && w.healthCounts[0] == 0 && w.healthCounts[1] == 0;
+}
+// *gate = 1 where runAheadOpen(*words), else 0 (a StageGate{gate, 2u} then opens on 1).
+void launchOpenRunAhead(const StepWords* words, unsigned int* gate, cudaStream_t stream);
 
 // ---- interop (interop_kernels.cu) ----
 // Writes the renderer's instances (particle_instance.h) into device memory: a mapped GL buffer or a

@@ -32,21 +32,23 @@ __global__ void stepCheckKernel(StepCheckArgs<Real> a) {
 }
 
 template <class Real>
-__global__ void kickDriftKernel(Vec3<Real>* x, Vec3<Real>* v, const Vec3<Real>* acc, int64_t n, Real h, Real dt, Vec3<Real>* snapshotX,
-                                Vec3<Real>* snapshotV, StepWords* reset) {
+__global__ void kickDriftKernel(KickDriftArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (reset && i == 0) resetWords(reset);
-    if (i >= n) return;
-    Vec3<Real> xi = x[i], vi = v[i];
-    if (snapshotX) {
-        snapshotX[i] = xi;
-        snapshotV[i] = vi;
+    if (!gateOpen(a.gate)) return;
+    if (a.reset && i == 0) resetWords(a.reset);
+    if (i >= a.n) return;
+    Vec3<Real> xi = a.x[i], vi = a.v[i];
+    if (a.snapshotX) {
+        a.snapshotX[i] = xi;
+        a.snapshotV[i] = vi;
     }
-    verletKick(vi, acc[i], h);
-    verletDrift(xi, vi, dt);
-    v[i] = vi;
-    x[i] = xi;
+    verletKick(vi, a.a[i], a.h);
+    verletDrift(xi, vi, a.dt);
+    (a.vOut ? a.vOut : const_cast<Vec3<Real>*>(a.v))[i] = vi;
+    (a.xOut ? a.xOut : const_cast<Vec3<Real>*>(a.x))[i] = xi;
 }
+
+__global__ void openRunAheadKernel(const StepWords* words, unsigned int* gate) { *gate = runAheadOpen(*words) ? 1u : 0u; }
 
 }  // namespace
 
@@ -63,17 +65,20 @@ void launchStepCheck(const StepCheckArgs<Real>& a, cudaStream_t stream) {
 }
 
 template <class Real>
-void launchKickDrift(Vec3<Real>* x, Vec3<Real>* v, const Vec3<Real>* a, int64_t n, Real h, Real dt, Vec3<Real>* snapshotX,
-                     Vec3<Real>* snapshotV, StepWords* reset, cudaStream_t stream) {
-    if (n <= 0 && !reset) return;
-    kickDriftKernel<Real><<<blocksFor(n > 0 ? n : 1), kBlock, 0, stream>>>(x, v, a, n, h, dt, snapshotX, snapshotV, reset);
+void launchKickDrift(const KickDriftArgs<Real>& a, cudaStream_t stream) {
+    if (a.n <= 0 && !a.reset) return;
+    kickDriftKernel<Real><<<blocksFor(a.n > 0 ? a.n : 1), kBlock, 0, stream>>>(a);
     checkLaunch("kick-drift kernel");
+}
+
+void launchOpenRunAhead(const StepWords* words, unsigned int* gate, cudaStream_t stream) {
+    openRunAheadKernel<<<1, 1, 0, stream>>>(words, gate);
+    checkLaunch("run-ahead gate kernel");
 }
 
 #define COREBOX_INSTANTIATE(Real)                                                                            \
     template void launchStepCheck<Real>(const StepCheckArgs<Real>&, cudaStream_t);                           \
-    template void launchKickDrift<Real>(Vec3<Real>*, Vec3<Real>*, const Vec3<Real>*, int64_t, Real, Real, Vec3<Real>*, \
-                                        Vec3<Real>*, StepWords*, cudaStream_t);
+    template void launchKickDrift<Real>(const KickDriftArgs<Real>&, cudaStream_t);
 COREBOX_INSTANTIATE(float)
 COREBOX_INSTANTIATE(double)
 #undef COREBOX_INSTANTIATE

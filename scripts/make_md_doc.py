@@ -24,7 +24,9 @@ benchmarks in a walled box, number density 0.8, T = 1.5 from a lattice, r_c = 2.
 skin 0.3, velocity Verlet with dt = 0.002, no thermostat. Each configuration is a fresh run from the
 same starting state: three warm-up steps, then steps for at least `--min-seconds`. A full step is
 timed (forces, integration, the hard-core collision stage: wall reflections, event search, contact
-listing). LAMMPS (Debian's `lammps`, `mpirun -np 2 lmp`, `pair_style lj/cut 2.5`, `fix nve`,
+listing). The `forces ms` and `collisions ms` columns come from a quarter as many steps that follow,
+timed by phase (on a GPU by device events, launches of their own that the timed steps leave out;
+records before 2026-11-27 timed both in the same steps). LAMMPS (Debian's `lammps`, `mpirun -np 2 lmp`, `pair_style lj/cut 2.5`, `fix nve`,
 `fix wall/reflect` where corebox's walls stop a centre, `neighbor 0.3 bin`, `neigh_modify every 1
 delay 0 check yes`) runs on the same starting state in the same benchmark run, timed by its own loop
 time. `forces` is the model corebox ran: `neighbour_list` (Verlet lists, rebuilt when a particle

@@ -65,6 +65,7 @@ struct ForceCounters {
     int64_t refreshedParticles = 0;  // accelerations recomputed by the refreshes
     int64_t listBuilds = 0;
     int64_t allPairsEvaluations = 0;  // pair evaluations of the all-pairs full passes (ordered pairs, or each pair once)
+    int64_t stepsRunAhead = 0;        // steps whose kick-drift and force pass ran before the host asked (CUDA)
 };
 
 // What runImpactRounds did: the rounds run, and whether the last found no event.

@@ -106,11 +106,11 @@ StepReport Simulation::step() {
     Backend& backend = *m_backend;
     backend.keepSnapshot();
     StepReport report;
-    backend.markPhase(StepPhase::Integrate);
+    if (m_phaseTiming) backend.markPhase(StepPhase::Integrate);
     m_driver.integrate(backend, report);
-    backend.markPhase(StepPhase::Collide);
+    if (m_phaseTiming) backend.markPhase(StepPhase::Collide);
     resolveCollisions(backend, collisionSettingsFor(m_scene.interaction, report.dt, m_smallestContact), report);
-    backend.markPhase(StepPhase::Done);
+    if (m_phaseTiming) backend.markPhase(StepPhase::Done);
     // Collisions moved some particles: Verlet's cached accelerations are stale for them and their
     // neighbours. A backend that can bring them up to date for just those keeps the cache; otherwise
     // the next step pays a full force pass.
@@ -139,10 +139,12 @@ StepReport Simulation::step() {
     const double kinetic = check.kinetic;
     const HealthReport& health = check.health;
     // Read after the check, whose wait has already covered the marked phases.
-    const PhaseSeconds seconds = backend.phaseSeconds();
-    report.secondsForces = seconds.forces;
-    report.secondsIntegrate = seconds.integrate;
-    report.secondsCollide = seconds.collide;
+    if (m_phaseTiming) {
+        const PhaseSeconds seconds = backend.phaseSeconds();
+        report.secondsForces = seconds.forces;
+        report.secondsIntegrate = seconds.integrate;
+        report.secondsCollide = seconds.collide;
+    }
     if (!health.ok()) {
         std::ostringstream detail;
         if (health.nonFinite > 0) detail << health.nonFinite << " particle(s) with non-finite position or velocity";

@@ -62,6 +62,10 @@ public:
     // fixed steps.
     void limitNextStep(double dt) { m_driver.limitNextDt(dt); }
 
+    // Whether step() times its phases (StepReport::secondsForces, Integrate, Collide: device marks on a
+    // GPU, a few launches a step); on by default. Off, those stay 0 and a GPU step costs that less.
+    void setPhaseTiming(bool on) { m_phaseTiming = on; }
+
     void setStepParameters(const StepParameters& parameters);
     // An edit of the particles between steps (added, removed, moved, kicked; species added), as the
     // library's World makes them: `state` and `species` replace the old ones (species counts follow
@@ -121,6 +125,7 @@ private:
     double m_lastKinetic = 0;
     std::vector<int64_t> m_countPerSpecies;
     ForceChoice m_forceChoice;
+    bool m_phaseTiming = true;
 };
 
 }  // namespace corebox

@@ -65,6 +65,7 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
     }
     m_pairsOnce = options.pairsOnce;
     m_fusedSteps = options.fusedSteps;
+    m_runAheadEnabled = options.fusedSteps && options.runAhead;
     m_gaussSeidelContacts = options.gaussSeidelContacts;
     const bool peerAccess = peerAccessProblem(devicesOf(options)).empty();
     m_pairsOnceAcross = options.pairsOnce && options.gpus > 1 && peerAccess;
@@ -73,6 +74,7 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
     cudaCheck(cudaSetDevice(home().device), "cudaSetDevice");
     for (PhaseEvents& set : m_phaseSets)
         for (cudaEvent_t& e : set.marks) cudaCheck(cudaEventCreate(&e), "cudaEventCreate");
+    cudaCheck(cudaEventCreateWithFlags(&m_mailCopied, cudaEventDisableTiming), "cudaEventCreate");
     m_counters.resize(3);
     // findEvents reads all three back, the log's count even when no step has logged.
     cudaCheck(cudaMemsetAsync(m_counters.data(), 0, 3 * sizeof(unsigned int), stream()), "memset");
@@ -88,6 +90,7 @@ CudaDevice<Real>::~CudaDevice() {
         cudaStreamSynchronize(s.stream);
     }
     cudaSetDevice(home().device);
+    if (m_mailCopied) cudaEventDestroy(m_mailCopied);
     for (PhaseEvents& set : m_phaseSets) {
         for (cudaEvent_t e : set.marks) cudaEventDestroy(e);
         for (cudaEvent_t e : set.forces) cudaEventDestroy(e);
@@ -321,7 +324,7 @@ void CudaDevice<Real>::markPhase(StepPhase phase) {
         phaseEvents().forceEvents = 0;
         phaseEvents().unread = false;
     }
-    m_timingForces = phase == StepPhase::Integrate;
+    m_timingWindow = phase == StepPhase::Integrate ? 0 : phase == StepPhase::Collide ? 1 : -1;
     cudaCheck(cudaEventRecord(phaseEvents().marks[int(phase)], stream()), "event");
     if (phase == StepPhase::Done) phaseEvents().unread = true;
 }
@@ -329,17 +332,18 @@ void CudaDevice<Real>::markPhase(StepPhase phase) {
 template <class Real>
 void CudaDevice<Real>::addPhases(PhaseEvents& set, PhaseSeconds& s) {
     float ms = 0;
-    double forces = 0;
+    double forces[2] = {0, 0};  // in the integrate and the collide window
     for (size_t k = 0; k + 1 < set.forceEvents; k += 2) {
+        ms = 0;
         cudaEventElapsedTime(&ms, set.forces[k], set.forces[k + 1]);
-        forces += ms;
+        forces[set.forceWindow[k] != 0] += ms;
     }
     float integrate = 0, collide = 0;
     cudaEventElapsedTime(&integrate, set.marks[0], set.marks[1]);
     cudaEventElapsedTime(&collide, set.marks[1], set.marks[2]);
-    s.forces += 1e-3 * forces;
-    s.integrate += 1e-3 * (double(integrate) - forces);
-    s.collide += 1e-3 * double(collide);
+    s.forces += 1e-3 * (forces[0] + forces[1]);
+    s.integrate += 1e-3 * (double(integrate) - forces[0]);
+    s.collide += 1e-3 * (double(collide) - forces[1]);
     set.unread = false;
 }
 

@@ -27,6 +27,10 @@ struct CudaBackendOptions {
     // and without pair forces the impact rounds queued in batches (runImpactRounds);
     // false: every operation on its own (the same bits, for comparison and tests).
     bool fusedSteps = true;
+    // With fusedSteps, one GPU and Verlet on screened lists: the next step's kick-drift and force pass
+    // queued behind a device-side gate before the host waits for this step's stage, into buffers of
+    // their own (cuda_device.h: running ahead); false: after the wait (the same bits, for comparison).
+    bool runAhead = true;
     // The contact phase's sweeps: Gauss-Seidel in colours (kernels/contact_gauss_seidel.cu), as the
     // CPU relaxes contacts; false: accelerated Jacobi sweeps (contact_relaxation.h: relaxParticle), for
     // comparison and tests. A listing whose contacts need more than gpu::kMaxContactColours colours is

@@ -258,6 +258,42 @@ private:
     bool m_checkCached = false;
     StepCheck m_cachedCheck;
     bool canResolveOnDevice() const;
+
+    // ---- running ahead (cuda_step.cpp) ----
+    // Design note. With the step's one wait gone to the stage, what is left between two Verlet steps
+    // is the host's own time, the device idle: reading the stage's words, the core's bookkeeping, the
+    // next launches (an LJ fluid of 64000 on an H200: 0.135 ms a step, 0.06 of it kernels). So,
+    // before it waits for the stage's words, resolveOnDevice queues the next step's kickDrift and
+    // force pass (with its kick and screen) behind a gate the device opens only where runAheadOpen
+    // says the step is finished (gpu_launch.h: nothing left for the host, the lists good, every
+    // particle sound), and waits on the copy of the words, not on the stream: the device computes the
+    // next step while the host reads this one. The step it ran ahead writes other buffers (m_ahead*),
+    // so everything that reads the state between steps reads this step's; the next kickDrift, if it
+    // asks for the same h and dt with nothing changed since (beforeStateChange forgets it), takes
+    // those buffers as the state instead of launching, and accelerateAndKick has nothing left to do.
+    // Where the step was not finished the gate stayed shut and nothing ran. The arithmetic is the
+    // separate launches' (same kernels, same inputs), so running ahead gives the same bits
+    // (tests/gpu/test_cuda_neighbour_list.cpp compares both). That fluid: 0.118 ms a step with it
+    // (8478 steps/s, the phase marks off); 90% of its steps ran ahead, the others rebuilt the lists
+    // (a step that rebuilds cannot run ahead: the build waits for its size) or listed wall contacts.
+    bool m_runAheadEnabled = true;  // CudaBackendOptions::runAhead
+    struct RunAhead {
+        bool launched = false;   // queued by the last resolveOnDevice, not yet taken or forgotten
+        bool open = false;       // the host's reading of the gate (runAheadOpen of the words)
+        bool committed = false;  // taken by kickDrift: accelerateAndKick(h) is done
+        double h = 0, dt = 0;
+    } m_runAhead;
+    bool m_lastWasKickDrift = false;  // no other integration call since the last kickDrift
+    bool m_verletSteps = false;       // the last accelerateAndKick(h) followed kickDrift(h, dt): Verlet's step
+    int64_t m_stepsRunAhead = 0;      // ForceCounters::stepsRunAhead
+    // The step run ahead's state, and its snapshot (the state before it, kept as kickDrift keeps it):
+    // a snapshot of its own, so that a step the host then fails still finds the one before.
+    DeviceBuffer<Vec3<Real>> m_aheadX, m_aheadV, m_aheadA, m_aheadSnapshotX, m_aheadSnapshotV;
+    DeviceBuffer<unsigned int> m_runAheadGate;
+    cudaEvent_t m_mailCopied = nullptr;
+    bool screensAtX() const;  // a force pass at X on these lists also screens the stage
+    void launchRunAhead();
+    bool takeRunAhead(double h, double dt);
     StageScreen resolveOnDevice(const ImpactWindow<double>& window);
     // The lists' forecast (StepCheckArgs with xBuilt set) when there is one to make, else no xBuilt;
     // queueForecast queues it alone (returns whether).
@@ -289,6 +325,7 @@ private:
     struct PhaseEvents {
         cudaEvent_t marks[3] = {};
         std::vector<cudaEvent_t> forces;
+        std::vector<unsigned char> forceWindow;  // the pair's window: 0 integrate, 1 collide (a pass run ahead)
         size_t forceEvents = 0;
         bool unread = false;  // all three marks recorded, not reported yet
     };
@@ -338,7 +375,7 @@ private:
     DeviceBuffer<int32_t> m_movedList;
     DeviceBuffer<unsigned int> m_movedCount;
     bool refreshAllPairs();
-    bool m_timingForces = false;  // between the Integrate and Collide marks
+    int m_timingWindow = -1;  // the window being timed: 0 between the Integrate and Collide marks, 1 to Done
 
     DeviceBuffer<Vec3<Real>> m_scratch, m_contactAcceleration;
     mutable DeviceBuffer<Vec3<Real>> m_snapshotX, m_snapshotV;  // mutable: a deferred snapshot is taken when read

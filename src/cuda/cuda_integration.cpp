@@ -42,13 +42,15 @@ gpu::ForceArgs<Real> CudaDevice<Real>::homeForceArgs(const Vec3<Real>* x, Vec3<R
 
 template <class Real>
 void CudaDevice<Real>::markForceTime() {
-    if (!m_timingForces) return;  // outside a step (energies, benchmarks): nothing to attribute the time to
+    if (m_timingWindow < 0) return;  // outside a step (energies, benchmarks): nothing to attribute the time to
     PhaseEvents& set = phaseEvents();
     if (set.forceEvents + 1 > set.forces.size()) {
         cudaEvent_t e;
         cudaCheck(cudaEventCreate(&e), "cudaEventCreate");
         set.forces.push_back(e);
+        set.forceWindow.push_back(0);
     }
+    set.forceWindow[set.forceEvents] = (unsigned char)m_timingWindow;
     cudaCheck(cudaEventRecord(set.forces[set.forceEvents], stream()), "event");
     ++set.forceEvents;
 }
@@ -75,8 +77,7 @@ bool CudaDevice<Real>::forcePass(int stage, bool kick, double kickH) {
     auto positions = [&](Replica<Real>& r) { return stage < 0 ? r.x.data() : r.xStage.data(); };
     // Lists hold every pair closer than the cutoff: the screen sees every pair within reach only if
     // the largest reach is below it.
-    const bool screen = stage < 0 && gpuCount() == 1 && useLists() && m_screenGap >= 0 &&
-                        screenReach(2 * m_model.maxRadius(), m_screenGap) < m_model.cutoff;
+    const bool screen = stage < 0 && screensAtX();
     std::vector<void*> buffers;
     for (auto& r : m_replicas) buffers.push_back(positions(*r));
     m_exchange->share(buffers, sizeof(Vec3<Real>));
@@ -267,6 +268,7 @@ ForceCounters CudaDevice<Real>::forceCounters() const {
     c.fullPasses = m_fullPasses;
     c.refreshes = m_refreshes;
     c.allPairsEvaluations = m_allPairsEvaluations;
+    c.stepsRunAhead = m_stepsRunAhead;
     for (const auto& r : m_replicas) c.listBuilds += r->list.builds();
     return c;
 }

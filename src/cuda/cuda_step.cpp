@@ -38,6 +38,8 @@ void CudaDevice<Real>::takeSnapshot() const {
 template <class Real>
 void CudaDevice<Real>::beforeStateChange(bool forcePassAtX) {
     takeSnapshot();
+    m_runAhead.launched = false;  // what ran ahead started from the state about to change
+    m_lastWasKickDrift = false;
     m_checkCached = false;
     if (!forcePassAtX) {
         m_forecast.stage = 0;
@@ -52,6 +54,7 @@ void CudaDevice<Real>::kickDrift(double h, double dt) {
         Backend::kickDrift(h, dt);
         return;
     }
+    if (takeRunAhead(h, dt)) return;
     // The forecast was made for exactly this kick-drift: it survives it (and only it).
     const bool forecastHolds = m_forecast.stage == 1 && m_kickDriftKnown && h == m_kickDriftH && dt == m_kickDriftDt;
     const ListForecast forecast = m_forecast;
@@ -67,9 +70,17 @@ void CudaDevice<Real>::kickDrift(double h, double dt) {
     const bool resetWords = gpuCount() == 1;  // for the screening pass that follows
     onEachGpu([&](int k, Replica<Real>& r) {
         const DeviceSlice& s = slice(k);
-        gpu::launchKickDrift(r.x.data() + s.begin, r.v.data() + s.begin, r.acceleration.data(), s.size(), Real(h), Real(dt),
-                             snapshot ? m_snapshotX.data() : nullptr, snapshot ? m_snapshotV.data() : nullptr,
-                             resetWords ? stepWords() : nullptr, s.stream);
+        gpu::KickDriftArgs<Real> a{};
+        a.x = r.x.data() + s.begin;
+        a.v = r.v.data() + s.begin;
+        a.a = r.acceleration.data();
+        a.n = s.size();
+        a.h = Real(h);
+        a.dt = Real(dt);
+        a.snapshotX = snapshot ? m_snapshotX.data() : nullptr;
+        a.snapshotV = snapshot ? m_snapshotV.data() : nullptr;
+        a.reset = resetWords ? stepWords() : nullptr;
+        gpu::launchKickDrift(a, s.stream);
     });
     m_snapshotPending = false;
     m_wordsFresh = resetWords;
@@ -79,6 +90,7 @@ void CudaDevice<Real>::kickDrift(double h, double dt) {
     m_accelerationMatchesX = false;
     m_listAtX = false;
     m_homeCurrent = gpuCount() == 1;
+    m_lastWasKickDrift = true;
 }
 
 template <class Real>
@@ -87,8 +99,97 @@ void CudaDevice<Real>::accelerateAndKick(double h) {
         Backend::accelerateAndKick(h);
         return;
     }
+    if (m_runAhead.committed) {  // the pass ran ahead with the kick of the kickDrift it followed
+        m_runAhead.committed = false;
+        if (h != m_runAhead.h) throw std::logic_error("accelerateAndKick: the step that ran ahead kicked by another h");
+        return;
+    }
+    m_verletSteps = m_lastWasKickDrift && h == m_kickDriftH;
     beforeStateChange(true);
     if (!forcePass(-1, true, h)) kick(h);
+}
+
+template <class Real>
+bool CudaDevice<Real>::screensAtX() const {
+    return gpuCount() == 1 && useLists() && m_screenGap >= 0 && screenReach(2 * m_model.maxRadius(), m_screenGap) < m_model.cutoff;
+}
+
+// The next step's kickDrift and force pass, behind the device's gate (design note in cuda_device.h),
+// into the ahead buffers: what kickDrift(m_kickDriftH, m_kickDriftDt) and accelerateAndKick would
+// launch, but for where they write.
+template <class Real>
+void CudaDevice<Real>::launchRunAhead() {
+    cudaStream_t s = stream();
+    Replica<Real>& r = home();
+    const size_t n = size_t(m_n);
+    m_aheadX.resize(n);
+    m_aheadV.resize(n);
+    m_aheadA.resize(n);
+    m_aheadSnapshotX.resize(n);
+    m_aheadSnapshotV.resize(n);
+    m_runAheadGate.resize(1);
+    gpu::launchOpenRunAhead(stepWords(), m_runAheadGate.data(), s);
+    const gpu::StageGate gate{m_runAheadGate.data(), 2u, nullptr};
+    gpu::KickDriftArgs<Real> a{};
+    a.x = r.x.data();
+    a.v = r.v.data();
+    a.a = r.acceleration.data();
+    a.xOut = m_aheadX.data();
+    a.vOut = m_aheadV.data();
+    a.n = m_n;
+    a.h = Real(m_kickDriftH);
+    a.dt = Real(m_kickDriftDt);
+    a.snapshotX = m_aheadSnapshotX.data();
+    a.snapshotV = m_aheadSnapshotV.data();
+    a.reset = stepWords();
+    a.gate = gate;
+    gpu::launchKickDrift(a, s);
+    gpu::ForceArgs<Real> f = forceArgs(0, m_aheadX.data(), m_aheadA.data());
+    r.list.fill(f);
+    f.kickV = m_aheadV.data();
+    f.kickH = Real(m_kickDriftH);
+    f.screen = stepWords()->screen;
+    f.box = m_box;
+    f.contactGap = Real(m_screenGap);
+    f.gate = gate;
+    launchTimedForces(f);
+    m_runAhead = RunAhead{true, false, false, m_kickDriftH, m_kickDriftDt};
+}
+
+// kickDrift(h, dt) where the step ran ahead: the ahead buffers become the state, as the kickDrift and
+// force pass that ran would have left it.
+template <class Real>
+bool CudaDevice<Real>::takeRunAhead(double h, double dt) {
+    const RunAhead ahead = m_runAhead;
+    m_runAhead = RunAhead{};
+    if (!(ahead.launched && ahead.open && h == ahead.h && dt == ahead.dt && gpuCount() == 1)) return false;
+    if (m_snapshotPending) {  // the state before this step, as the kernel that ran ahead kept it
+        std::swap(m_snapshotX, m_aheadSnapshotX);
+        std::swap(m_snapshotV, m_aheadSnapshotV);
+        m_snapshotPending = false;
+    }
+    Replica<Real>& r = home();
+    std::swap(r.x, m_aheadX);
+    std::swap(r.v, m_aheadV);
+    std::swap(r.acceleration, m_aheadA);
+    m_checkCached = false;
+    m_forecast.stage = 0;
+    m_speculated = m_speculatedRefresh = false;
+    m_wordsFresh = true;  // reset by the kickDrift that ran, screened by the pass
+    m_kickDriftH = h;
+    m_kickDriftDt = dt;
+    m_kickDriftKnown = true;
+    m_lastWasKickDrift = false;
+    m_homeCurrent = true;
+    ++m_fullPasses;
+    ++m_stepsRunAhead;
+    m_accelerationMatchesX = true;
+    m_screenPending = true;
+    m_listAtX = true;
+    m_accelerationIncremental = false;
+    m_runAhead.committed = true;
+    m_runAhead.h = h;
+    return true;
 }
 
 // The stage on the device (design note in cuda_device.h): one GPU, the screen of the pass at X in
@@ -132,10 +233,14 @@ StageScreen CudaDevice<Real>::resolveOnDevice(const ImpactWindow<double>& window
     const bool forecast = queueForecast();
     cudaCheck(cudaMemcpyAsync(m_hostStepMail.data(), m_stepMail.data(), m_stepMail.size() * sizeof(double), cudaMemcpyDeviceToHost, s),
               "step words");
-    sync();
+    cudaCheck(cudaEventRecord(m_mailCopied, s), "event");
+    const bool runAhead = m_runAheadEnabled && forecast && m_verletSteps && m_kickDriftKnown && screensAtX();
+    if (runAhead) launchRunAhead();
+    cudaCheck(cudaEventSynchronize(m_mailCopied), "step words");
 
     m_wordsFresh = false;
     const gpu::StepWords& words = hostStepWords();
+    m_runAhead.open = runAhead && gpu::runAheadOpen(words);
     const StageScreen verdict = StageScreen(words.stage);
     // The check read the state as the stage leaves it on the device: as it is now for Quiet and
     // WallsOnly, as the integration left it for Full (which the rounds may yet change: beforeStateChange).

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 #include <tuple>
+#include <vector>
 #include <memory>
 #include <string>
 
@@ -224,6 +225,73 @@ TEST(CudaNeighbourList, TheOneWaitStepGivesTheBitsOfSeparateOperations) {
         EXPECT_GT(std::get<2>(fused)[StageScreen::WallsOnly], 0);
         EXPECT_GT(std::get<4>(fused), 0) << "walls were hit";
         EXPECT_GT(std::get<3>(run(colliding, true, 120)), 0) << "cores met";
+    }
+}
+
+// Running ahead (cuda_device.h) moves when the next step's kick-drift and force pass run, not what they
+// compute: the same states, snapshots, screens, collisions, observables and list builds as the same
+// fused steps without it, with observables and state reads between the steps (which must see the
+// step just taken, not the one running ahead), in both precisions, with walls only, with cores that
+// meet (Full stages, where the gate stays shut) and with a thermostat that rescales every step (each
+// step that ran ahead forgotten).
+TEST(CudaNeighbourList, RunningAheadGivesTheBitsOfTheStepAfterTheWait) {
+    COREBOX_REQUIRE_GPU();
+    auto run = [](const Scene& scene, bool ahead, int steps) {
+        CudaBackendOptions options;
+        options.precision = scene.integrator.precision;
+        options.runAhead = ahead;
+        Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
+        std::map<StageScreen, int> screens;
+        int64_t pairs = 0, walls = 0;
+        std::vector<uint64_t> midway;
+        std::vector<double> energies;
+        for (int k = 0; k < steps; ++k) {
+            const StepReport r = sim.step();
+            ++screens[r.screen];
+            pairs += r.pairCollisions;
+            walls += r.wallCollisions;
+            if (k % 10 == 9) {
+                const ObservablesRow row = sim.observe();
+                energies.push_back(row.total());
+                midway.push_back(stateHash(sim.state()));
+            }
+        }
+        return std::make_tuple(stateHash(sim.state()), stateHash(sim.backend().snapshot()), screens, pairs, walls, energies, midway,
+                               sim.backend().forceCounters().listBuilds, sim.backend().forceCounters().stepsRunAhead);
+    };
+    for (Precision p : {Precision::Fp32, Precision::Fp64}) {
+        Scene screened = liquid(ForceModel::NeighbourList, p);
+        for (SpeciesDef& s : screened.species) s.radius = 0.42;
+        screened.interaction.skin = 0.1;
+        Scene colliding = liquid(ForceModel::NeighbourList, p);
+        colliding.species[1].epsilon = 0;
+        colliding.species[1].radius = 0.5;
+        screened.interaction.skin = 0.3;  // fewer rebuilds, which no step runs ahead of
+        Scene thermostatted = screened;
+        thermostatted.thermostat.kind = ThermostatKind::Bussi;
+        thermostatted.thermostat.temperature = 1.0;
+        thermostatted.thermostat.tau = 0.1;
+        int scene = 0;
+        for (const Scene& s : {screened, colliding, thermostatted}) {
+            const auto ahead = run(s, true, 120), after = run(s, false, 120);
+            const std::string what = std::string(precisionName(p)) + ", scene " + std::to_string(scene);
+            EXPECT_EQ(std::get<0>(ahead), std::get<0>(after)) << what << ": the state";
+            EXPECT_EQ(std::get<1>(ahead), std::get<1>(after)) << what << ": the snapshot";
+            EXPECT_EQ(std::get<2>(ahead), std::get<2>(after)) << what << ": the screens";
+            EXPECT_EQ(std::get<3>(ahead), std::get<3>(after)) << what << ": pair collisions";
+            EXPECT_EQ(std::get<4>(ahead), std::get<4>(after)) << what << ": wall collisions";
+            EXPECT_EQ(std::get<5>(ahead), std::get<5>(after)) << what << ": the energies observed";
+            EXPECT_EQ(std::get<6>(ahead), std::get<6>(after)) << what << ": the states read midway";
+            EXPECT_EQ(std::get<7>(ahead), std::get<7>(after)) << what << ": list builds";
+            EXPECT_EQ(std::get<8>(after), 0) << what;
+            if (scene == 0) {  // 21 of 120 on an H200: the rebuilds, the wall contacts and the observations between steps stop the others
+                EXPECT_GE(std::get<8>(ahead), 12) << what << ": steps ran ahead";
+            }
+            if (scene == 2) {
+                EXPECT_EQ(std::get<8>(ahead), 0) << what << ": the thermostat changes every step's velocities";
+            }
+            ++scene;
+        }
     }
 }
 
