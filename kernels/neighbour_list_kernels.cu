@@ -31,11 +31,12 @@
 namespace corebox::gpu {
 namespace {
 
-// The warp build's sort key of partner j with kLanes lanes (a power of two): the residue j % kLanes
-// in the top bits, j / kLanes below, which orders by (j % kLanes, j) in shifts alone for any j an int
-// holds; and back.
+// The warp build's sort key of partner j with kLanes lanes (4 or 8): the residue j % kLanes in the top
+// bits, j / kLanes below, which orders by (j % kLanes, j) in shifts alone, keys distinct for
+// j < 2^(31 - log2 kLanes) (the warp build serves n <= 524288, gpu_launch.h listLanes); and back.
 template <int kLanes>
 __device__ inline int32_t laneKey(int32_t j) {
+    static_assert(kLanes == 4 || kLanes == 8, "the warp build's lane counts");
     constexpr int kBits = kLanes == 8 ? 3 : kLanes == 4 ? 2 : 1;
     return int32_t((unsigned(j) & unsigned(kLanes - 1)) << (31 - kBits) | (unsigned(j) >> kBits));
 }

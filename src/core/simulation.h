@@ -64,7 +64,10 @@ public:
 
     // Whether step() times its phases (StepReport::secondsForces, Integrate, Collide: device marks on a
     // GPU, a few launches a step); on by default. Off, those stay 0 and a GPU step costs that less.
-    void setPhaseTiming(bool on) { m_phaseTiming = on; }
+    void setPhaseTiming(bool on) {
+        if (on && !m_phaseTiming) m_backend->phaseSeconds();  // what was left unread is no step of the next report
+        m_phaseTiming = on;
+    }
 
     void setStepParameters(const StepParameters& parameters);
     // An edit of the particles between steps (added, removed, moved, kicked; species added), as the

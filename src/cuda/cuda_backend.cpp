@@ -287,6 +287,7 @@ HealthReport CudaDevice<Real>::health() {
 template <class Real>
 void CudaDevice<Real>::queueHealth() {
     gatherToHome();
+    forgetRunAhead();  // its words are about to be written
     gpu::StepWords* w = stepWords();
     m_wordsFresh = false;
     cudaCheck(cudaMemsetAsync(w->healthCounts, 0, sizeof w->healthCounts, stream()), "memset");
@@ -331,20 +332,25 @@ void CudaDevice<Real>::markPhase(StepPhase phase) {
 
 template <class Real>
 void CudaDevice<Real>::addPhases(PhaseEvents& set, PhaseSeconds& s) {
+    set.unread = false;
+    float integrate = 0, collide = 0;
+    if (cudaEventElapsedTime(&integrate, set.marks[0], set.marks[1]) != cudaSuccess ||
+        cudaEventElapsedTime(&collide, set.marks[1], set.marks[2]) != cudaSuccess) {
+        cudaGetLastError();  // marks not done (no wait since): the step goes unreported
+        return;
+    }
     float ms = 0;
     double forces[2] = {0, 0};  // in the integrate and the collide window
     for (size_t k = 0; k + 1 < set.forceEvents; k += 2) {
-        ms = 0;
-        cudaEventElapsedTime(&ms, set.forces[k], set.forces[k + 1]);
+        if (cudaEventElapsedTime(&ms, set.forces[k], set.forces[k + 1]) != cudaSuccess) {
+            cudaGetLastError();
+            ms = 0;
+        }
         forces[set.forceWindow[k] != 0] += ms;
     }
-    float integrate = 0, collide = 0;
-    cudaEventElapsedTime(&integrate, set.marks[0], set.marks[1]);
-    cudaEventElapsedTime(&collide, set.marks[1], set.marks[2]);
     s.forces += 1e-3 * (forces[0] + forces[1]);
     s.integrate += 1e-3 * (double(integrate) - forces[0]);
     s.collide += 1e-3 * (double(collide) - forces[1]);
-    set.unread = false;
 }
 
 // Without a wait: a step's Done mark, recorded after the stage's last wait, is often still in the

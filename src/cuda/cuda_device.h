@@ -283,6 +283,9 @@ private:
         bool committed = false;  // taken by kickDrift: accelerateAndKick(h) is done
         double h = 0, dt = 0;
     } m_runAhead;
+    // Open run-aheads forgotten in a row (a thermostat rescales every step: the pass that ran ahead is
+    // thrown away, after its cost was waited for); from two on, the next 32 stages do not run ahead.
+    int m_runAheadsForgotten = 0, m_runAheadPause = 0;
     bool m_lastWasKickDrift = false;  // no other integration call since the last kickDrift
     bool m_verletSteps = false;       // the last accelerateAndKick(h) followed kickDrift(h, dt): Verlet's step
     int64_t m_stepsRunAhead = 0;      // ForceCounters::stepsRunAhead
@@ -292,7 +295,8 @@ private:
     DeviceBuffer<unsigned int> m_runAheadGate;
     cudaEvent_t m_mailCopied = nullptr;
     bool screensAtX() const;  // a force pass at X on these lists also screens the stage
-    void launchRunAhead();
+    bool launchRunAhead();  // false where its buffers do not fit (running ahead is then off)
+    void forgetRunAhead();  // what ran ahead no longer matches the state or the step words
     bool takeRunAhead(double h, double dt);
     StageScreen resolveOnDevice(const ImpactWindow<double>& window);
     // The lists' forecast (StepCheckArgs with xBuilt set) when there is one to make, else no xBuilt;

@@ -38,7 +38,8 @@ void CudaDevice<Real>::takeSnapshot() const {
 template <class Real>
 void CudaDevice<Real>::beforeStateChange(bool forcePassAtX) {
     takeSnapshot();
-    m_runAhead.launched = false;  // what ran ahead started from the state about to change
+    forgetRunAhead();  // what ran ahead started from the state about to change
+    m_runAhead.committed = false;
     m_lastWasKickDrift = false;
     m_checkCached = false;
     if (!forcePassAtX) {
@@ -114,20 +115,32 @@ bool CudaDevice<Real>::screensAtX() const {
     return gpuCount() == 1 && useLists() && m_screenGap >= 0 && screenReach(2 * m_model.maxRadius(), m_screenGap) < m_model.cutoff;
 }
 
+template <class Real>
+void CudaDevice<Real>::forgetRunAhead() {
+    if (m_runAhead.launched && m_runAhead.open && ++m_runAheadsForgotten >= 2) {
+        m_runAheadsForgotten = 0;
+        m_runAheadPause = 32;
+    }
+    m_runAhead.launched = false;
+}
+
 // The next step's kickDrift and force pass, behind the device's gate (design note in cuda_device.h),
 // into the ahead buffers: what kickDrift(m_kickDriftH, m_kickDriftDt) and accelerateAndKick would
 // launch, but for where they write.
 template <class Real>
-void CudaDevice<Real>::launchRunAhead() {
+bool CudaDevice<Real>::launchRunAhead() {
     cudaStream_t s = stream();
     Replica<Real>& r = home();
     const size_t n = size_t(m_n);
-    m_aheadX.resize(n);
-    m_aheadV.resize(n);
-    m_aheadA.resize(n);
-    m_aheadSnapshotX.resize(n);
-    m_aheadSnapshotV.resize(n);
-    m_runAheadGate.resize(1);
+    try {  // five more arrays of n: where they do not fit, the steps go on without running ahead
+        for (DeviceBuffer<Vec3<Real>>* b : {&m_aheadX, &m_aheadV, &m_aheadA, &m_aheadSnapshotX, &m_aheadSnapshotV}) b->resize(n);
+        m_runAheadGate.resize(1);
+    } catch (const DeviceError&) {
+        cudaGetLastError();  // the failed cudaMalloc's error, which the next launch check would report
+        for (DeviceBuffer<Vec3<Real>>* b : {&m_aheadX, &m_aheadV, &m_aheadA, &m_aheadSnapshotX, &m_aheadSnapshotV}) *b = DeviceBuffer<Vec3<Real>>();
+        m_runAheadEnabled = false;
+        return false;
+    }
     gpu::launchOpenRunAhead(stepWords(), m_runAheadGate.data(), s);
     const gpu::StageGate gate{m_runAheadGate.data(), 2u, nullptr};
     gpu::KickDriftArgs<Real> a{};
@@ -154,6 +167,7 @@ void CudaDevice<Real>::launchRunAhead() {
     f.gate = gate;
     launchTimedForces(f);
     m_runAhead = RunAhead{true, false, false, m_kickDriftH, m_kickDriftDt};
+    return true;
 }
 
 // kickDrift(h, dt) where the step ran ahead: the ahead buffers become the state, as the kickDrift and
@@ -162,7 +176,13 @@ template <class Real>
 bool CudaDevice<Real>::takeRunAhead(double h, double dt) {
     const RunAhead ahead = m_runAhead;
     m_runAhead = RunAhead{};
-    if (!(ahead.launched && ahead.open && h == ahead.h && dt == ahead.dt && gpuCount() == 1)) return false;
+    if (!(ahead.launched && ahead.open && h == ahead.h && dt == ahead.dt && gpuCount() == 1)) {
+        m_runAhead = ahead;
+        forgetRunAhead();
+        m_runAhead.committed = false;
+        return false;
+    }
+    m_runAheadsForgotten = 0;
     if (m_snapshotPending) {  // the state before this step, as the kernel that ran ahead kept it
         std::swap(m_snapshotX, m_aheadSnapshotX);
         std::swap(m_snapshotV, m_aheadSnapshotV);
@@ -234,8 +254,12 @@ StageScreen CudaDevice<Real>::resolveOnDevice(const ImpactWindow<double>& window
     cudaCheck(cudaMemcpyAsync(m_hostStepMail.data(), m_stepMail.data(), m_stepMail.size() * sizeof(double), cudaMemcpyDeviceToHost, s),
               "step words");
     cudaCheck(cudaEventRecord(m_mailCopied, s), "event");
-    const bool runAhead = m_runAheadEnabled && forecast && m_verletSteps && m_kickDriftKnown && screensAtX();
-    if (runAhead) launchRunAhead();
+    bool runAhead = m_runAheadEnabled && forecast && m_verletSteps && m_kickDriftKnown && screensAtX();
+    if (runAhead && m_runAheadPause > 0) {
+        --m_runAheadPause;
+        runAhead = false;
+    }
+    if (runAhead) runAhead = launchRunAhead();
     cudaCheck(cudaEventSynchronize(m_mailCopied), "step words");
 
     m_wordsFresh = false;
@@ -323,6 +347,7 @@ StepCheck CudaDevice<Real>::checkStep() {
     }
     // The health counts, the kinetic row's block partials and the forecast, read back with one wait.
     gatherToHome();
+    forgetRunAhead();  // its words are about to be written
     cudaStream_t s = stream();
     gpu::StepWords* w = stepWords();
     m_wordsFresh = false;

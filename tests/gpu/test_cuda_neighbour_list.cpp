@@ -262,7 +262,6 @@ TEST(CudaNeighbourList, RunningAheadGivesTheBitsOfTheStepAfterTheWait) {
     for (Precision p : {Precision::Fp32, Precision::Fp64}) {
         Scene screened = liquid(ForceModel::NeighbourList, p);
         for (SpeciesDef& s : screened.species) s.radius = 0.42;
-        screened.interaction.skin = 0.1;
         Scene colliding = liquid(ForceModel::NeighbourList, p);
         colliding.species[1].epsilon = 0;
         colliding.species[1].radius = 0.5;
