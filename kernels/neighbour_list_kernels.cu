@@ -35,14 +35,18 @@ namespace {
 // bits, j / kLanes below, which orders by (j % kLanes, j) in shifts alone, keys distinct for
 // j < 2^(31 - log2 kLanes) (the warp build serves n <= 524288, gpu_launch.h listLanes); and back.
 template <int kLanes>
-__device__ inline int32_t laneKey(int32_t j) {
+constexpr int laneBits() {
     static_assert(kLanes == 4 || kLanes == 8, "the warp build's lane counts");
-    constexpr int kBits = kLanes == 8 ? 3 : kLanes == 4 ? 2 : 1;
+    return kLanes == 8 ? 3 : 2;
+}
+template <int kLanes>
+__device__ inline int32_t laneKey(int32_t j) {
+    constexpr int kBits = laneBits<kLanes>();
     return int32_t((unsigned(j) & unsigned(kLanes - 1)) << (31 - kBits) | (unsigned(j) >> kBits));
 }
 template <int kLanes>
 __device__ inline int32_t partnerOfKey(int32_t key) {
-    constexpr int kBits = kLanes == 8 ? 3 : kLanes == 4 ? 2 : 1;
+    constexpr int kBits = laneBits<kLanes>();
     return int32_t((unsigned(key) & ((1u << (31 - kBits)) - 1u)) << kBits | (unsigned(key) >> (31 - kBits)));
 }
 // A warp's scratch in the warp-per-row build: its keys as found, then in order; odd, so that the

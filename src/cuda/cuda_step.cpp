@@ -132,12 +132,13 @@ bool CudaDevice<Real>::launchRunAhead() {
     cudaStream_t s = stream();
     Replica<Real>& r = home();
     const size_t n = size_t(m_n);
+    DeviceBuffer<Vec3<Real>>* const buffers[] = {&m_aheadX, &m_aheadV, &m_aheadA, &m_aheadSnapshotX, &m_aheadSnapshotV};
     try {  // five more arrays of n: where they do not fit, the steps go on without running ahead
-        for (DeviceBuffer<Vec3<Real>>* b : {&m_aheadX, &m_aheadV, &m_aheadA, &m_aheadSnapshotX, &m_aheadSnapshotV}) b->resize(n);
+        for (DeviceBuffer<Vec3<Real>>* b : buffers) b->resize(n);
         m_runAheadGate.resize(1);
     } catch (const DeviceError&) {
         cudaGetLastError();  // the failed cudaMalloc's error, which the next launch check would report
-        for (DeviceBuffer<Vec3<Real>>* b : {&m_aheadX, &m_aheadV, &m_aheadA, &m_aheadSnapshotX, &m_aheadSnapshotV}) *b = DeviceBuffer<Vec3<Real>>();
+        for (DeviceBuffer<Vec3<Real>>* b : buffers) *b = DeviceBuffer<Vec3<Real>>();
         m_runAheadEnabled = false;
         return false;
     }
@@ -174,14 +175,9 @@ bool CudaDevice<Real>::launchRunAhead() {
 // force pass that ran would have left it.
 template <class Real>
 bool CudaDevice<Real>::takeRunAhead(double h, double dt) {
-    const RunAhead ahead = m_runAhead;
+    // Not this step's: kickDrift's beforeStateChange forgets it.
+    if (!(m_runAhead.launched && m_runAhead.open && h == m_runAhead.h && dt == m_runAhead.dt && gpuCount() == 1)) return false;
     m_runAhead = RunAhead{};
-    if (!(ahead.launched && ahead.open && h == ahead.h && dt == ahead.dt && gpuCount() == 1)) {
-        m_runAhead = ahead;
-        forgetRunAhead();
-        m_runAhead.committed = false;
-        return false;
-    }
     m_runAheadsForgotten = 0;
     if (m_snapshotPending) {  // the state before this step, as the kernel that ran ahead kept it
         std::swap(m_snapshotX, m_aheadSnapshotX);
