@@ -135,7 +135,7 @@ __global__ void resolveWallImpactsKernel(CollisionArgs<Real> a, const Vec3<Real>
 }
 
 // The one-wait step's stage (launchStageWalls): the verdict read from the screen by every thread, the
-// stage opened and its walls resolved where it is WallsOnly, then the step check of each particle.
+// stage opened and its walls resolved where it is WallsOnly, then the step check and forecast of each particle.
 template <class Real>
 __global__ void stageWallsKernel(CollisionArgs<Real> a, const Vec3<Real>* acceleration, Real contactGap, const Vec3<Real>* xBuilt,
                                  Real halfSkin2, StageOpening<Real> o) {
@@ -145,13 +145,13 @@ __global__ void stageWallsKernel(CollisionArgs<Real> a, const Vec3<Real>* accele
     const unsigned screen[3] = {w->screen[0], w->screen[1], w->screen[2]};
     const StageScreen verdict = screenVerdict(screen, o.scales);
     if (i == 0) w->stage = unsigned(verdict);
-    o.touched[i] = 0;
     if (verdict == StageScreen::WallsOnly) {
         if (a.hasContactAcceleration[i]) {  // as beginCollisions clears the rows the last stage wrote
             for (int r = 0; r <= kImpulseRows; ++r) a.impulses[size_t(r) * size_t(a.p.n) + size_t(i)] = 0;
             a.hasContactAcceleration[i] = 0;
         }
         resolveWallsOf(a, i, acceleration, contactGap, xBuilt, halfSkin2, w->wallStats);
+        if (a.hasContactAcceleration[i]) o.moved[warpAggregatedIncrement(&w->wallMoved)] = int32_t(i);
         const Vec3<Real> x = a.p.x[i], v = a.p.v[i];
         const Real radius = a.table.radius[a.p.species[i]];
         bool contact = false;
@@ -160,6 +160,7 @@ __global__ void stageWallsKernel(CollisionArgs<Real> a, const Vec3<Real>* accele
         if (contact) atomicAdd(&w->wallContacts, 1u);
     }
     checkParticle(HealthArgs<Real>{a.p, a.box, w->healthCounts, w->healthExamples}, a.table, i, o.kineticRow);
+    if (o.forecast.moves) forecastParticle(o.forecast, i, a.p.x[i], a.p.v[i], acceleration[i]);
 }
 
 // After resolution: a particle stays active when it had an event (resolved now or still pending).

@@ -54,7 +54,8 @@ __device__ inline unsigned int warpAggregatedIncrement(unsigned int* counter) {
 
 // StageGate (gpu_launch.h): whether a gated launch does its work.
 __device__ inline bool gateOpen(const StageGate& g) {
-    return !g.stage || (((g.stages >> *g.stage) & 1u) != 0u && (!g.clear || *g.clear == 0u));
+    const bool open = g.runAheadOf ? runAheadOpen(*g.runAheadOf, g.freshLists) : !g.stage || ((g.stages >> *g.stage) & 1u) != 0u;
+    return open && (!g.clear || *g.clear == 0u);
 }
 
 // Launch errors (bad configuration) surface at once; asynchronous faults at the next sync, where

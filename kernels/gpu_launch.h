@@ -38,15 +38,29 @@ struct SpeciesTable {
     int count;  // S
 };
 
+struct StepWords;
 // A launch that runs only when the collision stage the device decided for this step (StepWords::stage,
-// launchStageWalls) is one of `stages` (bit 1 << StageScreen) and, when `clear` is set, *clear is 0.
-// Null `stage`: always (every launch outside the one-wait step).
+// launchStageWalls) is one of `stages` (bit 1 << StageScreen), or, with runAheadOf set instead, where
+// runAheadOpen(*runAheadOf, freshLists) (every thread reads the words: no launch of its own to decide);
+// and, when `clear` is set, *clear is 0. Nothing set: always (every launch outside the one-wait step).
 struct StageGate {
     const unsigned int* stage = nullptr;
     unsigned int stages = 0;
     const unsigned int* clear = nullptr;
+    const StepWords* runAheadOf = nullptr;
+    bool freshLists = false;
 };
 constexpr unsigned int stageBit(StageScreen s) { return 1u << unsigned(s); }
+
+// launchBlockSums' arguments (reductions below), for a launch that sums alongside its own work (launchStageSumsAndRefresh).
+struct BlockSumArgs {
+    const double* values;
+    int64_t n;
+    double* partials;  // row r's partial of block b at [r * blocks + b]
+    int blocks;        // blockSumBlocks(n)
+    const char* mask;
+    int maskedRows;
+};
 
 // ---- forces (force_kernels.cu) ----
 // Most GPUs one simulation spreads over (the size of PeerSources below, passed by value to kernels).
@@ -59,6 +73,20 @@ struct PeerSources {
     const Vec3<Real>* x[kMaxGpus];
     int64_t chunk;
     int count;
+};
+
+// The lists' forecast of the next kick-drift (the one-wait step, src/cuda/cuda_step.cpp): *moves = 1 when
+// x + dt (v + h a) (the next kickDrift's arithmetic) lies farther than sqrt(limit2) from xBuilt
+// (indexed by particle). Off where moves is null.
+// With hint set, *hint = 1 also when a second such step (its kick taken as this one's) would: a guess of
+// the step after the next that lets the lists be built ahead (src/cuda/cuda_step.cpp), never relied on.
+template <class Real>
+struct ListForecastArgs {
+    const Vec3<Real>* v;  // the force pass's rows' velocities (ForceArgs::forecast); other users pass theirs
+    const Vec3<Real>* xBuilt;
+    Real h, dt, limit2;
+    unsigned int* moves;
+    unsigned int* hint;
 };
 
 template <class Real>
@@ -110,6 +138,8 @@ struct ForceArgs {
     // kickH a_i (verletKick, as launchVerletKick would after the pass: Backend::accelerateAndKick).
     Vec3<Real>* kickV;
     Real kickH;
+    // Lists only: each row's forecast (ListForecastArgs, with its v) from its new acceleration.
+    ListForecastArgs<Real> forecast;
     StageGate gate;  // lists only: the pass runs when the gate is open
 };
 template <class Real>
@@ -154,6 +184,7 @@ struct NeighbourListArgs {
     // laneStart (lanes x rows, ForceArgs::laneStart) says where each lane's partners begin.
     int lanes;
     int32_t* laneStart;
+    unsigned int* overflow;  // when set: 1 where some row has more partners than maxNeighbours (lists unusable)
 };
 template <class Real>
 void launchBuildNeighbourList(const NeighbourListArgs<Real>& args, cudaStream_t stream);
@@ -180,8 +211,16 @@ void launchListVirialRows(const ForceArgs<Real>& lists, double* row, cudaStream_
 // read in index order (coalesced), the lists only for the moved.
 template <class Real>
 void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, const char* moved, int64_t rows, const int32_t* rowOf,
-                      const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched, cudaStream_t stream,
-                      StageGate gate = {}, bool touchedCleared = false);
+                      const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched, cudaStream_t stream);
+// The end of the one-wait step's stage in one launch (its parts need only the stage pass before them):
+// launchBlockSums(sums, rows), and the accelerations of the rows the stage changed recomputed (with
+// ForceArgs' forecast), gated: those of the particles moved[0 .. *movedCount) (a count on the device)
+// and of their listed partners (lists of every particle: one GPU; `columns` their width). In place of
+// three launches (the sums, launchTouchMoved and a pass over its row mask: 4, 5 and 9 us on an H200
+// for the twenty-odd particles a step's walls move in an LJ fluid of 64000, and a gap between each).
+template <class Real>
+void launchStageSumsAndRefresh(const BlockSumArgs& sums, int rows, const ForceArgs<Real>& refresh, const int32_t* moved,
+                               const unsigned int* movedCount, int32_t columns, cudaStream_t stream);
 // *moved = 1 when some row of x[begin, end) is farther than halfSkin from xBuilt (row-indexed) or not
 // finite; reset to 0 by the launch.
 template <class Real>
@@ -489,41 +528,46 @@ struct StepWords {
     unsigned int wallStats[3];           // launchResolveWallImpacts' stats
     unsigned int stage;                  // the StageScreen the device read from the screen (launchStageWalls)
     unsigned int listForecast;           // StepCheckArgs: 1 when the next kick-drift takes some row past half the skin
+    unsigned int listHint;               // ListForecastArgs::hint: 1 when the one after it may
+    unsigned int wallMoved;              // launchStageWalls: the particles its walls moved (StageOpening::moved)
+    unsigned int listOverflow;           // NeighbourListArgs::overflow of a build the host did not wait for
     unsigned int wallContacts;           // launchStageWalls: particles with a wall contact to list after the impacts
 };
 // Zeroes the words, the screen's nearest ratio set to "none" (0xffffffff): before a screening pass.
 void launchResetStepWords(StepWords* words, cudaStream_t stream);
 // The one-wait step's stage in one pass (collision_kernels.cu): every thread reads the screen into a
 // verdict (screenVerdict, collision_screen.h: the host's reading, on the device; thread 0 records it
-// in words->stage) and clears its row of `touched`; where the verdict is WallsOnly, it opens the
+// in words->stage); where the verdict is WallsOnly, it opens the
 // stage as beginCollisions does (the impact rows of the particles the last stage flagged zeroed, the
 // flags cleared), resolves its particle's walls as launchResolveWallImpacts (stats in
 // words->wallStats) and counts it into words->wallContacts when it then has a wall contact the
 // contact phase would list (contact_relaxation.h wallContactActive with `resting`: with no pair
-// within reach, the listing's whole count); then it checks its particle (health words, kineticRow).
+// within reach, the listing's whole count) and lists it in `moved` when its walls moved it; then it
+// checks its particle (health words, kineticRow) and forecasts it (StageOpening::forecast).
 template <class Real>
 struct StageOpening {
     StepWords* words;
     ScreenScales scales;
     RestingContact<Real> resting;
-    unsigned char* touched;  // a list row per particle (one GPU), for the refresh's launchTouchMoved
     double* kineticRow;
+    int32_t* moved;  // the particles its walls moved, words->wallMoved of them (launchListRefresh)
+    // Each particle's forecast from the state the stage leaves and its acceleration before the refresh;
+    // the refresh's pass forecasts its rows again (an extra "beyond" at worst, from a row it changes).
+    ListForecastArgs<Real> forecast;
 };
 template <class Real>
 void launchStageWalls(const CollisionArgs<Real>& args, const Vec3<Real>* acceleration, Real contactGap, const Vec3<Real>* xBuilt,
                       Real halfSkin2, const StageOpening<Real>& opening, cudaStream_t stream);
 // The end of a step: with health.counts set, each particle's health (launchHealth) and kinetic energy
-// (into kineticRow, launchKineticRow); with xBuilt set, the lists' forecast: *moves = 1 when
-// x + dt (v + h a) (the next kickDrift's arithmetic) lies farther than sqrt(limit2) from xBuilt.
+// (into kineticRow, launchKineticRow); with forecast.moves set, the lists' forecast (ListForecastArgs)
+// from these accelerations.
 template <class Real>
 struct StepCheckArgs {
     HealthArgs<Real> health;
     SpeciesTable<Real> table;
     double* kineticRow;
     const Vec3<Real>* acceleration;
-    const Vec3<Real>* xBuilt;
-    Real h, dt, limit2;
-    unsigned int* moves;
+    ListForecastArgs<Real> forecast;
 };
 template <class Real>
 void launchStepCheck(const StepCheckArgs<Real>& args, cudaStream_t stream);
@@ -551,14 +595,14 @@ void launchKickDrift(const KickDriftArgs<Real>& args, cudaStream_t stream);
 // Whether the step these words close leaves nothing for the host to do before the next Verlet step
 // (src/cuda/cuda_step.cpp, running ahead): a quiet stage, or walls the device resolved with every
 // moved row within the lists and no wall contact to list; the lists good for the next kick-drift;
-// every particle finite and inside. Read alike on the device (launchOpenRunAhead) and on the host.
-COREBOX_HD inline bool runAheadOpen(const StepWords& w) {
+// every particle finite and inside. Read alike on the device (StageGate::runAheadOf) and on the host.
+// With freshLists, the step that runs ahead builds its own lists: the forecast does not matter.
+COREBOX_HD inline bool runAheadOpen(const StepWords& w, bool freshLists = false) {
     const bool stageDone = w.stage == unsigned(StageScreen::Quiet) ||
                            (w.stage == unsigned(StageScreen::WallsOnly) && w.wallStats[2] == 0 && (w.wallStats[1] == 0 || w.wallContacts == 0));
-    return stageDone && w.listForecast == 0 && w.healthCounts[0] == 0 && w.healthCounts[1] == 0;
+    return stageDone && (freshLists || w.listForecast == 0) && w.listOverflow == 0 && w.healthCounts[0] == 0 &&
+           w.healthCounts[1] == 0;
 }
-// *gate = 1 where runAheadOpen(*words), else 0 (a StageGate{gate, 2u} then opens on 1).
-void launchOpenRunAhead(const StepWords* words, unsigned int* gate, cudaStream_t stream);
 
 // ---- interop (interop_kernels.cu) ----
 // Writes the renderer's instances (particle_instance.h) into device memory: a mapped GL buffer or a

@@ -19,7 +19,9 @@
 // Tried and measured slower on an H200 (LJ liquid, fp32), so not done: an aligned 16-byte copy of x
 // for the force pass's partner reads (0.49 against 0.41 ms a pass at 10^6: the copy costs more than
 // the wider loads save); build cells of half the reach walked 5 x 5 x 5 (fewer candidates, but rows
-// in the finer cells' order slowed the force pass: 10^7 particles 10.5 against 9.7 ms a step).
+// in the finer cells' order slowed the force pass: 10^7 particles 10.5 against 9.7 ms a step; at
+// 64000 the warp build took 207 against 211 us, its issue slots 85% busy: bound by instructions, not
+// by the candidates' loads, and the pass took 43 against 41 us).
 // A full pass at the end of a Verlet step also screens the collision stage (screenRow below,
 // src/cuda/cuda_collisions.cpp: screenStage).
 #include <cuda_runtime.h>
@@ -27,6 +29,8 @@
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
 #include "rk_stage.h"
+#include "step_check.cuh"
+#include "block_sums.cuh"
 
 namespace corebox::gpu {
 namespace {
@@ -81,6 +85,7 @@ __global__ void buildListRowsKernel(NeighbourListArgs<Real> a) {
         }
     });
     a.neighbourCount[row] = count;
+    if (a.overflow && count > a.maxNeighbours) *a.overflow = 1u;
     // One atomic a warp: a million rows on one address would queue behind each other.
     const unsigned live = __activemask();
     const unsigned most = __reduce_max_sync(live, unsigned(count));
@@ -171,6 +176,7 @@ __global__ void buildListWarpsKernel(NeighbourListArgs<Real> a, int space) {
             a.neighbourCount[row] = count;
             // An atomic only above the largest seen so far: 10^6 rows on one address would queue.
             if (unsigned(count) > *static_cast<volatile unsigned*>(a.mostNeighbours)) atomicMax(a.mostNeighbours, unsigned(count));
+            if (a.overflow && count > a.maxNeighbours) *a.overflow = 1u;
         }
     }
     const bool store = row < rows && count <= a.maxNeighbours;  // else the list grows and is built again
@@ -249,8 +255,10 @@ inline int buildBlockFor(int32_t maxNeighbours) {
 // The build's shared space per row for its keys: maxNeighbours (at least a warp's width).
 inline int buildSpaceFor(int32_t maxNeighbours) { return maxNeighbours > 32 ? int(maxNeighbours) : 32; }
 
-// Warps per block of the warp-per-row build: up to 32 (1 KB kept for the static counts and the driver).
-inline int buildWarpsFor(int space) { return rowsThatFit(space, int64_t(buildRowStride(space)) * int64_t(sizeof(int32_t)), 1024, 32); }
+// Warps per block of the warp-per-row build: 8, fewer where their rows do not fit (1 KB kept for the
+// static counts and the driver). A block ends with its slowest row: 32 rows a block took 208 us for
+// 64000 rows of an LJ liquid on an H200, 8 took 188.
+inline int buildWarpsFor(int space) { return rowsThatFit(space, int64_t(buildRowStride(space)) * int64_t(sizeof(int32_t)), 1024, 8); }
 
 template <class Real>
 __global__ void listMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBuilt, int64_t begin, int64_t end, Real halfSkin2,
@@ -297,17 +305,11 @@ __device__ void screenRow(const ForceArgs<Real>& a, Vec3<Real> xi, Real ai, Real
 // With rowIndex (one GPU, whose lists have a row per particle) row k is particle rowIndex[begin + k]'s,
 // whose acceleration goes there: the collision stage's end-of-step accelerations of the particles
 // it resolves.
+// Row `row` of the lists, particle i's, into acceleration[out]; its kLanes lanes call this together
+// (the shuffles see the whole group).
 template <class Real, bool kEnergy, bool kSingleSpecies, int kLanes>
-__global__ void listForceKernel(ForceArgs<Real> a) {
-    const int64_t k = (int64_t(blockIdx.x) * blockDim.x + threadIdx.x) / kLanes;
-    const int lane = int(threadIdx.x % kLanes);
-    // A row's lanes live or leave together (same k): the shuffles below see the whole group.
-    if (k >= a.end - a.begin || !gateOpen(a.gate)) return;
+__device__ __forceinline__ void listForceRow(const ForceArgs<Real>& a, int64_t i, int64_t row, int64_t out, int lane) {
     const int64_t rows = a.listRows;
-    if (a.rowMask && !a.rowIndex && !a.rowMask[k]) return;  // a coalesced byte per row, nothing else read
-    const int64_t i = a.rowIndex ? int64_t(a.rowIndex[a.begin + k]) : int64_t(a.rowParticle[k]);
-    const int64_t row = a.rowIndex ? int64_t(a.rowOf[i]) : k;
-    const int64_t out = a.rowIndex ? i : i - a.begin;
     const Vec3<Real> xi = a.x[i];
     const int si = a.species[i];
     const int s = a.table.count;
@@ -378,6 +380,49 @@ __global__ void listForceKernel(ForceArgs<Real> a) {
     }
     if (kEnergy) a.pairEnergy[out] = energy;
     if (screen) screenRow(a, xi, ai, nearest);
+    if (a.forecast.moves) forecastParticle(a.forecast, out, xi, a.forecast.v[out], acceleration);
+}
+
+template <class Real, bool kEnergy, bool kSingleSpecies, int kLanes>
+__global__ void listForceKernel(ForceArgs<Real> a) {
+    const int64_t k = (int64_t(blockIdx.x) * blockDim.x + threadIdx.x) / kLanes;
+    const int lane = int(threadIdx.x % kLanes);
+    // A row's lanes live or leave together (same k).
+    if (k >= a.end - a.begin || !gateOpen(a.gate)) return;
+    if (a.rowMask && !a.rowIndex && !a.rowMask[k]) return;  // a coalesced byte per row, nothing else read
+    const int64_t i = a.rowIndex ? int64_t(a.rowIndex[a.begin + k]) : int64_t(a.rowParticle[k]);
+    const int64_t row = a.rowIndex ? int64_t(a.rowOf[i]) : k;
+    listForceRow<Real, kEnergy, kSingleSpecies, kLanes>(a, i, row, a.rowIndex ? i : i - a.begin, lane);
+}
+
+// launchStageSumsAndRefresh: the first sumRows x sums.blocks blocks sum, the others refresh. Item k of
+// moved x (columns + 1) is moved particle k / (columns + 1)'s own row (slot 0) or its partner's in
+// column slot - 1. A row two moved particles share is summed twice, to the same bits: nothing it reads
+// changes during the launch.
+template <class Real, int kLanes>
+__global__ void stageSumsAndRefreshKernel(BlockSumArgs sums, int sumRows, ForceArgs<Real> a, const int32_t* moved,
+                                          const unsigned int* movedCount, int32_t columns) {
+    const int sumBlocks = sums.blocks * sumRows;
+    if (int(blockIdx.x) < sumBlocks) {
+        blockSum(sums, int(blockIdx.x) % sums.blocks, int(blockIdx.x) / sums.blocks);
+        return;
+    }
+    if (!gateOpen(a.gate)) return;
+    const int lane = int(threadIdx.x % kLanes);
+    const int64_t block = int64_t(blockIdx.x) - sumBlocks;
+    const int64_t groups = (int64_t(gridDim.x) - sumBlocks) * blockDim.x / kLanes, slots = int64_t(columns) + 1;
+    const int64_t items = int64_t(*movedCount) * slots;
+    for (int64_t k = (block * blockDim.x + threadIdx.x) / kLanes; k < items; k += groups) {  // a group's lanes alike
+        const int64_t p = moved[k / slots], slot = k % slots;
+        int64_t i = p;
+        if (slot > 0) {
+            const int64_t row = a.rowOf[p];
+            if (slot > a.neighbourCount[row]) continue;
+            i = a.neighbours[(slot - 1) * a.listRows + row];
+        }
+        if (a.table.count == 1) listForceRow<Real, false, true, kLanes>(a, i, a.rowOf[i], i, lane);
+        else listForceRow<Real, false, false, kLanes>(a, i, a.rowOf[i], i, lane);
+    }
 }
 
 template <class Real>
@@ -411,10 +456,10 @@ __global__ void rowOrderKernel(const int32_t* sorted, int64_t n, int64_t begin, 
 // LJ fluid of 64000: 26 us a pass on an H200).
 template <class Real>
 __global__ void touchMovedKernel(const Vec3<Real>* x, const Vec3<Real>* xBefore, const char* moved, int64_t rows, const int32_t* rowOf,
-                                 const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched, StageGate gate) {
+                                 const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched) {
     const int64_t p = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     const int lane = int(threadIdx.x % 32);
-    bool mine = p < rows && gateOpen(gate);
+    bool mine = p < rows;
     if (mine) {
         if (moved) {
             mine = moved[p] != 0;
@@ -451,11 +496,10 @@ void launchListRowOrder(const CellListView& cells, int64_t n, int64_t begin, int
 
 template <class Real>
 void launchTouchMoved(const Vec3<Real>* x, const Vec3<Real>* xBefore, const char* moved, int64_t rows, const int32_t* rowOf,
-                      const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched, cudaStream_t stream,
-                      StageGate gate, bool touchedCleared) {
+                      const int32_t* neighbours, const int32_t* neighbourCount, unsigned char* touched, cudaStream_t stream) {
     if (rows <= 0) return;
-    if (!touchedCleared) cudaMemsetAsync(touched, 0, size_t(rows), stream);
-    touchMovedKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(x, xBefore, moved, rows, rowOf, neighbours, neighbourCount, touched, gate);
+    cudaMemsetAsync(touched, 0, size_t(rows), stream);
+    touchMovedKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(x, xBefore, moved, rows, rowOf, neighbours, neighbourCount, touched);
     checkLaunch("touched rows kernel");
 }
 
@@ -505,6 +549,23 @@ void launchListForcesWith(const ForceArgs<Real>& a, cudaStream_t stream) {
     checkLaunch("neighbour list force kernel");
 }
 
+// A grid for work the device counts (a stage's few hundred rows): two blocks an SM of an H200's 132,
+// whatever the count (none: every block leaves at once).
+constexpr unsigned kCountedGridBlocks = 264;
+
+template <class Real>
+void launchStageSumsAndRefresh(const BlockSumArgs& sums, int rows, const ForceArgs<Real>& a, const int32_t* moved,
+                               const unsigned int* movedCount, int32_t columns, cudaStream_t stream) {
+    static_assert(kReduceBlock == kBlock, "the sums' blocks and the refresh's are one launch's");
+    const unsigned blocks = unsigned(sums.blocks * rows) + kCountedGridBlocks;
+    switch (listLanes(a.n)) {
+        case 8: stageSumsAndRefreshKernel<Real, 8><<<blocks, kBlock, 0, stream>>>(sums, rows, a, moved, movedCount, columns); break;
+        case 4: stageSumsAndRefreshKernel<Real, 4><<<blocks, kBlock, 0, stream>>>(sums, rows, a, moved, movedCount, columns); break;
+        default: stageSumsAndRefreshKernel<Real, 1><<<blocks, kBlock, 0, stream>>>(sums, rows, a, moved, movedCount, columns); break;
+    }
+    checkLaunch("stage sums and refresh kernel");
+}
+
 // Called by launchForces (force_kernels.cu) when the args carry a list.
 template <class Real>
 void launchListForces(const ForceArgs<Real>& a, cudaStream_t stream) {
@@ -530,11 +591,15 @@ template void launchBuildNeighbourList<double>(const NeighbourListArgs<double>&,
 template void launchListVirialRows<float>(const ForceArgs<float>&, double*, cudaStream_t);
 template void launchListVirialRows<double>(const ForceArgs<double>&, double*, cudaStream_t);
 template void launchTouchMoved<float>(const Vec3<float>*, const Vec3<float>*, const char*, int64_t, const int32_t*, const int32_t*,
-                                      const int32_t*, unsigned char*, cudaStream_t, StageGate, bool);
+                                      const int32_t*, unsigned char*, cudaStream_t);
 template void launchTouchMoved<double>(const Vec3<double>*, const Vec3<double>*, const char*, int64_t, const int32_t*, const int32_t*,
-                                       const int32_t*, unsigned char*, cudaStream_t, StageGate, bool);
+                                       const int32_t*, unsigned char*, cudaStream_t);
 template void launchListMoved<float>(const Vec3<float>*, const Vec3<float>*, int64_t, int64_t, float, unsigned int*, cudaStream_t);
 template void launchListMoved<double>(const Vec3<double>*, const Vec3<double>*, int64_t, int64_t, double, unsigned int*, cudaStream_t);
+template void launchStageSumsAndRefresh<float>(const BlockSumArgs&, int, const ForceArgs<float>&, const int32_t*, const unsigned int*, int32_t,
+                                               cudaStream_t);
+template void launchStageSumsAndRefresh<double>(const BlockSumArgs&, int, const ForceArgs<double>&, const int32_t*, const unsigned int*, int32_t,
+                                                cudaStream_t);
 template void launchListForces<float>(const ForceArgs<float>&, cudaStream_t);
 template void launchListForces<double>(const ForceArgs<double>&, cudaStream_t);
 

@@ -5,31 +5,13 @@
 #include "gpu_launch.h"
 #include "energy_terms.h"
 #include "step_check.cuh"
+#include "block_sums.cuh"
 
 namespace corebox::gpu {
 namespace {
 
-constexpr int kReduceBlock = 256;
-constexpr int kItemsPerThread = 8;
-
 __global__ void blockSumsKernel(const double* values, int64_t n, double* partials, int blocks, const char* mask, int maskedRows) {
-    __shared__ double cache[kReduceBlock];
-    const int row = blockIdx.y;
-    if (maskedRows >= 0 && row >= maskedRows) mask = nullptr;
-    const double* v = values + size_t(row) * size_t(n);
-    const int64_t base = int64_t(blockIdx.x) * kReduceBlock * kItemsPerThread;
-    double sum = 0;
-    for (int k = 0; k < kItemsPerThread; ++k) {
-        const int64_t i = base + int64_t(k) * kReduceBlock + threadIdx.x;
-        if (i < n && (!mask || mask[i])) sum += v[i];
-    }
-    cache[threadIdx.x] = sum;
-    __syncthreads();
-    for (int stride = kReduceBlock / 2; stride > 0; stride /= 2) {
-        if (threadIdx.x < stride) cache[threadIdx.x] += cache[threadIdx.x + stride];
-        __syncthreads();
-    }
-    if (threadIdx.x == 0) partials[size_t(row) * size_t(blocks) + blockIdx.x] = cache[0];
+    blockSum(BlockSumArgs{values, n, partials, blocks, mask, maskedRows}, int(blockIdx.x), int(blockIdx.y));
 }
 
 template <class Real>

@@ -4,6 +4,7 @@
 
 #include "energy_terms.h"
 #include "gpu_launch.h"
+#include "rk_stage.h"
 
 namespace corebox::gpu {
 
@@ -28,6 +29,19 @@ template <class Real>
 __device__ inline void checkParticle(const HealthArgs<Real>& h, const SpeciesTable<Real>& table, int64_t i, double* kineticRow) {
     kineticRow[i] = kineticEnergyOf(double(table.mass[h.p.species[i]]), vec3Cast<double>(h.p.v[i]));
     countIfUnhealthy(h, i);
+}
+
+// ListForecastArgs for particle i at (x, v) with acceleration a.
+template <class Real>
+__device__ inline void forecastParticle(const ListForecastArgs<Real>& f, int64_t i, Vec3<Real> x, Vec3<Real> v, const Vec3<Real>& a) {
+    verletKick(v, a, f.h);
+    verletDrift(x, v, f.dt);
+    const Vec3<Real> built = f.xBuilt[i];
+    if (!(norm2(x - built) <= f.limit2)) *f.moves = 1u;  // NaN included
+    if (!f.hint) return;
+    verletKick(v, a, Real(2) * f.h);  // the next step's two half kicks, with this acceleration
+    verletDrift(x, v, f.dt);
+    if (!(norm2(x - built) <= f.limit2)) *f.hint = 1u;
 }
 
 }  // namespace corebox::gpu

@@ -22,12 +22,7 @@ __global__ void stepCheckKernel(StepCheckArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     const ParticleArrays<Real>& p = a.health.p;
     if (i >= p.n) return;
-    if (a.xBuilt) {
-        Vec3<Real> v = p.v[i], x = p.x[i];
-        verletKick(v, a.acceleration[i], a.h);
-        verletDrift(x, v, a.dt);
-        if (!(norm2(x - a.xBuilt[i]) <= a.limit2)) *a.moves = 1u;  // NaN included
-    }
+    if (a.forecast.moves) forecastParticle(a.forecast, i, p.x[i], p.v[i], a.acceleration[i]);
     if (a.health.counts) checkParticle(a.health, a.table, i, a.kineticRow);
 }
 
@@ -48,8 +43,6 @@ __global__ void kickDriftKernel(KickDriftArgs<Real> a) {
     (a.xOut ? a.xOut : const_cast<Vec3<Real>*>(a.x))[i] = xi;
 }
 
-__global__ void openRunAheadKernel(const StepWords* words, unsigned int* gate) { *gate = runAheadOpen(*words) ? 1u : 0u; }
-
 }  // namespace
 
 void launchResetStepWords(StepWords* words, cudaStream_t stream) {
@@ -69,11 +62,6 @@ void launchKickDrift(const KickDriftArgs<Real>& a, cudaStream_t stream) {
     if (a.n <= 0 && !a.reset) return;
     kickDriftKernel<Real><<<blocksFor(a.n > 0 ? a.n : 1), kBlock, 0, stream>>>(a);
     checkLaunch("kick-drift kernel");
-}
-
-void launchOpenRunAhead(const StepWords* words, unsigned int* gate, cudaStream_t stream) {
-    openRunAheadKernel<<<1, 1, 0, stream>>>(words, gate);
-    checkLaunch("run-ahead gate kernel");
 }
 
 #define COREBOX_INSTANTIATE(Real)                                                                            \

@@ -66,6 +66,7 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
     m_pairsOnce = options.pairsOnce;
     m_fusedSteps = options.fusedSteps;
     m_runAheadEnabled = options.fusedSteps && options.runAhead;
+    m_aheadListColumns = options.aheadListColumns;
     m_gaussSeidelContacts = options.gaussSeidelContacts;
     const bool peerAccess = peerAccessProblem(devicesOf(options)).empty();
     m_pairsOnceAcross = options.pairsOnce && options.gpus > 1 && peerAccess;
@@ -75,6 +76,8 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
     for (PhaseEvents& set : m_phaseSets)
         for (cudaEvent_t& e : set.marks) cudaCheck(cudaEventCreate(&e), "cudaEventCreate");
     cudaCheck(cudaEventCreateWithFlags(&m_mailCopied, cudaEventDisableTiming), "cudaEventCreate");
+    cudaCheck(cudaEventCreateWithFlags(&m_stageDone, cudaEventDisableTiming), "cudaEventCreate");
+    cudaCheck(cudaStreamCreateWithFlags(&m_mailStream, cudaStreamNonBlocking), "cudaStreamCreate");
     m_counters.resize(3);
     // findEvents reads all three back, the log's count even when no step has logged.
     cudaCheck(cudaMemsetAsync(m_counters.data(), 0, 3 * sizeof(unsigned int), stream()), "memset");
@@ -90,6 +93,11 @@ CudaDevice<Real>::~CudaDevice() {
         cudaStreamSynchronize(s.stream);
     }
     cudaSetDevice(home().device);
+    if (m_mailStream) {
+        cudaStreamSynchronize(m_mailStream);
+        cudaStreamDestroy(m_mailStream);
+    }
+    if (m_stageDone) cudaEventDestroy(m_stageDone);
     if (m_mailCopied) cudaEventDestroy(m_mailCopied);
     for (PhaseEvents& set : m_phaseSets) {
         for (cudaEvent_t e : set.marks) cudaEventDestroy(e);

@@ -31,6 +31,9 @@ struct CudaBackendOptions {
     // queued behind a device-side gate before the host waits for this step's stage, into buffers of
     // their own (cuda_device.h: running ahead); false: after the wait (the same bits, for comparison).
     bool runAhead = true;
+    // Tests only: the columns that the lists a step building ahead start from (0: the home lists'), so
+    // that a few make them overflow and the step is done again (cuda_step.cpp: redoOverflowedPass).
+    int aheadListColumns = 0;
     // The contact phase's sweeps: Gauss-Seidel in colours (kernels/contact_gauss_seidel.cu), as the
     // CPU relaxes contacts; false: accelerated Jacobi sweeps (contact_relaxation.h: relaxParticle), for
     // comparison and tests. A listing whose contacts need more than gpu::kMaxContactColours colours is

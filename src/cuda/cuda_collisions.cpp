@@ -89,6 +89,7 @@ CellListView CudaDevice<Real>::emptyCells() {
 template <class Real>
 StageScreen CudaDevice<Real>::screenStage(const ImpactWindow<double>& window, double contactGap) {
     const bool screened = m_screenPending && m_accelerationMatchesX && contactGap == m_screenGap;
+    if (!(screened && canResolveOnDevice())) settleUncheckedLists();  // resolveOnDevice reads it with the words
     m_screenGap = contactGap;
     m_screenPending = false;
     m_pairsClearNext = false;

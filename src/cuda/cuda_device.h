@@ -225,7 +225,9 @@ private:
     //     contacts to list) goes on on the host from where the device left it;
     //   - the step check also forecasts the lists: whether the next kickDrift, whose arithmetic it
     //     repeats, takes some row past half the skin; the next force pass then needs no displacement
-    //     check (and no wait) of its own.
+    //     check (and no wait) of its own. The stage's pass checks and forecasts every particle, and the
+    //     refresh forecasts again the rows whose accelerations it changes (one launch fewer than a
+    //     check of its own).
     // The kernels compute with the same functions as the separate launches, so a step gives the same
     // bits either way (tests/gpu/test_cuda_neighbour_list.cpp compares both).
     bool m_fusedSteps = true;
@@ -246,7 +248,7 @@ private:
     struct ListForecast {
         int stage = 0;
         bool beyondHalfSkin = false;
-        int64_t builds = 0;
+        int64_t buildId = 0;  // DeviceNeighbourList::buildId of the lists it was made for
     } m_forecast;
     // The stage as the device resolved it within screenStage's wait (WallsOnly), until the calls of the
     // stage have read it; whether its refresh of the accelerations ran (no moved row past half the skin).
@@ -264,25 +266,42 @@ private:
     // is the host's own time, the device idle: reading the stage's words, the core's bookkeeping, the
     // next launches (an LJ fluid of 64000 on an H200: 0.135 ms a step, 0.06 of it kernels). So,
     // before it waits for the stage's words, resolveOnDevice queues the next step's kickDrift and
-    // force pass (with its kick and screen) behind a gate the device opens only where runAheadOpen
-    // says the step is finished (gpu_launch.h: nothing left for the host, the lists good, every
-    // particle sound), and waits on the copy of the words, not on the stream: the device computes the
-    // next step while the host reads this one. The step it ran ahead writes other buffers (m_ahead*),
-    // so everything that reads the state between steps reads this step's; the next kickDrift, if it
-    // asks for the same h and dt with nothing changed since (beforeStateChange forgets it), takes
-    // those buffers as the state instead of launching, and accelerateAndKick has nothing left to do.
-    // Where the step was not finished the gate stayed shut and nothing ran. The arithmetic is the
-    // separate launches' (same kernels, same inputs), so running ahead gives the same bits
-    // (tests/gpu/test_cuda_neighbour_list.cpp compares both). That fluid: 0.118 ms a step with it
-    // (8478 steps/s, the phase marks off); 90% of its steps ran ahead, the others rebuilt the lists
-    // (a step that rebuilds cannot run ahead: the build waits for its size) or listed wall contacts.
+    // force pass (with its kick and screen) behind a gate that each of their threads opens only where
+    // runAheadOpen says the step is finished (gpu_launch.h: nothing left for the host, the lists good,
+    // every particle sound), and waits on the copy of the words (made on a stream of its own, beside
+    // the step ahead), not on the stream: the device computes the next step while the host reads this
+    // one. The step it ran ahead writes other buffers (m_ahead*, its step words too: the gate reads
+    // this step's while they run), so everything that reads the state between steps reads this
+    // step's; the next kickDrift, if it asks for the same h and dt with nothing changed since
+    // (beforeStateChange forgets it), takes those buffers as the state instead of launching, and
+    // accelerateAndKick has nothing left to do. Where the step was not finished the gate stayed shut
+    // and nothing ran. The arithmetic is the separate launches' (same kernels, same inputs), so
+    // running ahead gives the same bits (tests/gpu/test_cuda_neighbour_list.cpp compares both).
+    // A step whose lists must be rebuilt runs ahead too when the forecast's hint (ListForecastArgs:
+    // the step after the next, its kick taken as the next one's) said so a step before: it builds
+    // lists of its own (m_aheadList) at the positions ahead, with the columns of the home lists and no
+    // wait, its pass gated on their overflow word as well; taken, they swap with the home lists, and
+    // resolveOnDevice reads the overflow with the stage's words (an overflow: built again with more
+    // columns, the pass done again, then the stage). The hint costs nothing where it is wrong: lists
+    // built a step early serve as well (a listed pair beyond the cutoff adds an exact zero), and a step
+    // it missed rebuilds after the wait as before. That fluid, fp32: 0.118 ms a step running ahead
+    // (8478 steps/s) where rebuilding steps could not; 0.094 ms (10690 steps/s) with lists built
+    // ahead, the stage's sums and refresh in one launch and the words copied beside: 97% of its steps
+    // run ahead, and the device is the bound (the host waits 55 us a step).
     bool m_runAheadEnabled = true;  // CudaBackendOptions::runAhead
     struct RunAhead {
         bool launched = false;   // queued by the last resolveOnDevice, not yet taken or forgotten
         bool open = false;       // the host's reading of the gate (runAheadOpen of the words)
         bool committed = false;  // taken by kickDrift: accelerateAndKick(h) is done
+        bool built = false;      // it built lists of its own (m_aheadList)
         double h = 0, dt = 0;
     } m_runAhead;
+    // The lists of a step that runs ahead and builds (launchRunAhead), swapped with the home GPU's when
+    // it is taken; whether the last forecast's hint asks for that, for the lists of which build.
+    DeviceNeighbourList<Real> m_aheadList;
+    int m_aheadListColumns = 0;  // CudaBackendOptions::aheadListColumns
+    bool m_buildAheadHint = false;
+    int64_t m_buildAheadHintId = 0;
     // Open run-aheads forgotten in a row (a thermostat rescales every step: the pass that ran ahead is
     // thrown away, after its cost was waited for); from two on, the next 32 stages do not run ahead.
     int m_runAheadsForgotten = 0, m_runAheadPause = 0;
@@ -292,17 +311,20 @@ private:
     // The step run ahead's state, and its snapshot (the state before it, kept as kickDrift keeps it):
     // a snapshot of its own, so that a step the host then fails still finds the one before.
     DeviceBuffer<Vec3<Real>> m_aheadX, m_aheadV, m_aheadA, m_aheadSnapshotX, m_aheadSnapshotV;
-    DeviceBuffer<unsigned int> m_runAheadGate;
+    DeviceBuffer<double> m_aheadMail;  // the step ahead's step words (and room for the partials): m_stepMail's twin
     cudaEvent_t m_mailCopied = nullptr;
+    cudaEvent_t m_stageDone = nullptr;    // the stage's last launch, which the words' copy waits for
+    cudaStream_t m_mailStream = nullptr;  // the words' copy, beside the step that runs ahead
     bool screensAtX() const;  // a force pass at X on these lists also screens the stage
-    bool launchRunAhead();  // false where its buffers do not fit (running ahead is then off)
+    bool launchRunAhead(bool build);  // false where its buffers do not fit (running ahead is then off)
+    void redoOverflowedPass();
+    void settleUncheckedLists();
     void forgetRunAhead();  // what ran ahead no longer matches the state or the step words
     bool takeRunAhead(double h, double dt);
     StageScreen resolveOnDevice(const ImpactWindow<double>& window);
-    // The lists' forecast (StepCheckArgs with xBuilt set) when there is one to make, else no xBuilt;
-    // queueForecast queues it alone (returns whether).
-    gpu::StepCheckArgs<Real> forecastArgs();
-    bool queueForecast();
+    // The lists' forecast of the next kickDrift into the step words when there is one to make, else
+    // moves null.
+    gpu::ListForecastArgs<Real> listForecastArgs();
     StepCheck stepCheckOf(const gpu::StepWords& words, const double* partials) const;
     void readForecast(bool made, const gpu::StepWords& words);
     // Every call that changes X, V or A calls this first: a deferred snapshot is taken, and what was
@@ -423,6 +445,7 @@ private:
     DeviceBuffer<unsigned char> m_contactScanScratch;
     DeviceBuffer<CollisionEvent> m_events;
     DeviceBuffer<char> m_active, m_hasContactAcceleration;
+    DeviceBuffer<int32_t> m_wallMoved;  // StageOpening::moved
     // [0] particles needing a contact acceleration, [1] particles with an event, [2] contact log records
     DeviceBuffer<unsigned int> m_counters;
     unsigned int m_needCount = 0;   // counters[0] of the last findEvents

@@ -68,7 +68,7 @@ bool CudaDevice<Real>::forcePass(int stage, bool kick, double kickH) {
     // right after the kickDrift it was made for needs no displacement check.
     using Displacement = typename DeviceNeighbourList<Real>::Displacement;
     Displacement known = Displacement::Unknown;
-    if (stage < 0 && m_forecast.stage == 2 && home().list.builds() == m_forecast.builds)
+    if (stage < 0 && m_forecast.stage == 2 && home().list.buildId() == m_forecast.buildId)
         known = m_forecast.beyondHalfSkin ? Displacement::BeyondHalfSkin : Displacement::WithinHalfSkin;
     m_forecast.stage = 0;
     kick = kick && stage < 0 && useLists();
@@ -270,6 +270,7 @@ ForceCounters CudaDevice<Real>::forceCounters() const {
     c.allPairsEvaluations = m_allPairsEvaluations;
     c.stepsRunAhead = m_stepsRunAhead;
     for (const auto& r : m_replicas) c.listBuilds += r->list.builds();
+    c.listBuilds += m_aheadList.builds();  // the builds of steps that ran ahead (their lists swap with the home GPU's)
     return c;
 }
 

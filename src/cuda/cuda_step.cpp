@@ -21,6 +21,7 @@ void CudaDevice<Real>::sizeStepBuffers() {
     const size_t n = size_t(std::max<int64_t>(m_n, 1));
     m_impactRows.resize(size_t(kImpulseRows + 2) * n);
     m_hasContactAcceleration.resize(n);
+    m_wallMoved.resize(n);
     cudaCheck(cudaMemsetAsync(m_impactRows.data(), 0, size_t(kImpulseRows + 2) * n * sizeof(double), stream()), "memset");
     cudaCheck(cudaMemsetAsync(m_hasContactAcceleration.data(), 0, n, stream()), "memset");
     m_impactRowsN = m_n;
@@ -128,22 +129,25 @@ void CudaDevice<Real>::forgetRunAhead() {
 // into the ahead buffers: what kickDrift(m_kickDriftH, m_kickDriftDt) and accelerateAndKick would
 // launch, but for where they write.
 template <class Real>
-bool CudaDevice<Real>::launchRunAhead() {
+bool CudaDevice<Real>::launchRunAhead(bool build) {
     cudaStream_t s = stream();
     Replica<Real>& r = home();
     const size_t n = size_t(m_n);
     DeviceBuffer<Vec3<Real>>* const buffers[] = {&m_aheadX, &m_aheadV, &m_aheadA, &m_aheadSnapshotX, &m_aheadSnapshotV};
-    try {  // five more arrays of n: where they do not fit, the steps go on without running ahead
+    try {  // five more arrays of n (and lists): where they do not fit, the steps go on without running ahead
         for (DeviceBuffer<Vec3<Real>>* b : buffers) b->resize(n);
-        m_runAheadGate.resize(1);
+        m_aheadMail.resize(m_stepMail.size());
     } catch (const DeviceError&) {
         cudaGetLastError();  // the failed cudaMalloc's error, which the next launch check would report
         for (DeviceBuffer<Vec3<Real>>* b : buffers) *b = DeviceBuffer<Vec3<Real>>();
         m_runAheadEnabled = false;
         return false;
     }
-    gpu::launchOpenRunAhead(stepWords(), m_runAheadGate.data(), s);
-    const gpu::StageGate gate{m_runAheadGate.data(), 2u, nullptr};
+    // Each kernel reads this step's words for the gate; the step ahead resets and screens its own.
+    gpu::StepWords* const aheadWords = reinterpret_cast<gpu::StepWords*>(m_aheadMail.data());
+    gpu::StageGate gate{};
+    gate.runAheadOf = stepWords();
+    gate.freshLists = build;
     gpu::KickDriftArgs<Real> a{};
     a.x = r.x.data();
     a.v = r.v.data();
@@ -155,19 +159,38 @@ bool CudaDevice<Real>::launchRunAhead() {
     a.dt = Real(m_kickDriftDt);
     a.snapshotX = m_aheadSnapshotX.data();
     a.snapshotV = m_aheadSnapshotV.data();
-    a.reset = stepWords();
+    a.reset = aheadWords;
     a.gate = gate;
     gpu::launchKickDrift(a, s);
     gpu::ForceArgs<Real> f = forceArgs(0, m_aheadX.data(), m_aheadA.data());
-    r.list.fill(f);
+    if (build) {
+        // Lists of their own at the positions ahead, not waited for: where the gate is shut they are
+        // built from stale positions and never used; where a row overflows their columns, the pass
+        // below does not run and the step's words say so (resolveOnDevice then does it again).
+        try {
+            m_aheadList.invalidate();
+            m_aheadList.setColumns(m_aheadListColumns > 0 ? m_aheadListColumns : r.list.columns());
+            m_aheadList.update(m_aheadX.data(), m_n, 0, m_n, m_box, m_model.cutoff, m_model.skin, s,
+                               DeviceNeighbourList<Real>::Displacement::Unknown, &aheadWords->listOverflow);
+        } catch (const DeviceError&) {
+            cudaGetLastError();
+            m_aheadList.invalidate();
+            m_runAheadEnabled = false;
+            return false;  // the kick-drift queued above wrote only the ahead buffers
+        }
+        m_aheadList.fillUnchecked(f);
+        gate.clear = &aheadWords->listOverflow;
+    } else {
+        r.list.fillUnchecked(f);  // gated: runAheadOpen reads the overflow of an unchecked build
+    }
     f.kickV = m_aheadV.data();
     f.kickH = Real(m_kickDriftH);
-    f.screen = stepWords()->screen;
+    f.screen = aheadWords->screen;
     f.box = m_box;
     f.contactGap = Real(m_screenGap);
     f.gate = gate;
     launchTimedForces(f);
-    m_runAhead = RunAhead{true, false, false, m_kickDriftH, m_kickDriftDt};
+    m_runAhead = RunAhead{true, false, false, build, m_kickDriftH, m_kickDriftDt};
     return true;
 }
 
@@ -177,6 +200,7 @@ template <class Real>
 bool CudaDevice<Real>::takeRunAhead(double h, double dt) {
     // Not this step's: kickDrift's beforeStateChange forgets it.
     if (!(m_runAhead.launched && m_runAhead.open && h == m_runAhead.h && dt == m_runAhead.dt && gpuCount() == 1)) return false;
+    const bool built = m_runAhead.built;
     m_runAhead = RunAhead{};
     m_runAheadsForgotten = 0;
     if (m_snapshotPending) {  // the state before this step, as the kernel that ran ahead kept it
@@ -188,6 +212,8 @@ bool CudaDevice<Real>::takeRunAhead(double h, double dt) {
     std::swap(r.x, m_aheadX);
     std::swap(r.v, m_aheadV);
     std::swap(r.acceleration, m_aheadA);
+    std::swap(m_stepMail, m_aheadMail);  // the words the kickDrift that ran reset and its pass screened
+    if (built) r.list.swap(m_aheadList);  // checked by resolveOnDevice from the words
     m_checkCached = false;
     m_forecast.stage = 0;
     m_speculated = m_speculatedRefresh = false;
@@ -230,43 +256,60 @@ StageScreen CudaDevice<Real>::resolveOnDevice(const ImpactWindow<double>& window
     const Real halfSkin2 = Real(0.25 * m_model.skin * m_model.skin);
     const size_t n = size_t(m_n);
     double* kineticRow = m_impactRows.data() + size_t(kImpulseRows + 1) * n;
-    const gpu::StageOpening<Real> opening{w, screenScales(m_screenGap),
-                                          RestingContact<Real>{Real(window.restingSpeed), Real(m_screenGap)}, r.list.touchedRows(),
-                                          kineticRow};
+    const gpu::ListForecastArgs<Real> forecast = listForecastArgs();
+    const gpu::StageOpening<Real> opening{w, screenScales(m_screenGap), RestingContact<Real>{Real(window.restingSpeed), Real(m_screenGap)},
+                                          kineticRow, m_wallMoved.data(), forecast};
     gpu::launchStageWalls(collisionArgs(), r.acceleration.data(), Real(m_screenGap), r.list.builtPositions(), halfSkin2, opening, s);
-    // The tally's rows (only the flagged particles') and the kinetic row, summed in one launch.
+    // In one launch: the tally's rows (only the flagged particles') and the kinetic row summed, and the
+    // refresh of the accelerations the walls changed, as refreshAccelerations would run it, when the
+    // lists still hold every moved particle's partners, with the forecast of the rows it changes.
     const int blocks = partialBlocks();
-    gpu::launchBlockSums(m_impactRows.data(), kImpulseRows + 2, m_n, m_stepMail.data() + kStepWordDoubles, s, m_hasContactAcceleration.data(),
-                         kImpulseRows + 1);
-    // The refresh of the accelerations the walls changed, as refreshAccelerations would run it, when
-    // the lists still hold every moved particle's partners.
+    const gpu::BlockSumArgs sums{m_impactRows.data(), m_n, m_stepMail.data() + kStepWordDoubles, blocks, m_hasContactAcceleration.data(),
+                                 kImpulseRows + 1};
     const gpu::StageGate refresh{&w->stage, gpu::stageBit(StageScreen::WallsOnly), &w->wallStats[2]};
     gpu::ForceArgs<Real> f = forceArgs(0, r.x.data(), r.acceleration.data());
-    r.list.fill(f);
-    f.rowMask = r.list.touchFlagged(m_hasContactAcceleration.data(), s, refresh, true);
+    r.list.fillUnchecked(f);  // an overflow of lists built ahead left the screen quiet: the refresh shut
+    f.forecast = forecast;
     f.gate = refresh;
-    gpu::launchForces(f, s);
-    const bool forecast = queueForecast();
-    cudaCheck(cudaMemcpyAsync(m_hostStepMail.data(), m_stepMail.data(), m_stepMail.size() * sizeof(double), cudaMemcpyDeviceToHost, s),
+    gpu::launchStageSumsAndRefresh(sums, kImpulseRows + 2, f, m_wallMoved.data(), &w->wallMoved, r.list.columns(), s);
+    const bool forecastMade = forecast.moves != nullptr;
+    // The words come back on a stream of their own, beside the step that runs ahead (nothing of it
+    // writes them: its gate reads them), so the copy's latency is not between the two on the device.
+    cudaCheck(cudaEventRecord(m_stageDone, s), "event");
+    cudaCheck(cudaStreamWaitEvent(m_mailStream, m_stageDone, 0), "event");
+    cudaCheck(cudaMemcpyAsync(m_hostStepMail.data(), m_stepMail.data(), m_stepMail.size() * sizeof(double), cudaMemcpyDeviceToHost,
+                              m_mailStream),
               "step words");
-    cudaCheck(cudaEventRecord(m_mailCopied, s), "event");
-    bool runAhead = m_runAheadEnabled && forecast && m_verletSteps && m_kickDriftKnown && screensAtX();
+    cudaCheck(cudaEventRecord(m_mailCopied, m_mailStream), "event");
+    bool runAhead = m_runAheadEnabled && forecastMade && m_verletSteps && m_kickDriftKnown && screensAtX();
     if (runAhead && m_runAheadPause > 0) {
         --m_runAheadPause;
         runAhead = false;
     }
-    if (runAhead) runAhead = launchRunAhead();
+    // The lists built ahead where the last forecast's hint says the step after this one moves past half
+    // the skin (and nothing rebuilt them since): that step then runs ahead too.
+    const bool buildAhead = m_buildAheadHint && m_buildAheadHintId == r.list.buildId();
+    if (runAhead) runAhead = launchRunAhead(buildAhead);
     cudaCheck(cudaEventSynchronize(m_mailCopied), "step words");
 
     m_wordsFresh = false;
     const gpu::StepWords& words = hostStepWords();
-    m_runAhead.open = runAhead && gpu::runAheadOpen(words);
+    if (words.listOverflow != 0) {
+        // The lists this step built ahead had too few columns: its force pass and kick did not run, the
+        // screen stayed quiet and nothing ran after it. Built again with more, the pass, then the stage.
+        redoOverflowedPass();
+        return resolveOnDevice(window);
+    }
+    r.list.checked(false, s);
+    m_buildAheadHint = words.listHint != 0 && words.listForecast == 0;
+    m_buildAheadHintId = r.list.buildId();
+    m_runAhead.open = runAhead && gpu::runAheadOpen(words, m_runAhead.built);
     const StageScreen verdict = StageScreen(words.stage);
     // The check read the state as the stage leaves it on the device: as it is now for Quiet and
     // WallsOnly, as the integration left it for Full (which the rounds may yet change: beforeStateChange).
     m_cachedCheck = stepCheckOf(words, m_hostStepMail.data() + kStepWordDoubles + size_t(kImpulseRows + 1) * size_t(blocks));
     m_checkCached = true;
-    readForecast(forecast, words);
+    readForecast(forecastMade, words);
     if (verdict == StageScreen::Quiet) skipQuietStage();
     if (verdict != StageScreen::WallsOnly) return verdict;
     // resolveWallImpacts reads the rest from the words.
@@ -275,6 +318,27 @@ StageScreen CudaDevice<Real>::resolveOnDevice(const ImpactWindow<double>& window
     m_speculatedWindow = window;
     m_speculatedRefresh = words.wallStats[2] == 0;
     return verdict;
+}
+
+// A step taken from lists built ahead that overflowed (StepWords::listOverflow): the lists built again
+// with more columns, then the force pass and kick that did not run (the state is the kick-drift's).
+template <class Real>
+void CudaDevice<Real>::redoOverflowedPass() {
+    home().list.checked(true, stream());
+    beforeStateChange(true);
+    if (!forcePass(-1, true, m_kickDriftH)) kick(m_kickDriftH);
+}
+
+// Lists built ahead and taken whose stage does not go through resolveOnDevice: their overflow read
+// here, with a wait.
+template <class Real>
+void CudaDevice<Real>::settleUncheckedLists() {
+    if (!home().list.unchecked()) return;
+    unsigned int overflow = 0;
+    cudaCheck(cudaMemcpyAsync(&overflow, &stepWords()->listOverflow, sizeof overflow, cudaMemcpyDeviceToHost, stream()), "list overflow");
+    sync();
+    if (overflow != 0) redoOverflowedPass();
+    else home().list.checked(false, stream());
 }
 
 // The walls' tally and stats as resolveOnDevice brought them back (still in m_hostStepMail: nothing is
@@ -291,31 +355,21 @@ int CudaDevice<Real>::readResolvedWalls() {
 }
 
 template <class Real>
-gpu::StepCheckArgs<Real> CudaDevice<Real>::forecastArgs() {
-    gpu::StepCheckArgs<Real> a{};
-    a.health.p = arrays();
-    a.health.box = m_box;
-    a.table = table();
+gpu::ListForecastArgs<Real> CudaDevice<Real>::listForecastArgs() {
+    gpu::ListForecastArgs<Real> f{};
     // One GPU, lists built, Verlet's step known: the next kickDrift repeats the last.
     Replica<Real>& r = home();
-    if (!(m_fusedSteps && gpuCount() == 1 && useLists() && m_kickDriftKnown && r.list.builtPositions() != nullptr)) return a;
-    a.acceleration = r.acceleration.data();
-    a.xBuilt = r.list.builtPositions();
-    a.h = Real(m_kickDriftH);
-    a.dt = Real(m_kickDriftDt);
+    if (!(m_fusedSteps && gpuCount() == 1 && useLists() && m_kickDriftKnown && r.list.builtPositions() != nullptr)) return f;
+    f.v = r.v.data();
+    f.xBuilt = r.list.builtPositions();
+    f.h = Real(m_kickDriftH);
+    f.dt = Real(m_kickDriftDt);
     // Below the lists' own test by far more than the rounding of a position, so that the forecast
     // never says "within" where the check after the drift would say "beyond".
-    a.limit2 = Real(0.25 * m_model.skin * m_model.skin * (1 - 1e-3));
-    a.moves = &stepWords()->listForecast;
-    return a;
-}
-
-template <class Real>
-bool CudaDevice<Real>::queueForecast() {
-    const gpu::StepCheckArgs<Real> a = forecastArgs();
-    if (!a.xBuilt) return false;
-    gpu::launchStepCheck(a, stream());
-    return true;
+    f.limit2 = Real(0.25 * m_model.skin * m_model.skin * (1 - 1e-3));
+    f.moves = &stepWords()->listForecast;
+    f.hint = m_runAheadEnabled ? &stepWords()->listHint : nullptr;
+    return f;
 }
 
 template <class Real>
@@ -332,7 +386,7 @@ void CudaDevice<Real>::readForecast(bool made, const gpu::StepWords& words) {
     if (!made) return;
     m_forecast.stage = 1;
     m_forecast.beyondHalfSkin = words.listForecast != 0;
-    m_forecast.builds = home().list.builds();
+    m_forecast.buildId = home().list.buildId();
 }
 
 template <class Real>
@@ -350,8 +404,13 @@ StepCheck CudaDevice<Real>::checkStep() {
     cudaCheck(cudaMemsetAsync(w->healthCounts, 0, sizeof w->healthCounts, s), "memset");
     cudaCheck(cudaMemsetAsync(&w->listForecast, 0, sizeof w->listForecast, s), "memset");
     m_rows.resize(size_t(m_n));
-    gpu::StepCheckArgs<Real> a = forecastArgs();
-    const bool forecast = a.xBuilt != nullptr;
+    gpu::StepCheckArgs<Real> a{};
+    a.health.p = arrays();
+    a.health.box = m_box;
+    a.table = table();
+    a.acceleration = home().acceleration.data();
+    a.forecast = listForecastArgs();
+    const bool forecast = a.forecast.moves != nullptr;
     a.health.counts = w->healthCounts;
     a.health.examples = w->healthExamples;
     a.kineticRow = m_rows.data();

@@ -229,17 +229,20 @@ TEST(CudaNeighbourList, TheOneWaitStepGivesTheBitsOfSeparateOperations) {
 }
 
 // Running ahead (cuda_device.h) moves when the next step's kick-drift and force pass run, not what they
-// compute: the same states, snapshots, screens, collisions, observables and list builds as the same
-// fused steps without it, with observables and state reads between the steps (which must see the
-// step just taken, not the one running ahead), in both precisions, with walls only, with cores that
-// meet (Full stages, where the gate stays shut) and with a thermostat that rescales every step (each
-// step that ran ahead forgotten).
+// compute: the same states, snapshots, screens, collisions and observables as the same fused steps
+// without it, with observables and state reads between the steps (which must see the step just
+// taken, not the one running ahead), in both precisions, with walls only, with cores that meet (Full
+// stages, where the gate stays shut) and with a thermostat that rescales every step (each step that
+// ran ahead forgotten). Lists may be built a step early (on the forecast's hint, by the step that runs
+// ahead), which changes no bit: a listed pair beyond the cutoff adds an exact zero. Then again with the
+// lists built ahead given too few columns, so that each such step is done again after the wait.
 TEST(CudaNeighbourList, RunningAheadGivesTheBitsOfTheStepAfterTheWait) {
     COREBOX_REQUIRE_GPU();
-    auto run = [](const Scene& scene, bool ahead, int steps) {
+    auto run = [](const Scene& scene, bool ahead, int steps, int aheadListColumns = 0) {
         CudaBackendOptions options;
         options.precision = scene.integrator.precision;
         options.runAhead = ahead;
+        options.aheadListColumns = aheadListColumns;
         Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
         std::map<StageScreen, int> screens;
         int64_t pairs = 0, walls = 0;
@@ -271,8 +274,9 @@ TEST(CudaNeighbourList, RunningAheadGivesTheBitsOfTheStepAfterTheWait) {
         thermostatted.thermostat.temperature = 1.0;
         thermostatted.thermostat.tau = 0.1;
         int scene = 0;
-        for (const Scene& s : {screened, colliding, thermostatted}) {
-            const auto ahead = run(s, true, 120), after = run(s, false, 120);
+        for (const Scene& s : {screened, colliding, thermostatted, screened}) {
+            const bool overflowing = scene == 3;
+            const auto ahead = run(s, true, 120, overflowing ? 8 : 0), after = run(s, false, 120);
             const std::string what = std::string(precisionName(p)) + ", scene " + std::to_string(scene);
             EXPECT_EQ(std::get<0>(ahead), std::get<0>(after)) << what << ": the state";
             EXPECT_EQ(std::get<1>(ahead), std::get<1>(after)) << what << ": the snapshot";
@@ -281,9 +285,11 @@ TEST(CudaNeighbourList, RunningAheadGivesTheBitsOfTheStepAfterTheWait) {
             EXPECT_EQ(std::get<4>(ahead), std::get<4>(after)) << what << ": wall collisions";
             EXPECT_EQ(std::get<5>(ahead), std::get<5>(after)) << what << ": the energies observed";
             EXPECT_EQ(std::get<6>(ahead), std::get<6>(after)) << what << ": the states read midway";
-            EXPECT_EQ(std::get<7>(ahead), std::get<7>(after)) << what << ": list builds";
+            // Early builds, and those of steps that ran ahead but were not taken, add to the count.
+            EXPECT_GE(std::get<7>(ahead), std::get<7>(after)) << what << ": list builds";
+            EXPECT_LE(std::get<7>(ahead), 2 * std::get<7>(after) + 2) << what << ": list builds";
             EXPECT_EQ(std::get<8>(after), 0) << what;
-            if (scene == 0) {  // 21 of 120 on an H200: the rebuilds, the wall contacts and the observations between steps stop the others
+            if (scene == 0 || scene == 3) {  // 21 of 120 on an H200: the rebuilds, the wall contacts and the observations between steps stop the others
                 EXPECT_GE(std::get<8>(ahead), 12) << what << ": steps ran ahead";
             }
             if (scene == 2) {
