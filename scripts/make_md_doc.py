@@ -26,7 +26,9 @@ same starting state: three warm-up steps, then steps for at least `--min-seconds
 timed (forces, integration, the hard-core collision stage: wall reflections, event search, contact
 listing). The `forces ms` and `collisions ms` columns come from a quarter as many steps that follow,
 timed by phase (on a GPU by device events, launches of their own that the timed steps leave out;
-records before 2026-11-27 timed both in the same steps). LAMMPS (Debian's `lammps`, `mpirun -np 2 lmp`, `pair_style lj/cut 2.5`, `fix nve`,
+records before 2026-11-27 timed both in the same steps; on one GPU, a list build that a step running
+ahead queues with the collision stage counts in `collisions ms` from the records of 2026-11-27 10:10 on).
+LAMMPS (Debian's `lammps`, `mpirun -np 2 lmp`, `pair_style lj/cut 2.5`, `fix nve`,
 `fix wall/reflect` where corebox's walls stop a centre, `neighbor 0.3 bin`, `neigh_modify every 1
 delay 0 check yes`) runs on the same starting state in the same benchmark run, timed by its own loop
 time. `forces` is the model corebox ran: `neighbour_list` (Verlet lists, rebuilt when a particle
