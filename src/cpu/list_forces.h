@@ -7,6 +7,8 @@
 // bits depend neither on the thread count nor on when the list was built, and equal what
 // VerletList::forEachPartner gives for one particle (listAccelerationOf in the backend): for a pair
 // with j < i the pass subtracts F (x_j - x_i), which is the same number as adding F (x_i - x_j).
+// With one species on a CPU with AVX2, the own rows go W pairs at a time (list_row_simd.h), each lane
+// the scalar arithmetic, so the bits are the same either way.
 //
 // The screen (Backend::screenStage, kernels/collision_screen.h) rides along the end-of-step pass: the
 // smallest R^2 / reach^2 over the listed pairs, the deepest wall approach, and whether every position
@@ -21,6 +23,7 @@
 #include <vector>
 
 #include "collision_screen.h"
+#include "list_row_simd.h"
 #include "pair_potential.h"
 #include "verlet_list.h"
 
@@ -35,6 +38,7 @@ struct ListPassInputs {
     const Real* invMass = nullptr;
     const Vec3<Real>* field = nullptr;  // per species: gravity plus the species' own acceleration
     int threads = 1;
+    bool simd = simdListRowsAvailable();  // one species: rows W pairs at a time (list_row_simd.h), the same bits
 };
 
 // What the screen found: nearest < 0 when no pair was listed.
@@ -122,7 +126,17 @@ ListScreen listForcePass(const VerletList<Real>& list, const ListPassInputs<Real
                 [&](int64_t a, const uint32_t* begin, const uint32_t* end) {
                     Vec3<Real> fa = force[a];
                     double ua = kEnergy ? energy[a] : 0.0;
-                    for (const uint32_t* e = begin; e < end; ++e) {
+                    const uint32_t* e = begin;
+                    if (kSingleSpecies && in.simd) {
+                        RowSums<Real> row{fa, ua, nearest};
+                        e = screen ? simdListRow<Real, kEnergy, true>(xs, force, energy, a, begin, end, List::kOtherChunk, single, singleInverse, row)
+                                   : simdListRow<Real, kEnergy, false>(xs, force, energy, a, begin, end, List::kOtherChunk, single, singleInverse, row);
+                        fa = row.force;
+                        ua = row.energy;
+                        nearest = row.nearest;
+                        listed = listed || (screen && e != begin);
+                    }
+                    for (; e < end; ++e) {
                         const int64_t b = List::entrySlot(*e);
                         Real u = 0;
                         const Vec3<Real> fd = pairValue(a, b, u);

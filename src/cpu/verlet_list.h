@@ -205,7 +205,7 @@ private:
                     count += size_t((j > i) & (norm2(xi - m_xCell[size_t(q)]) < m_reach2));
                 }
             });
-            std::sort(scratch.found.begin() + std::ptrdiff_t(rowBegin), scratch.found.begin() + std::ptrdiff_t(count));  // by partner index
+            sortRow(scratch.found.data() + rowBegin, scratch.found.data() + count);  // by partner index
             scratch.start[size_t(k - begin) + 1] = int64_t(count);
         }
         std::vector<uint32_t>& rows = m_chunkRows[size_t(c)];
@@ -227,6 +227,18 @@ private:
                 handed.push_back(int32_t(slot));
             }
             m_rowStart[size_t(p) + 1] = scratch.start[size_t(k) + 1] - scratch.start[size_t(k)];
+        }
+    }
+
+    // A row's entries by ascending partner (the high half): insertion, for the few dozen of a row,
+    // which come as runs already (a cell's particles are by ascending index); std::sort took 17% of the
+    // build.
+    static void sortRow(uint64_t* first, uint64_t* last) {
+        for (uint64_t* p = first + (first < last ? 1 : 0); p < last; ++p) {
+            const uint64_t value = *p;
+            uint64_t* q = p;
+            for (; q > first && q[-1] > value; --q) *q = q[-1];
+            *q = value;
         }
     }
 
