@@ -8,8 +8,11 @@
 // target being AVX2 alone), so every lane's force and energy are the scalar loop's bits; the W
 // results are then added to the row and taken from the partners one by one in list order, as the
 // scalar loop does. The pass's bits thus do not depend on whether the CPU has AVX2
-// (ListPass.SimdRowsGiveTheScalarBits checks it). Only the partners' positions are gathered lane by
-// lane; the writes to them stay scalar, in order. Other species counts keep the scalar loop.
+// (ListPass.SimdRowsGiveTheScalarBits checks it). That needs the compiler to keep a * b + c as two
+// roundings in both loops: the CPU backend builds with -ffp-contract=off (clang with -march=native
+// fused them in one loop and not the other). Only the partners' positions are gathered lane by lane;
+// the writes to them stay scalar, in order. Other species counts keep the scalar loop, and so does a
+// CPU other than x86-64 (simdListRowsAvailable is false there).
 #pragma once
 
 #include <algorithm>
@@ -24,23 +27,6 @@ namespace corebox {
 // Whether this CPU runs the AVX2 rows (checked once).
 bool simdListRowsAvailable();
 
-namespace detail {
-template <class Real>
-struct AvxLanes;
-template <>
-struct AvxLanes<double> {
-    typedef double V __attribute__((vector_size(32)));
-    typedef long long M __attribute__((vector_size(32)));
-    static constexpr int kWidth = 4;
-};
-template <>
-struct AvxLanes<float> {
-    typedef float V __attribute__((vector_size(32)));
-    typedef int M __attribute__((vector_size(32)));
-    static constexpr int kWidth = 8;
-};
-}  // namespace detail
-
 // What a row's pairs add up to, carried between the AVX2 part and the scalar rest of the row.
 template <class Real>
 struct RowSums {
@@ -48,6 +34,22 @@ struct RowSums {
     double energy;
     Real nearest;  // the screen's smallest R^2 / reach^2 so far
 };
+
+#if defined(__x86_64__)
+namespace detail {
+template <class Real>
+struct AvxLanes;
+template <>
+struct AvxLanes<double> {
+    typedef double V __attribute__((vector_size(32)));
+    static constexpr int kWidth = 4;
+};
+template <>
+struct AvxLanes<float> {
+    typedef float V __attribute__((vector_size(32)));
+    static constexpr int kWidth = 8;
+};
+}  // namespace detail
 
 // The entries [begin, end) of slot a's row (VerletList::walkChunk's ownRow: entrySlot, inThisChunk in
 // `otherChunk`), W at a time as far as they go: their values added to `row` and, for partners in this
@@ -116,5 +118,12 @@ __attribute__((target("avx2"))) const uint32_t* simdListRow(const Vec3<Real>* xs
     }
     return e;
 }
+#else
+template <class Real, bool kEnergy, bool kScreen>
+const uint32_t* simdListRow(const Vec3<Real>*, Vec3<Real>*, double*, int64_t, const uint32_t* begin, const uint32_t*, uint32_t,
+                            const PairCoefficients<Real>&, Real, RowSums<Real>&) {
+    return begin;  // never called: simdListRowsAvailable() is false
+}
+#endif
 
 }  // namespace corebox

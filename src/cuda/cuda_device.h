@@ -299,6 +299,7 @@ private:
     // The lists of a step that runs ahead and builds (launchRunAhead), swapped with the home GPU's when
     // it is taken; whether the last forecast's hint asks for that, for the lists of which build.
     DeviceNeighbourList<Real> m_aheadList;
+    bool m_takenListsUnchecked = false;  // a step taken with lists it built: their overflow not read yet
     int m_aheadListColumns = 0;  // CudaBackendOptions::aheadListColumns
     bool m_buildAheadHint = false;
     int64_t m_buildAheadHintId = 0;

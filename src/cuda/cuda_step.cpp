@@ -173,7 +173,7 @@ bool CudaDevice<Real>::launchRunAhead(bool build) {
             m_aheadList.update(m_aheadX.data(), m_n, 0, m_n, m_box, m_model.cutoff, m_model.skin, s,
                                DeviceNeighbourList<Real>::Displacement::Unknown, &aheadWords->listOverflow);
         } catch (const DeviceError&) {
-            cudaGetLastError();
+            if (cudaGetLastError() != cudaErrorMemoryAllocation) throw;  // only a list that does not fit turns this off
             m_aheadList.invalidate();
             m_runAheadEnabled = false;
             return false;  // the kick-drift queued above wrote only the ahead buffers
@@ -213,7 +213,10 @@ bool CudaDevice<Real>::takeRunAhead(double h, double dt) {
     std::swap(r.v, m_aheadV);
     std::swap(r.acceleration, m_aheadA);
     std::swap(m_stepMail, m_aheadMail);  // the words the kickDrift that ran reset and its pass screened
-    if (built) r.list.swap(m_aheadList);  // checked by resolveOnDevice from the words
+    if (built) {
+        r.list.swap(m_aheadList);
+        m_takenListsUnchecked = true;  // resolveOnDevice reads their overflow with the words (settleUncheckedLists elsewhere)
+    }
     m_checkCached = false;
     m_forecast.stage = 0;
     m_speculated = m_speculatedRefresh = false;
@@ -294,13 +297,17 @@ StageScreen CudaDevice<Real>::resolveOnDevice(const ImpactWindow<double>& window
 
     m_wordsFresh = false;
     const gpu::StepWords& words = hostStepWords();
-    if (words.listOverflow != 0) {
-        // The lists this step built ahead had too few columns: its force pass and kick did not run, the
-        // screen stayed quiet and nothing ran after it. Built again with more, the pass, then the stage.
-        redoOverflowedPass();
-        return resolveOnDevice(window);
+    if (m_takenListsUnchecked) {
+        m_takenListsUnchecked = false;
+        if (words.listOverflow != 0) {
+            // The lists this step built ahead had too few columns: its force pass and kick did not run,
+            // the screen stayed quiet and nothing ran after it. Built again with more, the pass, then
+            // the stage (once: the lists are checked now).
+            redoOverflowedPass();
+            return resolveOnDevice(window);
+        }
+        r.list.checked(false, s);
     }
-    r.list.checked(false, s);
     m_buildAheadHint = words.listHint != 0 && words.listForecast == 0;
     m_buildAheadHintId = r.list.buildId();
     m_runAhead.open = runAhead && gpu::runAheadOpen(words, m_runAhead.built);
@@ -325,6 +332,7 @@ StageScreen CudaDevice<Real>::resolveOnDevice(const ImpactWindow<double>& window
 template <class Real>
 void CudaDevice<Real>::redoOverflowedPass() {
     home().list.checked(true, stream());
+    cudaCheck(cudaMemsetAsync(&stepWords()->listOverflow, 0, sizeof(unsigned int), stream()), "memset");
     beforeStateChange(true);
     if (!forcePass(-1, true, m_kickDriftH)) kick(m_kickDriftH);
 }
@@ -333,7 +341,8 @@ void CudaDevice<Real>::redoOverflowedPass() {
 // here, with a wait.
 template <class Real>
 void CudaDevice<Real>::settleUncheckedLists() {
-    if (!home().list.unchecked()) return;
+    if (!m_takenListsUnchecked) return;
+    m_takenListsUnchecked = false;
     unsigned int overflow = 0;
     cudaCheck(cudaMemcpyAsync(&overflow, &stepWords()->listOverflow, sizeof overflow, cudaMemcpyDeviceToHost, stream()), "list overflow");
     sync();

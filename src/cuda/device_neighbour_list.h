@@ -77,7 +77,6 @@ public:
         m_columns = grownColumns(most);
         build(m_uncheckedX, stream);
     }
-    bool unchecked() const { return m_unchecked; }
     int32_t columns() const { return m_columns; }
     void setColumns(int32_t columns) { m_columns = columns; }
     // Distinct for every build of every list (a swap brings its lists' id along).
