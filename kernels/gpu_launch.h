@@ -550,7 +550,7 @@ struct StageOpening {
     ScreenScales scales;
     RestingContact<Real> resting;
     double* kineticRow;
-    int32_t* moved;  // the particles its walls moved, words->wallMoved of them (launchListRefresh)
+    int32_t* moved;  // the particles its walls moved, words->wallMoved of them (launchStageSumsAndRefresh)
     // Each particle's forecast from the state the stage leaves and its acceleration before the refresh;
     // the refresh's pass forecasts its rows again (an extra "beyond" at worst, from a row it changes).
     ListForecastArgs<Real> forecast;
