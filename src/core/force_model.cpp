@@ -24,11 +24,14 @@ std::string ForceChoice::summary() const { return std::string(forceModelName(mod
 
 // CPU: measured with `corebox bench md --sizes 32,64,125,250,500 --precision fp64` on 2 cores
 // (docs/results/md_cpu_crossover.json): all pairs is faster at N = 32, the half lists from N = 64 on.
-// CUDA: measured with `corebox bench md --backend cuda --sizes 4000,8000,12000,16000,24000` on an H200
-// (docs/results/md_h200_crossover.json): all pairs is faster at N = 4000 (0.33 against 0.37 ms per
-// step in fp32), the two are even at 8000, lists are faster from 12000 (0.45 against 0.53 ms).
+// CUDA: measured with `corebox bench md --backend cuda --sizes 250,500,1000,2000,4000,8000` on an H200
+// (docs/results/md_h200_crossover.json): lists are faster at every size, 0.029 against 0.259 ms per
+// step at N = 250 in fp32 (their steps run ahead, their stage is screened; all pairs' stage is not),
+// so the smallest size measured. (Before lists stepped ahead of the host, in 2026-11-22's record,
+// all pairs was faster up to N = 8000.) Below it the box rule mostly decides: at this density the
+// reach spans most of a box of fewer than ~150 particles.
 int64_t neighbourListCrossover(const std::string& backendName) {
-    if (backendName == "cuda") return 10000;
+    if (backendName == "cuda") return 250;
     return 64;
 }
 
