@@ -573,8 +573,8 @@ template <class Real>
 void launchStepCheck(const StepCheckArgs<Real>& args, cudaStream_t stream);
 // v += h a, then x += dt v (verletKick, verletDrift) in one pass; with snapshotX set, (x, v) are
 // copied there first (Backend::keepSnapshot); with reset set, the step words are reset as
-// launchResetStepWords does. The results go to xOut and vOut (x and v where those are null), and
-// nothing at all is done where the gate is closed.
+// launchResetStepWords does. The results go to xOut and vOut (x and v themselves for a step in place),
+// and nothing at all is done where the gate is closed.
 template <class Real>
 struct KickDriftArgs {
     const Vec3<Real>* x;

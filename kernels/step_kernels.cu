@@ -39,8 +39,8 @@ __global__ void kickDriftKernel(KickDriftArgs<Real> a) {
     }
     verletKick(vi, a.a[i], a.h);
     verletDrift(xi, vi, a.dt);
-    (a.vOut ? a.vOut : const_cast<Vec3<Real>*>(a.v))[i] = vi;
-    (a.xOut ? a.xOut : const_cast<Vec3<Real>*>(a.x))[i] = xi;
+    a.vOut[i] = vi;
+    a.xOut[i] = xi;
 }
 
 }  // namespace

@@ -73,8 +73,8 @@ void CudaDevice<Real>::kickDrift(double h, double dt) {
     onEachGpu([&](int k, Replica<Real>& r) {
         const DeviceSlice& s = slice(k);
         gpu::KickDriftArgs<Real> a{};
-        a.x = r.x.data() + s.begin;
-        a.v = r.v.data() + s.begin;
+        a.x = a.xOut = r.x.data() + s.begin;
+        a.v = a.vOut = r.v.data() + s.begin;
         a.a = r.acceleration.data();
         a.n = s.size();
         a.h = Real(h);
