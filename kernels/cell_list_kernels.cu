@@ -9,6 +9,12 @@
 //      extra pass.
 // The sort costs more than the former atomic scatter for n above a few thousand (a few tens of us per
 // build at n ~ 1e5 on an H100); that is the price of an order that does not depend on scheduling.
+// Up to kOneBlockItems (4096) particles the three steps run in one block (cub::BlockRadixSort, stable
+// too, the keys then binary-searched in shared memory), and up to 1024 as a counting sort in shared
+// memory (smallCellListKernel): one launch instead of five or so. At that size a build is all launch
+// latency, and a collision stage builds one a round (RK4 at N = 1024: 2 to 3 a step).
+#include <cub/block/block_radix_sort.cuh>
+#include <cub/block/block_scan.cuh>
 #include <cub/device/device_radix_sort.cuh>
 
 #include <stdexcept>
@@ -40,6 +46,85 @@ __global__ void cellStartKernel(const uint32_t* sortedKeys, int32_t n, int cells
     cellStart[c] = lo;
 }
 
+// The whole build of n <= Threads x Items particles in one block: thread t holds particles [t * Items,
+// (t + 1) * Items) in a blocked arrangement, the rows past n keyed above every cell (stable: after the
+// real ones).
+constexpr int64_t kOneBlockItems = 4096;
+
+template <class Real, int Threads, int Items>
+__global__ void __launch_bounds__(Threads) oneBlockCellListKernel(CellListArgs<Real> a, int bits, int cells) {
+    using Sort = cub::BlockRadixSort<uint32_t, Threads, Items, int32_t>;
+    __shared__ union {
+        typename Sort::TempStorage sort;
+        uint32_t keys[Threads * Items];
+    } shared;
+    uint32_t keys[Items];
+    int32_t values[Items];
+    for (int k = 0; k < Items; ++k) {
+        const int32_t i = int32_t(threadIdx.x) * Items + k;
+        keys[k] = i < a.n ? uint32_t(cellKeyOf(a.geometry, a.x[i])) : 0xffffffffu;
+        values[k] = i;
+    }
+    Sort(shared.sort).Sort(keys, values, 0, bits);
+    __syncthreads();  // the sort's storage becomes the sorted keys
+    for (int k = 0; k < Items; ++k) {
+        const int32_t slot = int32_t(threadIdx.x) * Items + k;
+        if (slot >= a.n) break;
+        a.sorted[slot] = values[k];
+        shared.keys[slot] = keys[k];
+    }
+    __syncthreads();
+    for (int c = int(threadIdx.x); c <= cells; c += Threads) {
+        int32_t lo = 0, hi = int32_t(a.n);
+        while (lo < hi) {
+            const int32_t mid = lo + (hi - lo) / 2;
+            if (int64_t(shared.keys[mid]) < c) lo = mid + 1;
+            else hi = mid;
+        }
+        a.cellStart[c] = lo;
+    }
+}
+
+// Up to 1024 particles (and kSmallSlots cells), in shared memory: a counting sort as the host's
+// (host_cell_list.h), counts by atomics (a count: the same in any order), starts by a block scan,
+// places by atomics (in no order), then each cell's few entries put in ascending index, one thread a
+// cell: the host's arrays. Half the one-block radix sort's time at N = 1024 (its three passes of
+// block-wide ranking).
+constexpr int kSmallThreads = 1024, kSmallPerThread = 3;
+constexpr int kSmallSlots = kSmallThreads * kSmallPerThread;  // cells + 1 at most (maxCellCount(1024) + 1 = 2113)
+
+template <class Real>
+__global__ void __launch_bounds__(kSmallThreads) smallCellListKernel(CellListArgs<Real> a, int cells) {
+    using Scan = cub::BlockScan<int32_t, kSmallThreads>;
+    __shared__ typename Scan::TempStorage scan;
+    __shared__ int32_t start[kSmallSlots], cursor[kSmallSlots], order[kSmallThreads];
+    const int t = int(threadIdx.x);
+    for (int c = t; c < kSmallSlots; c += kSmallThreads) start[c] = 0;
+    __syncthreads();
+    const int key = t < a.n ? cellKeyOf(a.geometry, a.x[t]) : 0;
+    if (t < a.n) atomicAdd(&start[key], 1);
+    __syncthreads();
+    int32_t counts[kSmallPerThread];
+    for (int k = 0; k < kSmallPerThread; ++k) counts[k] = start[t * kSmallPerThread + k];
+    Scan(scan).ExclusiveSum(counts, counts);
+    for (int k = 0; k < kSmallPerThread; ++k) start[t * kSmallPerThread + k] = cursor[t * kSmallPerThread + k] = counts[k];
+    __syncthreads();
+    if (t < a.n) order[atomicAdd(&cursor[key], 1)] = t;
+    __syncthreads();
+    for (int c = t; c < cells; c += kSmallThreads) {  // insertion sort of the cell's entries by index
+        const int32_t b = start[c], e = start[c + 1];
+        for (int32_t x = b + 1; x < e; ++x) {
+            const int32_t v = order[x];
+            int32_t y = x - 1;
+            for (; y >= b && order[y] > v; --y) order[y + 1] = order[y];
+            order[y + 1] = v;
+        }
+    }
+    __syncthreads();
+    for (int c = t; c <= cells; c += kSmallThreads) a.cellStart[c] = start[c];
+    if (t < a.n) a.sorted[t] = order[t];
+}
+
 // Key bits to sort: enough for keys 0 .. cells-1 (at least one, which CUB requires).
 int keyBits(int cells) {
     int bits = 1;
@@ -65,9 +150,19 @@ void launchBuildCellList(const CellListArgs<Real>& a, cudaStream_t stream) {
         checkLaunch("cell list reset");
         return;
     }
+    const int bits = keyBits(cells);
+    if (a.n <= kSmallThreads && cells + 1 <= kSmallSlots) {
+        smallCellListKernel<Real><<<1, kSmallThreads, 0, stream>>>(a, cells);
+        checkLaunch("small cell list kernel");
+        return;
+    }
+    if (a.n <= kOneBlockItems) {
+        oneBlockCellListKernel<Real, 512, 8><<<1, 512, 0, stream>>>(a, bits, cells);
+        checkLaunch("one-block cell list kernel");
+        return;
+    }
     assignCellKeysKernel<Real><<<blocksFor(a.n), kBlock, 0, stream>>>(a);
     checkLaunch("cell key kernel");
-    const int bits = keyBits(cells);
     size_t bytes = 0;
     cub::DeviceRadixSort::SortPairs(nullptr, bytes, a.keys, a.sortedKeys, a.indices, a.sorted, int(a.n), 0, bits, stream);
     if (bytes > a.scratchBytes) {

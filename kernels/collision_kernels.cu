@@ -2,17 +2,34 @@
 // functions of collision_resolution.h. Contacts are found through the cell list (cell_list.h, cells at
 // least the largest contact distance wide), rebuilt by cell_list_kernels.cu every round since
 // resolution moves particles.
+#include <algorithm>
+
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
+#include "neighbour_walk.cuh"
 #include "step_check.cuh"
 
 namespace corebox::gpu {
 namespace {
 
-template <class Real>
+__global__ void openStageKernel(StageOpenArgs a) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i < 3) a.kindCounts[i] = 0;
+    if (i < a.zeroCount) a.zero[i] = 0;
+    if (i >= a.n) return;
+    if (a.active) a.active[i] = 1;
+    if (!a.flagged[i]) return;
+    for (int r = 0; r < a.rowCount; ++r) a.rows[size_t(r) * size_t(a.n) + size_t(i)] = 0;
+    a.flagged[i] = 0;
+}
+
+// G lanes a particle (neighbour_walk.cuh; G = 1: a thread walks alone), whole groups in a block.
+template <class Real, int G>
 __global__ void findEventsKernel(CollisionArgs<Real> a) {
-    const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (k >= a.p.n || (a.gate && *a.gate == 0u)) return;
+    const int64_t t = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    const int64_t k = t / G;
+    const int rank = int(t % G);
+    if (k >= a.p.n || (a.gate && *a.gate == 0u)) return;  // the whole group
     // Threads take particles in the cell list's order: a warp's 27-cell walks overlap, so its loads of
     // the partners hit the caches (in index order, 10^7 particles took 14 ms per search on an H200).
     const int64_t i = a.grid.sorted[k];
@@ -20,10 +37,22 @@ __global__ void findEventsKernel(CollisionArgs<Real> a) {
     const Vec3<Real> xi = a.p.x[i], vi = a.p.v[i];
     const Real ri = a.table.radius[a.p.species[i]];
     CollisionEvent best = noEvent();
-    forEachNeighbour(a.grid, xi, [&](int64_t j) {
+    auto consider = [&](int64_t j) {
         if (j == i || !(checkAll || a.active[j])) return;
         considerPair(xi, vi, ri, a.p.x[j], a.p.v[j], a.table.radius[a.p.species[j]], j, a.window, best);
-    });
+    };
+    if (G == 1) {
+        forEachNeighbour(a.grid, xi, consider);
+    } else {
+        forEachNeighbourShared<G>(a.grid, xi, rank, consider);
+        const unsigned mask = groupMask<G>();
+        for (int offset = G / 2; offset > 0; offset /= 2) {
+            const CollisionEvent other{__shfl_xor_sync(mask, best.key, offset),
+                                       int64_t(__shfl_xor_sync(mask, (long long)best.partner, offset))};
+            if (isBetter(other, best)) best = other;
+        }
+        if (rank != 0) return;
+    }
     considerWalls(xi, vi, ri, a.box, a.window, best);
     a.events[i] = best;
     if (!isValid(best)) return;
@@ -63,11 +92,15 @@ __device__ void recordImpact(const CollisionArgs<Real>& a, int64_t i, int kind, 
     atomicAdd(&a.kindCounts[kind - 1], 1ull);
 }
 
+// Resolves the mutual-earliest events, and leaves a particle active for the next round when it had an
+// event (resolved now or still pending): the resolution reads no active flag, so the next search's
+// flags are set here rather than by a launch of their own.
 template <class Real>
 __global__ void resolveKernel(CollisionArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.p.n || (a.gate && *a.gate == 0u)) return;
     const CollisionEvent e = a.events[i];
+    a.active[i] = isValid(e);
     if (!isValid(e)) return;
     const int si = a.p.species[i];
     int kind = kNoCollision;
@@ -163,19 +196,21 @@ __global__ void stageWallsKernel(CollisionArgs<Real> a, const Vec3<Real>* accele
     if (o.forecast.moves) forecastParticle(o.forecast, i, a.p.x[i], a.p.v[i], acceleration[i]);
 }
 
-// After resolution: a particle stays active when it had an event (resolved now or still pending).
-template <class Real>
-__global__ void updateActiveKernel(CollisionArgs<Real> a) {
-    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i >= a.p.n || (a.gate && *a.gate == 0u)) return;
-    a.active[i] = isValid(a.events[i]);
-}
-
 }  // namespace
+
+void launchOpenStage(const StageOpenArgs& a, cudaStream_t stream) {
+    const int64_t threads = std::max<int64_t>({a.n, a.zeroCount, 3});
+    openStageKernel<<<blocksFor(threads), kBlock, 0, stream>>>(a);
+    checkLaunch("open stage kernel");
+}
 
 template <class Real>
 void launchFindEvents(const CollisionArgs<Real>& a, cudaStream_t stream) {
-    findEventsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+    switch (searchGroupFor(a.p.n)) {
+        case 32: findEventsKernel<Real, 32><<<blocksFor(a.p.n * 32), kBlock, 0, stream>>>(a); break;
+        case 8: findEventsKernel<Real, 8><<<blocksFor(a.p.n * 8), kBlock, 0, stream>>>(a); break;
+        default: findEventsKernel<Real, 1><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+    }
     checkLaunch("event kernel");
 }
 
@@ -183,12 +218,6 @@ template <class Real>
 void launchResolve(const CollisionArgs<Real>& a, cudaStream_t stream) {
     resolveKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
     checkLaunch("resolve kernel");
-}
-
-template <class Real>
-void launchUpdateActive(const CollisionArgs<Real>& a, cudaStream_t stream) {
-    updateActiveKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
-    checkLaunch("active kernel");
 }
 
 template <class Real>
@@ -213,8 +242,7 @@ void launchStageWalls(const CollisionArgs<Real>& a, const Vec3<Real>* accelerati
     template void launchStageWalls<Real>(const CollisionArgs<Real>&, const Vec3<Real>*, Real, const Vec3<Real>*, Real,              \
                                          const StageOpening<Real>&, cudaStream_t);                                                                   \
     template void launchFindEvents<Real>(const CollisionArgs<Real>&, cudaStream_t);                                \
-    template void launchResolve<Real>(const CollisionArgs<Real>&, cudaStream_t);                                  \
-    template void launchUpdateActive<Real>(const CollisionArgs<Real>&, cudaStream_t);
+    template void launchResolve<Real>(const CollisionArgs<Real>&, cudaStream_t);
 COREBOX_INSTANTIATE(float)
 COREBOX_INSTANTIATE(double)
 #undef COREBOX_INSTANTIATE

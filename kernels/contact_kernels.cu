@@ -12,23 +12,21 @@
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
 #include "contact_residual.cuh"
+#include "neighbour_walk.cuh"
 
 namespace corebox::gpu {
 namespace {
 
-// fn(partner) for each contact of particle i the relaxation acts on, in list order (cell-list
-// neighbours, then walls), as the CPU lists them.
+// Whether pair (i, j) is a contact the relaxation acts on.
+template <class Real>
+__device__ bool isPairContact(const ContactArgs<Real>& a, int64_t i, const Vec3<Real>& xi, const Vec3<Real>& vi, Real ai, int64_t j) {
+    return j != i && pairContactActive(xi, vi, a.p.x[j], a.p.v[j], ai + a.table.radius[a.p.species[j]], a.resting);
+}
+
+// fn(wall code) for each wall contact of the particle at xi, in wall order; returns their count.
 template <class Real, class Fn>
-__device__ int forEachContact(const ContactArgs<Real>& a, int64_t i, Fn&& fn) {
+__device__ int forEachWallContact(const ContactArgs<Real>& a, const Vec3<Real>& xi, const Vec3<Real>& vi, Real ai, Fn&& fn) {
     int count = 0;
-    const Vec3<Real> xi = a.p.x[i];
-    const Real ai = a.table.radius[a.p.species[i]];
-    const Vec3<Real> vi = a.p.v[i];
-    forEachNeighbour(a.cells, xi, [&](int64_t j) {
-        if (j == i || !pairContactActive(xi, vi, a.p.x[j], a.p.v[j], ai + a.table.radius[a.p.species[j]], a.resting)) return;
-        fn(j);
-        ++count;
-    });
     for (int axis = 0; axis < 3; ++axis) {
         for (int side = 0; side < 2; ++side) {
             if (!wallContactActive(xi[axis], vi[axis], ai, a.box[axis], side, a.resting)) continue;
@@ -39,13 +37,45 @@ __device__ int forEachContact(const ContactArgs<Real>& a, int64_t i, Fn&& fn) {
     return count;
 }
 
-template <class Real>
-__global__ void countContactsKernel(ContactArgs<Real> a) {
-    const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (k == 0) a.contactStart[0] = 0;
+// fn(partner) for each contact of particle i the relaxation acts on, in list order (cell-list
+// neighbours, then walls), as the CPU lists them.
+template <class Real, class Fn>
+__device__ int forEachContact(const ContactArgs<Real>& a, int64_t i, Fn&& fn) {
+    int count = 0;
+    const Vec3<Real> xi = a.p.x[i];
+    const Real ai = a.table.radius[a.p.species[i]];
+    const Vec3<Real> vi = a.p.v[i];
+    forEachNeighbour(a.cells, xi, [&](int64_t j) {
+        if (!isPairContact(a, i, xi, vi, ai, j)) return;
+        fn(j);
+        ++count;
+    });
+    return count + forEachWallContact(a, xi, vi, ai, fn);
+}
+
+// G lanes a particle (neighbour_walk.cuh; G = 1: a thread walks alone), whole groups in a block.
+template <class Real, int G>
+__global__ void countContactsKernel(ContactArgs<Real> a, unsigned long long* total) {
+    const int64_t t = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    const int64_t k = t / G;
+    const int rank = int(t % G);
+    if (t == 0) a.contactStart[0] = 0;
     if (k >= a.p.n) return;
     const int64_t i = a.cells.sorted[k];  // in cell order, as findEventsKernel
-    a.contactStart[i + 1] = forEachContact(a, i, [](int64_t) {});
+    int64_t count = 0;
+    if (G == 1) {
+        count = forEachContact(a, i, [](int64_t) {});
+    } else {
+        const Vec3<Real> xi = a.p.x[i], vi = a.p.v[i];
+        const Real ai = a.table.radius[a.p.species[i]];
+        int pairs = 0;
+        forEachNeighbourShared<G>(a.cells, xi, rank, [&](int64_t j) { pairs += isPairContact(a, i, xi, vi, ai, j) ? 1 : 0; });
+        for (int offset = G / 2; offset > 0; offset /= 2) pairs += __shfl_xor_sync(groupMask<G>(), pairs, offset);
+        if (rank != 0) return;
+        count = pairs + forEachWallContact(a, xi, vi, ai, [](int64_t) {});
+    }
+    a.contactStart[i + 1] = count;
+    if (total && count > 0) atomicAdd(total, (unsigned long long)count);  // a sum of integers: the same in any order
 }
 
 // Particle i's impulse on `partner` at the end of the last step (its row there), or 0.
@@ -240,8 +270,13 @@ __global__ void liftWorkKernel(ParticleArrays<Real> p, SpeciesTable<Real> table,
 }  // namespace
 
 template <class Real>
-void launchCountContacts(const ContactArgs<Real>& a, cudaStream_t stream) {
-    countContactsKernel<Real><<<blocksFor(a.p.n > 0 ? a.p.n : 1), kBlock, 0, stream>>>(a);
+void launchCountContacts(const ContactArgs<Real>& a, cudaStream_t stream, unsigned long long* total) {
+    const int64_t n = a.p.n > 0 ? a.p.n : 1;  // one thread at least: contactStart[0]
+    switch (searchGroupFor(n)) {
+        case 32: countContactsKernel<Real, 32><<<blocksFor(n * 32), kBlock, 0, stream>>>(a, total); break;
+        case 8: countContactsKernel<Real, 8><<<blocksFor(n * 8), kBlock, 0, stream>>>(a, total); break;
+        default: countContactsKernel<Real, 1><<<blocksFor(n), kBlock, 0, stream>>>(a, total);
+    }
     checkLaunch("contact count kernel");
 }
 
@@ -321,7 +356,7 @@ void launchLiftWorkRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, 
 }
 
 #define COREBOX_INSTANTIATE(Real)                                                                                  \
-    template void launchCountContacts<Real>(const ContactArgs<Real>&, cudaStream_t);                               \
+    template void launchCountContacts<Real>(const ContactArgs<Real>&, cudaStream_t, unsigned long long*);                               \
     template void launchFillContacts<Real>(const ContactArgs<Real>&, cudaStream_t);                                \
     template void launchWarmStart<Real>(const ContactArgs<Real>&, cudaStream_t);                                   \
     template void launchSettleContacts<Real>(const ContactArgs<Real>&, cudaStream_t);                              \

@@ -10,7 +10,8 @@
 //   shared-memory table;
 // - without a cutoff the loop calls ljForceOverR directly (what pairForceOverR reduces to then);
 // - rows may be listed particles (rowIndex): the collision stage's end-of-step accelerations of the
-//   particles about to be resolved use the same tiles and chunks as a full pass;
+//   particles about to be resolved; their count read on the device, by a block a row (rowBlocksKernel,
+//   which also takes every row at small N);
 // - with several GPUs each computes its slice of rows [begin, end) against all n positions, read
 //   from its own copy or, with direct access (DA), from the owning GPU's memory (PeerSources);
 // - when the rows alone give too few blocks to fill the GPU (N below a few hundred thousand), the
@@ -19,6 +20,7 @@
 // A full pass over every particle on one GPU evaluates each pair once instead, with Newton's third
 // law, where that pays and fits in memory (pairs_once_kernels.cu, pairsOnceApplies below).
 #include <algorithm>
+#include <stdexcept>
 
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
@@ -148,11 +150,77 @@ __global__ void combineChunksKernel(ForceArgs<Real> a, int chunks, const Vec3<Re
     if (partialEnergy) a.pairEnergy[out] = energy;
 }
 
+// A block a row (all pairs, no peers, no energy): the block's threads over j in strides, their sums
+// added in a fixed order (each warp by shuffles, then the warps in turn). For rows that are few or
+// short, where the tiled kernel cannot fill the GPU:
+// - listed rows counted on the device (ForceArgs::rowCount): a row's bits depend neither on where its
+//   particle stands in the list nor on how many rows there are, so a collision stage whose rounds are
+//   queued without their counts being read (runImpactRounds) gives the bits of one that reads each
+//   round's count before launching its rows. The rows are few (a round's new impacts: 13 a step at
+//   N = 1024, about 600 at 65536), so a block each fills the GPU where the tiled kernel's row blocks
+//   would have to be planned from a count the host does not have;
+// - every row at small N (kRowBlockMaxRows): at N = 1024 the tiled kernel ran 32 blocks (chunks of j,
+//   then a second kernel adding them, 6.1 + 2.9 us on an H200), this one 1024 blocks and no second
+//   kernel.
+constexpr int kRowBlock = 128;
+constexpr int64_t kRowBlockMaxRows = 2048;
+
+template <class Real, bool kSingleSpecies, bool kCutoff>
+__global__ void __launch_bounds__(kRowBlock) rowBlocksKernel(ForceArgs<Real> a) {
+    __shared__ Vec3<Real> warpSums[kRowBlock / 32];
+    const int64_t rows = a.rowCount ? min(a.end - a.begin, int64_t(*a.rowCount)) : a.end - a.begin;
+    const int s = a.table.count;
+    const int warp = int(threadIdx.x) / 32, lane = int(threadIdx.x) % 32;
+    for (int64_t r = blockIdx.x; r < rows; r += gridDim.x) {  // the same trip count for the whole block
+        const int64_t i = a.rowIndex ? int64_t(a.rowIndex[a.begin + r]) : a.begin + r;
+        const Vec3<Real> xi = a.x[i];
+        const int si = a.species[i];
+        Vec3<Real> force{0, 0, 0};
+        for (int64_t j = threadIdx.x; j < a.n; j += kRowBlock) {
+            const Vec3<Real> xj = a.x[j];
+            const Vec3<Real> d{xi.x - xj.x, xi.y - xj.y, xi.z - xj.z};
+            const Real r2 = norm2(d);
+            if (kCutoff && r2 == Real(0)) continue;  // itself (ljForceOverR gives zero there by itself)
+            const PairCoefficients<Real>& p = a.table.pairs[kSingleSpecies ? 0 : si * s + a.species[j]];
+            force += pairForce<Real, kCutoff, true>(p, r2, static_cast<Real*>(nullptr)) * d;
+        }
+        for (int offset = 16; offset > 0; offset /= 2) {
+            force.x += __shfl_down_sync(0xffffffffu, force.x, offset);
+            force.y += __shfl_down_sync(0xffffffffu, force.y, offset);
+            force.z += __shfl_down_sync(0xffffffffu, force.z, offset);
+        }
+        if (lane == 0) warpSums[warp] = force;
+        __syncthreads();
+        if (threadIdx.x == 0) {
+            Vec3<Real> sum = warpSums[0];
+            for (int w = 1; w < kRowBlock / 32; ++w) sum += warpSums[w];
+            a.acceleration[a.rowIndex ? i : r] = a.table.invMass[si] * sum + a.table.field[si];
+        }
+        __syncthreads();  // warpSums read before the next row writes them
+    }
+}
+
+template <class Real>
+void launchRowBlocks(const ForceArgs<Real>& a, cudaStream_t stream) {
+    // A block a row up to a few per multiprocessor; more rows than that loop.
+    const int64_t rows = a.end - a.begin;
+    const unsigned blocks = unsigned(std::min<int64_t>(rows, int64_t(8) * multiprocessorCount()));
+    const bool single = a.table.count == 1;
+    if (a.hasCutoff) {
+        if (single) rowBlocksKernel<Real, true, true><<<blocks, kRowBlock, 0, stream>>>(a);
+        else rowBlocksKernel<Real, false, true><<<blocks, kRowBlock, 0, stream>>>(a);
+    } else {
+        if (single) rowBlocksKernel<Real, true, false><<<blocks, kRowBlock, 0, stream>>>(a);
+        else rowBlocksKernel<Real, false, false><<<blocks, kRowBlock, 0, stream>>>(a);
+    }
+    checkLaunch("row blocks kernel");
+}
+
 // Pure hard spheres: each row's acceleration is its species' uniform field, no pair loop.
 template <class Real>
 __global__ void fieldOnlyKernel(ForceArgs<Real> a) {
     const int64_t i = a.begin + int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i >= a.end) return;
+    if (i >= a.end || (a.rowCount && i - a.begin >= int64_t(*a.rowCount))) return;
     const int64_t p = a.rowIndex ? int64_t(a.rowIndex[i]) : i;
     const int64_t out = a.rowIndex ? p : i - a.begin;
     a.acceleration[out] = a.table.field[a.species[p]];
@@ -239,12 +307,22 @@ void launchForces(const ForceArgs<Real>& a, cudaStream_t stream) {
         checkLaunch("field kernel");
         return;
     }
+    if (a.rowCount && !(a.rowIndex && !a.neighbours && a.peers.count == 0))
+        throw std::logic_error("force pass: a row count read on the device needs listed rows and all pairs");
+    if (a.rowCount) {
+        launchRowBlocks(a, stream);
+        return;
+    }
     if (a.neighbours && a.peers.count == 0) {
         launchListForces(a, stream);
         return;
     }
     if (pairsOnceApplies(a)) {
         launchPairsOnceForces(a, stream);
+        return;
+    }
+    if (rows <= kRowBlockMaxRows && a.peers.count == 0 && !a.pairEnergy) {
+        launchRowBlocks(a, stream);
         return;
     }
     const bool single = a.table.count == 1;

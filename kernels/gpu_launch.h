@@ -107,6 +107,9 @@ struct ForceArgs {
     // acceleration goes to acceleration[rowIndex[r]] (the collision stage's end-of-step accelerations);
     // from neighbour lists too when they are set and have a row per particle (one GPU).
     const int32_t* rowIndex;
+    // When set with rowIndex (all pairs, no peers): the rows are [begin, begin + *rowCount) within
+    // [begin, end), the count read on the device (a collision round's count, not waited for).
+    const unsigned int* rowCount;
     // When set (and peers are not), forces come from neighbour lists over rows [begin, end)
     // (neighbour_list_kernels.cu) instead of all pairs.
     const int32_t* neighbours;      // partner c of row r at neighbours[c * (end - begin) + r]
@@ -349,6 +352,21 @@ struct CollisionArgs {
     // queued behind one that found no event (CudaDevice::runImpactRounds).
     const unsigned int* gate;
 };
+// A collision stage opened in one launch (CudaDevice::beginCollisions): for every particle i, active[i]
+// = 1 where active is set; where flagged[i], rows[r * n + i] = 0 for r < rowCount and flagged[i] = 0
+// (the impact rows only the last stage's particles with events wrote); kindCounts[0..2] = 0; and
+// zero[0 .. zeroCount) = 0 (the rounds' counters).
+struct StageOpenArgs {
+    char* active;
+    double* rows;
+    int rowCount;
+    int64_t n;
+    char* flagged;
+    unsigned long long* kindCounts;
+    unsigned int* zero;
+    int64_t zeroCount;
+};
+void launchOpenStage(const StageOpenArgs& args, cudaStream_t stream);
 // Each particle's earliest event (all neighbours when active, else only active ones); counts the
 // particles with an event into counters[1], and lists those that still need a contact acceleration
 // (counted in counters[0]; marked as having one: the caller computes them next, by a force pass
@@ -356,12 +374,10 @@ struct CollisionArgs {
 template <class Real>
 void launchFindEvents(const CollisionArgs<Real>& args, cudaStream_t stream);
 // Resolves the matching of mutual-earliest events and adds to the kind counts and losses (a pair by
-// its lower index, as the CPU), and to the contact log when it is set.
+// its lower index, as the CPU), and to the contact log when it is set; active[i] = particle i had an
+// event this round (the next search's flags).
 template <class Real>
 void launchResolve(const CollisionArgs<Real>& args, cudaStream_t stream);
-// active[i] = particle i had an event this round.
-template <class Real>
-void launchUpdateActive(const CollisionArgs<Real>& args, cudaStream_t stream);
 // Walls only (no pair can meet in this stage, CudaDevice::screenStage): every particle resolves its wall
 // impacts one after another, earliest first, as the rounds would one a round (particles do not meet,
 // so each particle's sequence is the rounds' sequence), with `acceleration` the end-of-step
@@ -420,9 +436,10 @@ struct ContactArgs {
 // The most colours a listing's pairs may take: a particle's colours are a 64-bit mask. A listing that
 // needs more (a particle with more than ~32 contacts) is relaxed with Jacobi sweeps.
 constexpr int kMaxContactColours = 64;
-// contactStart[i + 1] = particle i's contact count (contactStart[0] = 0); the caller scans it.
+// contactStart[i + 1] = particle i's contact count (contactStart[0] = 0); the caller scans it. With
+// total set, the counts are also added into *total (zeroed by the caller).
 template <class Real>
-void launchCountContacts(const ContactArgs<Real>& args, cudaStream_t stream);
+void launchCountContacts(const ContactArgs<Real>& args, cudaStream_t stream, unsigned long long* total = nullptr);
 // Exclusive-scans counts in place into offsets: n + 1 entries.
 size_t contactScanScratchBytes(int64_t n);
 void scanContactCounts(int64_t* contactStart, int64_t n, void* scratch, size_t scratchBytes, cudaStream_t stream);
@@ -492,8 +509,6 @@ void launchPairVirialRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table
 // With maskedRows >= 0, the mask applies to the first maskedRows rows only.
 int launchBlockSums(const double* values, int rows, int64_t n, double* partials, cudaStream_t stream, const char* mask = nullptr,
                     int maskedRows = -1);
-// values[r * n + i] = 0 for every row r and every i with mask[i] != 0.
-void launchClearMaskedRows(double* values, int rows, int64_t n, const char* mask, cudaStream_t stream);
 int blockSumBlocks(int64_t n);
 
 template <class Real>
@@ -523,6 +538,7 @@ void launchHealth(const HealthArgs<Real>& args, cudaStream_t stream);
 struct StepWords {
     unsigned long long kindCounts[3];    // CollisionArgs::kindCounts: pair, wall
     unsigned long long healthCounts[3];  // HealthArgs::counts
+    unsigned long long listedContacts;   // launchCountContacts' total (the stage's tail, CudaDevice::queueStageTail)
     long long healthExamples[5];         // HealthArgs::examples
     unsigned int screen[3];              // ForceArgs::screen
     unsigned int wallStats[3];           // launchResolveWallImpacts' stats

@@ -45,12 +45,6 @@ __global__ void healthKernel(HealthArgs<Real> a) {
     if (i < a.p.n) countIfUnhealthy(a, i);
 }
 
-__global__ void clearMaskedRowsKernel(double* values, int rows, int64_t n, const char* mask) {
-    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i >= n || !mask[i]) return;
-    for (int r = 0; r < rows; ++r) values[size_t(r) * size_t(n) + size_t(i)] = 0;
-}
-
 }  // namespace
 
 int blockSumBlocks(int64_t n) { return int((n + int64_t(kReduceBlock) * kItemsPerThread - 1) / (int64_t(kReduceBlock) * kItemsPerThread)); }
@@ -60,12 +54,6 @@ int launchBlockSums(const double* values, int rows, int64_t n, double* partials,
     blockSumsKernel<<<dim3(unsigned(blocks), unsigned(rows)), kReduceBlock, 0, stream>>>(values, n, partials, blocks, mask, maskedRows);
     checkLaunch("block sums kernel");
     return blocks;
-}
-
-void launchClearMaskedRows(double* values, int rows, int64_t n, const char* mask, cudaStream_t stream) {
-    if (n <= 0) return;
-    clearMaskedRowsKernel<<<blocksFor(n), kBlock, 0, stream>>>(values, rows, n, mask);
-    checkLaunch("clear rows kernel");
 }
 
 template <class Real>

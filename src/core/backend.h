@@ -165,6 +165,15 @@ public:
     virtual void stageForces(int stage) = 0;  // Kv_s = a(Xs)
     // (Xs, Vs) = y0 + dt sum_{j<stages} b_j K_j: the step's solution, not yet accepted.
     virtual void rkSolution(int stages, double dt) = 0;
+    // A whole explicit RK step up to its solution: each stage and its forces, then rkSolution. A
+    // backend may run it as one piece of work (the CUDA backend: one graph launch at small N).
+    virtual void rkStep(int stages, double dt) {
+        for (int s = 0; s < stages; ++s) {
+            rkStage(s, dt);
+            stageForces(s);
+        }
+        rkSolution(stages, dt);
+    }
     // Root mean square over the 6N components of the scaled error of the embedded pair after
     // rkSolution (rk_stage.h: scaledErrorSquared); <= 1 means within tolerance.
     virtual double rkErrorNorm(double dt, double tolerance) = 0;

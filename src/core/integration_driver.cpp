@@ -72,13 +72,7 @@ void IntegrationDriver::compositionStep(Backend& backend, double dt) {
     }
 }
 
-void IntegrationDriver::rkStep(Backend& backend, double dt, int stages) {
-    for (int s = 0; s < stages; ++s) {
-        backend.rkStage(s, dt);
-        backend.stageForces(s);
-    }
-    backend.rkSolution(stages, dt);
-}
+void IntegrationDriver::rkStep(Backend& backend, double dt, int stages) { backend.rkStep(stages, dt); }
 
 void IntegrationDriver::adaptiveStep(Backend& backend, StepReport& report) {
     double dt = m_dtNext;

@@ -97,6 +97,7 @@ CudaDevice<Real>::~CudaDevice() {
         cudaStreamSynchronize(m_mailStream);
         cudaStreamDestroy(m_mailStream);
     }
+    for (RkGraph& g : m_rkGraphs) g.reset();
     if (m_stageDone) cudaEventDestroy(m_stageDone);
     if (m_mailCopied) cudaEventDestroy(m_mailCopied);
     for (PhaseEvents& set : m_phaseSets) {
@@ -116,6 +117,7 @@ CudaDevice<Real>::~CudaDevice() {
 template <class Real>
 void CudaDevice<Real>::setModel(const DeviceModel& model) {
     beforeStateChange();  // masses, radii, box and skin: what was read of the state no longer holds
+    ++m_modelGeneration;
     m_model = model;
     m_screenPending = false;  // screened with the old radii and box
     m_listAtX = false;
@@ -145,6 +147,7 @@ void CudaDevice<Real>::setModel(const DeviceModel& model) {
 template <class Real>
 void CudaDevice<Real>::setTableau(const ButcherTableau& tableau) {
     m_tableau = tableau;
+    ++m_modelGeneration;
     onEachGpu([&](int, Replica<Real>& r) { r.tableau.upload(&m_tableau, 1); });
 }
 
@@ -152,6 +155,7 @@ template <class Real>
 void CudaDevice<Real>::setState(const ParticleState& state) {
     beforeStateChange();
     m_kickDriftKnown = false;
+    ++m_modelGeneration;
     sync();
     m_accelerationMatchesX = false;
     m_listAtX = false;

@@ -9,6 +9,7 @@
 // tally is read.
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <numeric>
 #include <stdexcept>
@@ -129,6 +130,8 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     if (resolved && (window.maxRewind != m_speculatedWindow.maxRewind || window.restingSpeed != m_speculatedWindow.restingSpeed))
         throw std::logic_error("beginCollisions: the window differs from the one screenStage was given");
     m_screenPending = false;
+    m_stageWindow = window;
+    m_tailTally = m_tailListing = false;
     m_pairsClear = m_pairsClearNext;
     m_pairsClearNext = false;
     m_wallsAtOnce = m_wallsOnlyMoved = false;
@@ -166,15 +169,21 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
         cudaCheck(cudaMemcpyAsync(m_xBeforeCollisions.data(), home().x.data(), n * sizeof(Vec3<Real>), cudaMemcpyDeviceToDevice, s),
                   "positions before collisions");
     }
-    if (!m_wallsAtOnce) cudaCheck(cudaMemsetAsync(m_active.data(), 1, n, s), "memset");
     // The impact rows are zero but for the particles that had an event in the last stage (flagged in
     // m_hasContactAcceleration, the only rows resolveKernel writes): clear those, not 14 rows of n
-    // doubles (1.1 GB at 10^7 particles). After a change of n, everything.
-    if (m_impactRowsN == m_n) gpu::launchClearMaskedRows(m_impactRows.data(), kImpulseRows + 1, m_n, m_hasContactAcceleration.data(), s);
-    else cudaCheck(cudaMemsetAsync(m_impactRows.data(), 0, size_t(kImpulseRows + 1) * n * sizeof(double), s), "memset");
+    // doubles (1.1 GB at 10^7 particles). After a change of n, everything. With the active flags, the
+    // kind counts and the rounds' counters (runImpactRounds), in one launch: at N = 1024 a stage is
+    // made of launches.
+    if (m_impactRowsN != m_n) {
+        cudaCheck(cudaMemsetAsync(m_impactRows.data(), 0, size_t(kImpulseRows + 1) * n * sizeof(double), s), "memset");
+        cudaCheck(cudaMemsetAsync(m_hasContactAcceleration.data(), 0, n, s), "memset");
+    }
     m_impactRowsN = m_n;
-    cudaCheck(cudaMemsetAsync(m_hasContactAcceleration.data(), 0, n, s), "memset");
-    cudaCheck(cudaMemsetAsync(stepWords()->kindCounts, 0, sizeof stepWords()->kindCounts, s), "memset");
+    const gpu::StageOpenArgs open{m_wallsAtOnce ? nullptr : m_active.data(), m_impactRows.data(), kImpulseRows + 1, m_n,
+                                  m_hasContactAcceleration.data(), stepWords()->kindCounts, m_roundCounters.data(),
+                                  int64_t(m_roundCounters.size())};
+    gpu::launchOpenStage(open, s);
+    m_roundCountersZeroed = m_roundCounters.size() > 0;
     m_logging = m_logContacts;
     m_logBound = 0;
     m_logRound = 0;
@@ -274,6 +283,7 @@ int64_t CudaDevice<Real>::findEvents(EventScope scope) {
 template <class Real>
 void CudaDevice<Real>::applyEvents() {
     beforeStateChange();
+    m_tailTally = false;
     cudaStream_t s = stream();
     if (m_logging) {  // a record per particle with an event, at most
         reserveLog(m_logBound + m_eventCount);
@@ -293,26 +303,32 @@ void CudaDevice<Real>::applyEvents() {
         if (useLists() && gpuCount() == 1) {  // O(M x partners), not O(M x N): 10^7 particles hit the walls by the thousand
             if (!m_listAtX) home().list.update(home().x.data(), m_n, 0, m_n, m_box, m_model.cutoff, m_model.skin, s);
             home().list.fill(f);
+        } else {
+            f.rowCount = m_counters.data();  // the count just read, as the queued rounds read it (runImpactRounds)
         }
         gpu::launchForces(f, s);
     }
     gpu::launchResolve(a, s);
-    gpu::launchUpdateActive(a, s);
     ++m_logRound;
     m_eventsApplied = true;
     homeChanged();
     m_cellsMatchPositions = false;
 }
 
-// Rounds queued in batches, their counts read once a batch. Without a pair force a particle's
-// acceleration at the end of the step is its field whatever the positions, so one pass over every row
-// gives what each round's pass over its listed rows would (the same values), and nothing a round
-// queues depends on what the one before found: each round's search, resolution and active flags are
-// gated on the event count of the round before it and of itself (CollisionArgs::gate), so a round
-// queued behind the one that found none does nothing, and the state is the one the rounds one by one
-// leave. The first batch is as long as the last stage's rounds (a pile's rounds vary slowly), later
-// ones four: a batch too long costs its extra rounds' cell-list builds, one too short a read-back.
-// With the contact log, with pair forces or without CudaBackendOptions::fusedSteps: a round a wait.
+// Rounds queued in batches, their counts read once a batch. Nothing a round queues depends on what the
+// one before found: each round's search, rows, resolution and active flags are gated on the event
+// count of the round before it and of itself (CollisionArgs::gate, and the round's count of particles
+// needing end-of-step accelerations, which a gated search leaves at zero, ForceArgs::rowCount), so a
+// round queued behind the one that found none does nothing, and the state is the one the rounds one by
+// one leave. Without a pair force a particle's acceleration at the end of the step is its field
+// whatever the positions: one pass over every row, before the rounds. With pair forces (all pairs on
+// the gathered state) each round's new rows get theirs at the positions that round found, as applyEvents
+// computes them, by a pass that reads the round's count on the device. The first batch is as long as
+// the last stage's rounds (a pile's rounds vary slowly), later ones four: a batch too long costs its
+// extra rounds' cell-list builds, one too short a read-back.
+// The batch's wait also brings back what the calls after the rounds would each wait for (queueStageTail):
+// read where the batch's last round found nothing.
+// With the contact log, with lists on one GPU or without CudaBackendOptions::fusedSteps: a round a wait.
 // Measured (`corebox bench pile`, H200, fp32, 5 s, the same run with both): the impact phase of the
 // 10^4-ball pile (18 rounds a step) took 7.2 ms a frame instead of 8.6, of 10^5 balls (26) 11.6 instead
 // of 14.0; whole frames 17.7 and 43.5 ms instead of 19.0 and 46.4. What is left of a round is its
@@ -323,20 +339,25 @@ void CudaDevice<Real>::applyEvents() {
 // a frame, 10^6 over 3 s 209 against 217).
 template <class Real>
 ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
-    if (m_logging || m_model.anyPairForce || !m_fusedSteps || maxRounds < 1) return Backend::runImpactRounds(maxRounds);
+    const bool listRows = m_model.anyPairForce && useLists() && gpuCount() == 1;  // applyEvents' list rows: checked on the host
+    if (m_logging || listRows || !m_fusedSteps || maxRounds < 1) return Backend::runImpactRounds(maxRounds);
     beforeStateChange();
+    m_tailTally = false;
     cudaStream_t s = stream();
     gpu::ForceArgs<Real> f = homeForceArgs(home().x.data(), m_contactAcceleration.data());
     f.begin = 0;
     f.end = m_n;
     f.rowIndex = nullptr;
-    gpu::launchForces(f, s);
-    m_roundCounters.resize(2 * size_t(maxRounds));
-    cudaCheck(cudaMemsetAsync(m_roundCounters.data(), 0, 2 * size_t(maxRounds) * sizeof(unsigned int), s), "memset");
+    if (!m_model.anyPairForce) gpu::launchForces(f, s);
+    f.rowIndex = m_needList.data();
+    if (!(m_roundCountersZeroed && m_roundCounters.size() >= 2 * size_t(maxRounds))) {  // else zeroed by beginCollisions
+        m_roundCounters.resize(2 * size_t(maxRounds));
+        cudaCheck(cudaMemsetAsync(m_roundCounters.data(), 0, 2 * size_t(maxRounds) * sizeof(unsigned int), s), "memset");
+    }
+    m_roundCountersZeroed = false;
     ImpactRounds result;
     bool applied = false;
     int batch = std::clamp(m_lastImpactRounds, 2, maxRounds);
-    std::vector<unsigned int> counts;
     while (result.rounds < maxRounds && !result.settled) {
         const int first = result.rounds, queued = std::min(batch, maxRounds - first);
         for (int r = first; r < first + queued; ++r) {
@@ -345,14 +366,18 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
             a.counters = m_roundCounters.data() + 2 * r;
             a.gate = r > first ? a.counters - 1 : nullptr;  // the round before (known to have found events when r == first)
             gpu::launchFindEvents(a, s);
+            if (m_model.anyPairForce) {
+                f.rowCount = a.counters;  // this round's new rows; none where the search was gated off
+                gpu::launchForces(f, s);
+            }
             a.gate = a.counters + 1;  // this round's events
             gpu::launchResolve(a, s);
-            gpu::launchUpdateActive(a, s);
         }
-        counts.resize(2 * size_t(queued));
-        cudaCheck(cudaMemcpyAsync(counts.data(), m_roundCounters.data() + 2 * first, counts.size() * sizeof(unsigned int),
+        unsigned int* counts = m_hostRoundCounts.resize(2 * size_t(queued));
+        cudaCheck(cudaMemcpyAsync(counts, m_roundCounters.data() + 2 * first, 2 * size_t(queued) * sizeof(unsigned int),
                                   cudaMemcpyDeviceToHost, s),
                   "round counts");
+        const StageTail tail = queueStageTail();
         sync();
         for (int k = 0; k < queued && !result.settled; ++k) {
             ++result.rounds;
@@ -362,6 +387,7 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
                 applied = true;
             }
         }
+        if (result.settled) readStageTail(tail, applied);
         batch = 4;
     }
     m_lastImpactRounds = result.rounds;
@@ -374,9 +400,68 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
     return result;
 }
 
+// What the calls after settled rounds would each wait for, queued behind a batch of rounds to come back
+// in the same copy of the step mail: the tally (collisionTally: the kind counts are step words, the
+// impact rows' block partials follow them); and where no gravity gives contacts a resting gap (the
+// contact listing's cells are then the rounds' last, which match the positions when that round found
+// nothing), the listing's count (listContacts, for the resting contact of this stage's window and
+// screen: its total in a step word, the scan left for a listing that finds some) and the step check
+// (checkStep, its kinetic row summed with the impact rows), which stand if the listing finds nothing.
+// RK4 at N = 1024 (all pairs, 13 impacts a step): the stage's five waits become one.
+template <class Real>
+typename CudaDevice<Real>::StageTail CudaDevice<Real>::queueStageTail() {
+    StageTail tail;
+    cudaStream_t s = stream();
+    gpu::StepWords* w = stepWords();
+    int rows = kImpulseRows + 1;
+    const RestingContact<double> resting{m_stageWindow.restingSpeed, m_screenGap};
+    // m_screenGap < 0: screenStage was not called, no resting contact known.
+    if (m_screenGap >= 0 && (m_pairsClear || sameGeometry(listingGeometry(resting), m_cellList.geometry))) {
+        gatherToHome();
+        forgetRunAhead();  // its words are about to be written
+        m_wordsFresh = false;
+        static_assert(offsetof(gpu::StepWords, listedContacts) == offsetof(gpu::StepWords, healthCounts) + sizeof w->healthCounts,
+                      "one memset for the health counts and the contact total");
+        cudaCheck(cudaMemsetAsync(w->healthCounts, 0, sizeof w->healthCounts + sizeof w->listedContacts, s), "memset");
+        m_resting = RestingContact<Real>{Real(resting.speed), Real(resting.gap)};
+        countContacts(false, &w->listedContacts);
+        gpu::StepCheckArgs<Real> a = stepCheckArgs(m_impactRows.data() + size_t(kImpulseRows + 1) * size_t(m_n));
+        tail.checkForecast = a.forecast.moves != nullptr;
+        if (tail.checkForecast) cudaCheck(cudaMemsetAsync(&w->listForecast, 0, sizeof w->listForecast, s), "memset");
+        gpu::launchStepCheck(a, s);
+        rows = kImpulseRows + 2;
+        tail.listing = tail.check = true;
+        tail.resting = resting;
+    }
+    gpu::launchBlockSums(m_impactRows.data(), rows, m_n, m_stepMail.data() + kStepWordDoubles, s, m_hasContactAcceleration.data(),
+                         kImpulseRows + 1);
+    const size_t doubles = kStepWordDoubles + size_t(rows) * size_t(partialBlocks());
+    cudaCheck(cudaMemcpyAsync(m_hostStepMail.data(), m_stepMail.data(), doubles * sizeof(double), cudaMemcpyDeviceToHost, s), "step words");
+    tail.tally = true;
+    return tail;
+}
+
+template <class Real>
+void CudaDevice<Real>::readStageTail(const StageTail& tail, bool applied) {
+    const gpu::StepWords& words = hostStepWords();
+    const double* partials = m_hostStepMail.data() + kStepWordDoubles;
+    const int blocks = partialBlocks();
+    m_tailTally = tail.tally;
+    if (tail.tally) m_tailTallyValue = applied ? tallyOf(words.kindCounts, sumPartials(partials, kImpulseRows + 1, blocks)) : CollisionTally{};
+    m_tailListing = tail.listing;
+    m_tailResting = tail.resting;
+    m_tailListed = int64_t(words.listedContacts);
+    if (tail.check) {
+        readForecast(tail.checkForecast, words);
+        m_cachedCheck = stepCheckOf(words, partials + size_t(kImpulseRows + 1) * size_t(blocks));
+        m_checkCached = m_tailListed == 0;  // contacts to relax change the state it checked
+    }
+}
+
 template <class Real>
 CollisionTally CudaDevice<Real>::collisionTally() {
     if (m_wallsAtOnce) return m_wallTally;  // read with resolveWallImpacts' wait
+    if (m_tailTally) return m_tailTallyValue;  // read with the last batch of rounds (queueStageTail)
     // Nothing resolved since beginCollisions zeroed the counters: nothing to read back.
     if (!m_eventsApplied) return CollisionTally{};
     // The counts, the losses and the impulses come back with one wait: the loss is the last of the
@@ -491,6 +576,30 @@ bool CudaDevice<Real>::colourListing(int64_t rows) {
     return true;
 }
 
+// Cells for the contact listing: every listed pair in neighbouring cells.
+template <class Real>
+CellGeometry CudaDevice<Real>::listingGeometry(const RestingContact<double>& resting) const {
+    return cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_model.maxRadius() + resting.gap);
+}
+
+// Each particle's contacts within m_resting through m_cellList into m_contactStart, their total into
+// *total where set; with scan, scanned into offsets (the total at [n]).
+template <class Real>
+void CudaDevice<Real>::countContacts(bool scan, unsigned long long* total) {
+    m_contactStart.resize(size_t(m_n) + 1);
+    m_residual.resize(2);
+    for (auto* b : {&m_xListed, &m_dv, &m_dx}) b->resize(size_t(m_n));
+    gpu::launchCountContacts(contactArgs(), stream(), total);
+    if (scan) scanContacts();
+}
+
+template <class Real>
+void CudaDevice<Real>::scanContacts() {
+    const size_t scratch = gpu::contactScanScratchBytes(m_n);
+    m_contactScanScratch.resize(scratch);
+    gpu::scanContactCounts(m_contactStart.data(), m_n, m_contactScanScratch.data(), scratch, stream());
+}
+
 template <class Real>
 int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     gatherToHome();
@@ -507,21 +616,21 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
         m_firstListing = false;
         return 0;
     }
-    const double reach = 2.0 * m_model.maxRadius() + resting.gap;  // every listed pair in neighbouring cells
-    const CellGeometry geometry = cellGeometry(vec3Cast<double>(m_box), m_n, reach);
-    // The impact search's grid serves when nothing moved since it was built and the cells are the
-    // same (no resting gap, as without gravity): one build fewer per step.
-    if (m_pairsClear) m_cellList = emptyCells();  // walls only (screenStage)
-    else if (!(m_cellsMatchPositions && sameGeometry(geometry, m_cellList.geometry)))
-        m_cellList = m_contactCells.build(home().x.data(), m_n, geometry, s);
-    m_contactStart.resize(size_t(m_n) + 1);
-    m_residual.resize(2);
-    for (auto* b : {&m_xListed, &m_dv, &m_dx}) b->resize(size_t(m_n));
-    gpu::launchCountContacts(contactArgs(), s);
-    const size_t scratch = gpu::contactScanScratchBytes(m_n);
-    m_contactScanScratch.resize(scratch);
-    gpu::scanContactCounts(m_contactStart.data(), m_n, m_contactScanScratch.data(), scratch, s);
-    const int64_t total = readBack(m_contactStart, size_t(m_n));
+    int64_t total = 0;
+    if (m_tailListing && resting.speed == m_tailResting.speed && resting.gap == m_tailResting.gap) {
+        total = m_tailListed;  // counted behind the rounds (queueStageTail), nothing moved since
+        if (total > 0) scanContacts();
+    } else {
+        const CellGeometry geometry = listingGeometry(resting);
+        // The impact search's grid serves when nothing moved since it was built and the cells are the
+        // same (no resting gap, as without gravity): one build fewer per step.
+        if (m_pairsClear) m_cellList = emptyCells();  // walls only (screenStage)
+        else if (!(m_cellsMatchPositions && sameGeometry(geometry, m_cellList.geometry)))
+            m_cellList = m_contactCells.build(home().x.data(), m_n, geometry, s);
+        countContacts(true);
+        total = readBack(m_contactStart, size_t(m_n));
+    }
+    m_tailListing = false;
     m_listedThisStep = true;
     const bool warm = m_firstListing && m_warmValid;
     m_firstListing = false;  // a listing again in this step starts cold: this one's impulses are applied

@@ -19,6 +19,7 @@
 // With one GPU there is one replica and nothing moves.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -88,6 +89,7 @@ public:
     void rkStage(int stage, double dt) override;
     void stageForces(int stage) override;
     void rkSolution(int stages, double dt) override;
+    void rkStep(int stages, double dt) override;  // cuda_rk_graph.cpp
     double rkErrorNorm(double dt, double tolerance) override;
     void acceptStage() override;
 
@@ -327,12 +329,51 @@ private:
     // moves null.
     gpu::ListForecastArgs<Real> listForecastArgs();
     StepCheck stepCheckOf(const gpu::StepWords& words, const double* partials) const;
+    // checkStep's arguments (its kinetic row into `kineticRow`), its launches and copy (returns whether
+    // a forecast was made), and its reading after a wait.
+    gpu::StepCheckArgs<Real> stepCheckArgs(double* kineticRow);
+    bool queueStepCheck();
+    StepCheck readStepCheck(bool forecast);
     void readForecast(bool made, const gpu::StepWords& words);
     // Every call that changes X, V or A calls this first: a deferred snapshot is taken, and what was
     // read of the state (the cached check, the forecast, the speculated refresh) is forgotten; a force
     // pass at X keeps the forecast, which it reads.
     void beforeStateChange(bool forcePassAtX = false);
     void takeSnapshot() const;  // the deferred one, if any
+
+    // ---- the RK step as one graph (cuda_rk_graph.cpp) ----
+    // Design note. An RK4 step of 1024 particles (all pairs) is four stage kernels, four force passes
+    // and the solution: arithmetic of a few microseconds each, launched by the host at a few
+    // microseconds each, and the host's launches were the bound. On one GPU with all pairs nothing in
+    // those calls waits for the device, and a fixed-step method repeats the same launches with the same
+    // arguments every step but for X and Xs, which acceptStage swaps: so the second time a step with the
+    // same key comes (dt, stages, the buffers, the model's generation) its launches are captured into a
+    // graph, and from then on the graph is launched instead, with the host-side effects of the calls
+    // applied as they would be (the deferred snapshot too, taken inside). Two graphs are kept (the two
+    // parities of X and Xs); an adaptive step, whose dt changes, never repeats a key and launches as
+    // before. The graph runs the same kernels on the same arguments: the same bits. With phase timing
+    // on, one pair of force events brackets the graph (the stage updates then count as forces).
+    struct RkGraphKey {
+        uint64_t generation = 0;
+        double dt = 0;
+        int stages = 0;
+        const void *x = nullptr, *xStage = nullptr, *kx = nullptr, *kv = nullptr;
+        bool snapshot = false;  // the deferred snapshot is pending: the graph takes it
+        bool operator==(const RkGraphKey& o) const {
+            return generation == o.generation && dt == o.dt && stages == o.stages && x == o.x && xStage == o.xStage && kx == o.kx &&
+                   kv == o.kv && snapshot == o.snapshot;
+        }
+    };
+    struct RkGraph {
+        RkGraphKey key;
+        cudaGraphExec_t exec = nullptr;
+        int64_t evaluations = 0, passes = 0;  // what the captured passes added to the counters
+        void reset();
+    };
+    std::array<RkGraph, 2> m_rkGraphs;
+    int m_rkGraphNext = 0;
+    uint64_t m_modelGeneration = 1;  // setModel, setTableau and setState: a captured graph's arguments no longer hold
+    bool rkGraphApplies() const;
 
     DevicePartition m_partition;
     std::vector<std::unique_ptr<Replica<Real>>> m_replicas;  // [0]: the home GPU; pointees mutable (gathers in const calls)
@@ -413,6 +454,25 @@ private:
     bool m_cellsMatchPositions = false;  // m_cellList was built from the current positions
     bool m_eventsApplied = false;        // applyEvents ran since beginCollisions
     DeviceBuffer<unsigned int> m_roundCounters;  // runImpactRounds: counters [0..1] of each round queued
+    PinnedBuffer<unsigned int> m_hostRoundCounts;  // a batch's counters, read back
+    bool m_roundCountersZeroed = false;            // by beginCollisions' launch, for this stage's rounds
+    // What a batch of rounds queues behind it to read with its wait (queueStageTail), and what of it
+    // stands once its last round found nothing: the tally until the next stage, the listing's count
+    // (for the resting contact it was made with) and the step check until the state changes.
+    struct StageTail {
+        bool tally = false, listing = false, check = false, checkForecast = false;
+        RestingContact<double> resting{0, 0};
+    };
+    StageTail queueStageTail();
+    void readStageTail(const StageTail& tail, bool applied);
+    bool m_tailTally = false, m_tailListing = false;
+    CollisionTally m_tailTallyValue;
+    RestingContact<double> m_tailResting{0, 0};
+    int64_t m_tailListed = 0;
+    ImpactWindow<double> m_stageWindow{0, 0};  // beginCollisions' window
+    CellGeometry listingGeometry(const RestingContact<double>& resting) const;
+    void countContacts(bool scan, unsigned long long* total = nullptr);
+    void scanContacts();
     int m_lastImpactRounds = 0;                  // rounds of the last stage: the next one's first batch
     ImpactWindow<Real> m_window{0, 0};
     RestingContact<Real> m_resting{0, 0};

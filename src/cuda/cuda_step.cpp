@@ -43,6 +43,7 @@ void CudaDevice<Real>::beforeStateChange(bool forcePassAtX) {
     m_runAhead.committed = false;
     m_lastWasKickDrift = false;
     m_checkCached = false;
+    m_tailListing = false;  // counted at the positions about to change
     if (!forcePassAtX) {
         m_forecast.stage = 0;
         m_wordsFresh = false;
@@ -400,11 +401,34 @@ void CudaDevice<Real>::readForecast(bool made, const gpu::StepWords& words) {
 
 template <class Real>
 StepCheck CudaDevice<Real>::checkStep() {
-    if (m_checkCached) {  // read with the screen's wait, and nothing changed since
+    if (m_checkCached) {  // read with the screen's or the rounds' wait, and nothing changed since
         m_checkCached = false;
         return m_cachedCheck;
     }
-    // The health counts, the kinetic row's block partials and the forecast, read back with one wait.
+    const bool forecast = queueStepCheck();
+    sync();
+    return readStepCheck(forecast);
+}
+
+template <class Real>
+gpu::StepCheckArgs<Real> CudaDevice<Real>::stepCheckArgs(double* kineticRow) {
+    gpu::StepWords* w = stepWords();
+    gpu::StepCheckArgs<Real> a{};
+    a.health.p = arrays();
+    a.health.box = m_box;
+    a.table = table();
+    a.acceleration = home().acceleration.data();
+    a.forecast = listForecastArgs();
+    a.health.counts = w->healthCounts;
+    a.health.examples = w->healthExamples;
+    a.kineticRow = kineticRow;
+    return a;
+}
+
+// The health counts, the kinetic row's block partials and the forecast, copied back to the step mail;
+// returns whether a forecast was made.
+template <class Real>
+bool CudaDevice<Real>::queueStepCheck() {
     gatherToHome();
     forgetRunAhead();  // its words are about to be written
     cudaStream_t s = stream();
@@ -413,21 +437,16 @@ StepCheck CudaDevice<Real>::checkStep() {
     cudaCheck(cudaMemsetAsync(w->healthCounts, 0, sizeof w->healthCounts, s), "memset");
     cudaCheck(cudaMemsetAsync(&w->listForecast, 0, sizeof w->listForecast, s), "memset");
     m_rows.resize(size_t(m_n));
-    gpu::StepCheckArgs<Real> a{};
-    a.health.p = arrays();
-    a.health.box = m_box;
-    a.table = table();
-    a.acceleration = home().acceleration.data();
-    a.forecast = listForecastArgs();
-    const bool forecast = a.forecast.moves != nullptr;
-    a.health.counts = w->healthCounts;
-    a.health.examples = w->healthExamples;
-    a.kineticRow = m_rows.data();
+    const gpu::StepCheckArgs<Real> a = stepCheckArgs(m_rows.data());
     gpu::launchStepCheck(a, s);
     gpu::launchBlockSums(m_rows.data(), 1, m_n, m_stepMail.data() + kStepWordDoubles, s);
     const size_t doubles = kStepWordDoubles + size_t(partialBlocks());
     cudaCheck(cudaMemcpyAsync(m_hostStepMail.data(), m_stepMail.data(), doubles * sizeof(double), cudaMemcpyDeviceToHost, s), "step words");
-    sync();
+    return a.forecast.moves != nullptr;
+}
+
+template <class Real>
+StepCheck CudaDevice<Real>::readStepCheck(bool forecast) {
     readForecast(forecast, hostStepWords());
     return stepCheckOf(hostStepWords(), m_hostStepMail.data() + kStepWordDoubles);
 }

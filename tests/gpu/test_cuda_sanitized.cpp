@@ -96,6 +96,35 @@ TEST(CudaSanitized, ASmallPileRelaxedInOneLaunch) {
     }
 }
 
+// RK4 with all pairs and hard cores: the step as one graph (cuda_rk_graph.cpp, launched from the third
+// step), and impact rounds queued without their counts read, each round's rows read by a pass that
+// takes its count on the device, with the tally, the contact count and the step check behind them.
+TEST(CudaSanitized, AnRk4StepAsAGraphAndItsRoundsOnTheDevice) {
+    COREBOX_REQUIRE_GPU();
+    Scene scene;
+    SpeciesDef lj;
+    lj.name = "LJ";
+    lj.count = 300;
+    lj.radius = 0.56;
+    scene.species = {lj};
+    scene.box.size = {8.5, 8.5, 8.5};  // number density 0.49, as bench table1's
+    scene.interaction.restitution = 0.8;
+    scene.interaction.forces = ForceModel::AllPairs;
+    scene.integrator.method = Method::Rk4;
+    scene.integrator.dt = 1e-3;
+    scene.thermostat.kind = ThermostatKind::None;
+    scene.init.temperature = 1.5;
+    for (Precision p : {Precision::Fp64, Precision::Fp32}) {
+        scene.integrator.precision = p;
+        CudaBackendOptions options;
+        options.precision = p;
+        Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
+        int64_t impacts = 0;
+        for (int s = 0; s < 60; ++s) impacts += sim.step().pairCollisions;
+        EXPECT_GT(impacts, 20);
+    }
+}
+
 // The same on two, four and eight GPUs with each exchange: peer copies, direct peer reads (the force
 // kernel's DA path) and NCCL. NCCL is apart: its own start-up probes kernels for other architectures
 // and so hits API errors of its own, which the memcheck run does not count against corebox
