@@ -225,7 +225,11 @@ def main():
                  " (Newton's third law) on one GPU and, where the tile pairs fill every GPU, on several sharing one"
                  " pass (kernels/pairs_once_kernels.cu); `table1_h200x4*` and `table1_h200x8*` were measured before"
                  " that, when every GPU, one GPU too, evaluated every ordered pair of its rows, so their one-GPU"
-                 " column is slower and their speed-ups larger. Records with phase columns say where a step's time"
+                 " column is slower and their speed-ups larger. `table1_h200x1*` and `table1_h200x2*` also run the"
+                 " collision stage's rounds queued on the device with one wait a step and, on one GPU, the RK step as"
+                 " one CUDA graph (src/cuda/cuda_rk_graph.cpp), whose force events then bracket the stage updates too"
+                 " (ms_forces includes them, ms_integrate is what is left); at N = 1024 that took a step from 0.34 to"
+                 " 0.14 ms. Records with phase columns say where a step's time"
                  " went (forces, the rest of the integration, the collision stage on the home GPU): what stays on one"
                  " GPU bounds the speed-up.", ""]
         text += scaling_section(table1)

@@ -368,8 +368,11 @@ private:
         RkGraphKey key;
         cudaGraphExec_t exec = nullptr;
         int64_t evaluations = 0, passes = 0;  // what the captured passes added to the counters
+        bool launched = false;                // launched before (the capture's step ran the calls themselves)
         void reset();
     };
+    bool captureRkStep(RkGraph& graph, int stages, double dt);
+    bool m_rkGraphsOff = false;  // a capture failed: plain launches from then on
     std::array<RkGraph, 2> m_rkGraphs;
     int m_rkGraphNext = 0;
     uint64_t m_modelGeneration = 1;  // setModel, setTableau and setState: a captured graph's arguments no longer hold

@@ -7,7 +7,7 @@ namespace corebox {
 // several GPUs order their exchanges from the host).
 template <class Real>
 bool CudaDevice<Real>::rkGraphApplies() const {
-    return m_fusedSteps && gpuCount() == 1 && !useLists() && m_n > 0;
+    return m_fusedSteps && !m_rkGraphsOff && gpuCount() == 1 && !useLists() && m_n > 0;
 }
 
 template <class Real>
@@ -34,34 +34,15 @@ void CudaDevice<Real>::rkStep(int stages, double dt) {
         return;
     }
     cudaStream_t s = stream();
-    if (!graph->exec) {  // seen once before: captured now, launched from here on
-        const int window = m_timingWindow;
-        m_timingWindow = -1;  // no per-pass timing events inside the graph: the pair below brackets it
-        const int64_t evaluations = m_allPairsEvaluations, passes = m_fullPasses;
-        cudaCheck(cudaStreamBeginCapture(s, cudaStreamCaptureModeRelaxed), "graph capture");
-        try {
-            Backend::rkStep(stages, dt);
-        } catch (...) {
-            cudaGraph_t broken = nullptr;
-            cudaStreamEndCapture(s, &broken);
-            if (broken) cudaGraphDestroy(broken);
-            m_timingWindow = window;
-            throw;
-        }
-        cudaGraph_t captured = nullptr;
-        m_timingWindow = window;
-        cudaCheck(cudaStreamEndCapture(s, &captured), "graph capture");
-        const cudaError_t made = cudaGraphInstantiate(&graph->exec, captured, 0);
-        cudaGraphDestroy(captured);
-        cudaCheck(made, "graph instantiate");
-        graph->evaluations = m_allPairsEvaluations - evaluations;
-        graph->passes = m_fullPasses - passes;
-        m_allPairsEvaluations = evaluations;  // counted below, as for every launch of the graph
-        m_fullPasses = passes;
-    } else {
+    if (!graph->exec && !captureRkStep(*graph, stages, dt)) {
+        Backend::rkStep(stages, dt);  // the capture launched nothing: the step as plain launches
+        return;
+    }
+    if (graph->launched) {
         m_snapshotPending = false;  // the graph takes it
         beforeStateChange();        // as the first stage's forces would
     }
+    graph->launched = true;
     markForceTime();
     cudaCheck(cudaGraphLaunch(graph->exec, s), "graph launch");
     markForceTime();
@@ -75,12 +56,47 @@ void CudaDevice<Real>::rkStep(int stages, double dt) {
     m_listAtX = false;
 }
 
+// The step's launches captured into graph.exec; false (graphs then off for this backend, the error
+// cleared) where the driver refused the capture: nothing of the step was launched.
+template <class Real>
+bool CudaDevice<Real>::captureRkStep(RkGraph& graph, int stages, double dt) {
+    cudaStream_t s = stream();
+    const int window = m_timingWindow;
+    m_timingWindow = -1;  // no per-pass timing events inside the graph: the pair around its launch brackets it
+    const int64_t evaluations = m_allPairsEvaluations, passes = m_fullPasses;
+    const bool snapshot = m_snapshotPending;  // taken inside: pending again if the capture fails
+    cudaGraph_t captured = nullptr;
+    bool made = cudaStreamBeginCapture(s, cudaStreamCaptureModeRelaxed) == cudaSuccess;
+    if (made) {
+        try {
+            Backend::rkStep(stages, dt);
+        } catch (const DeviceError&) {
+            made = false;
+        }
+        made = cudaStreamEndCapture(s, &captured) == cudaSuccess && made;
+    }
+    made = made && cudaGraphInstantiate(&graph.exec, captured, 0) == cudaSuccess;
+    if (captured) cudaGraphDestroy(captured);
+    m_timingWindow = window;
+    graph.evaluations = m_allPairsEvaluations - evaluations;
+    graph.passes = m_fullPasses - passes;
+    m_allPairsEvaluations = evaluations;  // counted where the graph is launched
+    m_fullPasses = passes;
+    if (made) return true;
+    cudaGetLastError();
+    graph.reset();
+    m_rkGraphsOff = true;
+    m_snapshotPending = snapshot;
+    return false;
+}
+
 template <class Real>
 void CudaDevice<Real>::RkGraph::reset() {
     if (exec) cudaGraphExecDestroy(exec);
     exec = nullptr;
     key = RkGraphKey{};
     evaluations = passes = 0;
+    launched = false;
 }
 
 template class CudaDevice<float>;
