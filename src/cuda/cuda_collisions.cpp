@@ -357,7 +357,7 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
     m_roundCountersZeroed = false;
     ImpactRounds result;
     bool applied = false;
-    int batch = std::clamp(m_lastImpactRounds, 2, maxRounds);
+    int batch = std::clamp(m_lastImpactRounds, std::min(2, maxRounds), maxRounds);
     while (result.rounds < maxRounds && !result.settled) {
         const int first = result.rounds, queued = std::min(batch, maxRounds - first);
         for (int r = first; r < first + queued; ++r) {

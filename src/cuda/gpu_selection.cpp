@@ -12,7 +12,8 @@ namespace {
 
 // Measured: two GPUs first beat one at N = 16384 (0.99 against 1.24 ms per step; at 8192 they tie;
 // with the pairs-once pass shared by both, on two H200s, still there: 0.98 against 1.00 ms, then 1.35x at
-// 32768, docs/results/table1_h200x2*.csv), and four first beat two at N = 32768 (1.52 against 2.07 ms;
+// 32768; with the collision rounds on the device and the RK step a graph, 0.844 against 0.848 ms, then
+// 1.41x at 32768, docs/results/table1_h200x2*.csv), and four first beat two at N = 32768 (1.52 against 2.07 ms;
 // at 16384 they tie; measured before the pass was shared, as the eight-GPU figures). On eight GPUs the
 // same rule holds: four are fastest at 32768 (1.63 against 1.69 ms on eight), eight at 65536 (3.00
 // against 3.93 ms on four).
