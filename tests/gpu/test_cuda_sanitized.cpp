@@ -2,6 +2,9 @@
 // on two with each exchange:
 // the workload compute-sanitizer's memcheck and racecheck inspect (ctest gpu_memcheck and
 // gpu_racecheck run this test under them).
+#include <array>
+#include <vector>
+
 #include "gpu_fixture.h"
 #include "initial_conditions.h"
 #include "simulation.h"
@@ -60,6 +63,34 @@ void runSmallScene(int gpus, Exchange exchange) {
     }
 }
 
+// `count` particles of one species (hard-core radius `radius`) in a box of `size`.
+Scene oneSpecies(const char* name, int64_t count, double radius, std::array<double, 3> size) {
+    Scene scene;
+    SpeciesDef s;
+    s.name = name;
+    s.count = count;
+    s.radius = radius;
+    scene.species = {s};
+    scene.box.size = size;
+    return scene;
+}
+
+// `scene` run for `steps` steps on one GPU in fp64, then in fp32: each run's sum of count(report).
+template <class Count>
+std::vector<int64_t> sumOverSteps(Scene scene, int steps, Count count) {
+    std::vector<int64_t> sums;
+    for (Precision p : {Precision::Fp64, Precision::Fp32}) {
+        scene.integrator.precision = p;
+        CudaBackendOptions options;
+        options.precision = p;
+        Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
+        int64_t sum = 0;
+        for (int s = 0; s < steps; ++s) sum += count(sim.step());
+        sums.push_back(sum);
+    }
+    return sums;
+}
+
 }  // namespace
 
 TEST(CudaSanitized, SmallSceneWithCollisions) {
@@ -71,29 +102,15 @@ TEST(CudaSanitized, SmallSceneWithCollisions) {
 // (grid-wide barriers, a block reduction in shared memory).
 TEST(CudaSanitized, ASmallPileRelaxedInOneLaunch) {
     COREBOX_REQUIRE_GPU();
-    Scene scene;
-    SpeciesDef ball;
-    ball.name = "ball";
-    ball.count = 160;
-    ball.radius = 0.5;
-    ball.epsilon = 0;
-    scene.species = {ball};
-    scene.box.size = {4, 4, 12};  // packing fraction 0.44: the lattice's balls nearly touch
+    Scene scene = oneSpecies("ball", 160, 0.5, {4, 4, 12});  // packing fraction 0.44: the lattice's balls nearly touch
+    scene.species[0].epsilon = 0;
     scene.box.wallRestitution = 0.5;
     scene.interaction.restitution = 0.5;
     scene.interaction.gravity = {0, 0, -9.81};
     scene.integrator.method = Method::Verlet;
     scene.integrator.dt = 1.0 / 240.0;
     scene.init.temperature = 0.1;
-    for (Precision p : {Precision::Fp64, Precision::Fp32}) {
-        scene.integrator.precision = p;
-        CudaBackendOptions options;
-        options.precision = p;
-        Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
-        int64_t sweeps = 0;
-        for (int s = 0; s < 80; ++s) sweeps += sim.step().contactSweeps;
-        EXPECT_GT(sweeps, 80);
-    }
+    for (int64_t sweeps : sumOverSteps(scene, 80, [](const StepReport& r) { return r.contactSweeps; })) EXPECT_GT(sweeps, 80);
 }
 
 // RK4 with all pairs and hard cores: the step as one graph (cuda_rk_graph.cpp, launched from the third
@@ -101,28 +118,14 @@ TEST(CudaSanitized, ASmallPileRelaxedInOneLaunch) {
 // takes its count on the device, with the tally, the contact count and the step check behind them.
 TEST(CudaSanitized, AnRk4StepAsAGraphAndItsRoundsOnTheDevice) {
     COREBOX_REQUIRE_GPU();
-    Scene scene;
-    SpeciesDef lj;
-    lj.name = "LJ";
-    lj.count = 300;
-    lj.radius = 0.56;
-    scene.species = {lj};
-    scene.box.size = {8.5, 8.5, 8.5};  // number density 0.49, as bench table1's
+    Scene scene = oneSpecies("LJ", 300, 0.56, {8.5, 8.5, 8.5});  // number density 0.49, as bench table1's
     scene.interaction.restitution = 0.8;
     scene.interaction.forces = ForceModel::AllPairs;
     scene.integrator.method = Method::Rk4;
     scene.integrator.dt = 1e-3;
     scene.thermostat.kind = ThermostatKind::None;
     scene.init.temperature = 1.5;
-    for (Precision p : {Precision::Fp64, Precision::Fp32}) {
-        scene.integrator.precision = p;
-        CudaBackendOptions options;
-        options.precision = p;
-        Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
-        int64_t impacts = 0;
-        for (int s = 0; s < 60; ++s) impacts += sim.step().pairCollisions;
-        EXPECT_GT(impacts, 20);
-    }
+    for (int64_t impacts : sumOverSteps(scene, 60, [](const StepReport& r) { return r.pairCollisions; })) EXPECT_GT(impacts, 20);
 }
 
 // The same on two, four and eight GPUs with each exchange: peer copies, direct peer reads (the force
