@@ -42,7 +42,9 @@ const char* kTiming =
     "builds it; warm-up steps, then batches of steps each ended by backend finish() and timed by the host clock "
     "(steady_clock); ms per step = median over the batches; pair interactions per second = 4 N^2 per RK4 step / "
     "time; speed-up = ms(P = 1) / ms(P), efficiency = speed-up / P; ms_forces, ms_integrate, ms_collide: the "
-    "step's phases on the home GPU's stream (GPU events, StepReport), mean over the timed steps";
+    "step's phases on the home GPU's stream (GPU events, StepReport), mean over the timed steps; where the RK step "
+    "runs as one CUDA graph (one GPU, all pairs: src/cuda/cuda_rk_graph.cpp), ms_forces brackets the whole graph, "
+    "the stage updates included";
 const char* kReportNote =
     "report_*_ms: the report's Table 1 (CSTN-139 sec. 7), ms per RK4 step on 4 x Tesla C2070, same N; its "
     "density, temperature, time step and precision are not stated";
