@@ -86,9 +86,13 @@ TEST(CudaCellList, MatchesTheHostBuildExactlyAndRepeats) {
         int64_t n;
         double minCell;
     };
-    // Dense, dilute, the DESIGN.md conformance size, a flat box (the cell-count bound), one particle.
+    // Dense, dilute, the DESIGN.md conformance size, a flat box (the cell-count bound), one particle; and
+    // the builds in one block (kernels/cell_list_kernels.cu): the shared-memory counting sort up to 1024
+    // particles (about one a cell, and a dozen a cell, whose order inside a cell it restores), the
+    // block radix sort up to 4096; the device-wide sort beyond.
     for (const Case& c : {Case{{10, 10, 10}, 3000, 1.0}, Case{{40, 30, 50}, 1234, 0.8}, Case{{60, 60, 1}, 4000, 1.0},
-                          Case{{5, 5, 5}, 1, 1.0}, Case{{200, 200, 200}, 100000, 1.0}}) {
+                          Case{{5, 5, 5}, 1, 1.0}, Case{{200, 200, 200}, 100000, 1.0}, Case{{10, 10, 10}, 1000, 1.0},
+                          Case{{4, 4, 4}, 1024, 1.0}, Case{{12, 12, 12}, 700, 1.3}}) {
         SCOPED_TRACE(::testing::Message() << "n " << c.n);
         std::vector<Vec3<double>> xd = randomPositions<double>(c.n, c.box, uint64_t(c.n));
         if (c.n > 10) {
