@@ -549,15 +549,15 @@ void launchListForcesWith(const ForceArgs<Real>& a, cudaStream_t stream) {
     checkLaunch("neighbour list force kernel");
 }
 
-// A grid for work the device counts (a stage's few hundred rows): two blocks an SM of an H200's 132,
+// A grid for work the device counts (a stage's few hundred rows): two blocks a multiprocessor,
 // whatever the count (none: every block leaves at once).
-constexpr unsigned kCountedGridBlocks = 264;
+inline unsigned countedGridBlocks() { return unsigned(2 * multiprocessorCount()); }
 
 template <class Real>
 void launchStageSumsAndRefresh(const BlockSumArgs& sums, int rows, const ForceArgs<Real>& a, const int32_t* moved,
                                const unsigned int* movedCount, int32_t columns, cudaStream_t stream) {
     static_assert(kReduceBlock == kBlock, "the sums' blocks and the refresh's are one launch's");
-    const unsigned blocks = unsigned(sums.blocks * rows) + kCountedGridBlocks;
+    const unsigned blocks = unsigned(sums.blocks * rows) + countedGridBlocks();
     switch (listLanes(a.n)) {
         case 8: stageSumsAndRefreshKernel<Real, 8><<<blocks, kBlock, 0, stream>>>(sums, rows, a, moved, movedCount, columns); break;
         case 4: stageSumsAndRefreshKernel<Real, 4><<<blocks, kBlock, 0, stream>>>(sums, rows, a, moved, movedCount, columns); break;

@@ -329,11 +329,8 @@ private:
     // moves null.
     gpu::ListForecastArgs<Real> listForecastArgs();
     StepCheck stepCheckOf(const gpu::StepWords& words, const double* partials) const;
-    // checkStep's arguments (its kinetic row into `kineticRow`), its launches and copy (returns whether
-    // a forecast was made), and its reading after a wait.
+    // The step check's arguments (checkStep, the stage's tail), its kinetic row into `kineticRow`.
     gpu::StepCheckArgs<Real> stepCheckArgs(double* kineticRow);
-    bool queueStepCheck();
-    StepCheck readStepCheck(bool forecast);
     void readForecast(bool made, const gpu::StepWords& words);
     // Every call that changes X, V or A calls this first: a deferred snapshot is taken, and what was
     // read of the state (the cached check, the forecast, the speculated refresh) is forgotten; a force

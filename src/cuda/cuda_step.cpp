@@ -400,17 +400,6 @@ void CudaDevice<Real>::readForecast(bool made, const gpu::StepWords& words) {
 }
 
 template <class Real>
-StepCheck CudaDevice<Real>::checkStep() {
-    if (m_checkCached) {  // read with the screen's or the rounds' wait, and nothing changed since
-        m_checkCached = false;
-        return m_cachedCheck;
-    }
-    const bool forecast = queueStepCheck();
-    sync();
-    return readStepCheck(forecast);
-}
-
-template <class Real>
 gpu::StepCheckArgs<Real> CudaDevice<Real>::stepCheckArgs(double* kineticRow) {
     gpu::StepWords* w = stepWords();
     gpu::StepCheckArgs<Real> a{};
@@ -425,10 +414,13 @@ gpu::StepCheckArgs<Real> CudaDevice<Real>::stepCheckArgs(double* kineticRow) {
     return a;
 }
 
-// The health counts, the kinetic row's block partials and the forecast, copied back to the step mail;
-// returns whether a forecast was made.
 template <class Real>
-bool CudaDevice<Real>::queueStepCheck() {
+StepCheck CudaDevice<Real>::checkStep() {
+    if (m_checkCached) {  // read with the screen's or the rounds' wait, and nothing changed since
+        m_checkCached = false;
+        return m_cachedCheck;
+    }
+    // The health counts, the kinetic row's block partials and the forecast, read back with one wait.
     gatherToHome();
     forgetRunAhead();  // its words are about to be written
     cudaStream_t s = stream();
@@ -442,12 +434,8 @@ bool CudaDevice<Real>::queueStepCheck() {
     gpu::launchBlockSums(m_rows.data(), 1, m_n, m_stepMail.data() + kStepWordDoubles, s);
     const size_t doubles = kStepWordDoubles + size_t(partialBlocks());
     cudaCheck(cudaMemcpyAsync(m_hostStepMail.data(), m_stepMail.data(), doubles * sizeof(double), cudaMemcpyDeviceToHost, s), "step words");
-    return a.forecast.moves != nullptr;
-}
-
-template <class Real>
-StepCheck CudaDevice<Real>::readStepCheck(bool forecast) {
-    readForecast(forecast, hostStepWords());
+    sync();
+    readForecast(a.forecast.moves != nullptr, hostStepWords());
     return stepCheckOf(hostStepWords(), m_hostStepMail.data() + kStepWordDoubles);
 }
 

@@ -133,13 +133,14 @@ public:
     }
     // The same for the particles p with moved[p] != 0.
     const unsigned char* touchFlagged(const char* moved, cudaStream_t stream) { return touch(nullptr, nullptr, moved, stream); }
+
+private:
     // The row mask the touch calls fill, a byte per row.
     unsigned char* touchedRows() {
         m_touched.resize(size_t(std::max<int64_t>(m_end - m_begin, 1)));
         return m_touched.data();
     }
 
-private:
     const unsigned char* touch(const Vec3<Real>* x, const Vec3<Real>* xBefore, const char* moved, cudaStream_t stream) {
         gpu::launchTouchMoved(x, xBefore, moved, m_end - m_begin, m_rowOf.data(), m_neighbours.data(), m_count.data(), touchedRows(), stream);
         return m_touched.data();
