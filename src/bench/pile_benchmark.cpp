@@ -129,6 +129,35 @@ struct PilePhaseSums {
     }
 };
 
+// One frame's row of the per-frame trace (PileBenchmarkOptions::tracePrefix).
+constexpr const char* kTraceHeader =
+    "frame,time,ms_frame,kinetic,rounds,max_rounds,round_cap_hits,listings,sweeps,contacts_max,ms_impacts,ms_contacts,"
+    "ms_listings\n";
+
+struct PileTraceFrame {
+    int64_t rounds = 0, capHits = 0, listings = 0, sweeps = 0, contacts = 0;
+    int maxRounds = 0;
+    double impacts = 0, contactSeconds = 0, listingSeconds = 0;
+    void add(const StepReport& s) {
+        rounds += s.rounds;
+        maxRounds = std::max(maxRounds, s.rounds);
+        capHits += s.roundCapHit ? 1 : 0;
+        listings += s.contactListings;
+        sweeps += s.contactSweeps;
+        contacts = std::max(contacts, s.contacts);
+        impacts += s.secondsImpacts;
+        contactSeconds += s.secondsContacts;
+        listingSeconds += s.secondsListings;
+    }
+    std::string row(int64_t frame, double time, double ms, double kinetic) const {
+        std::ostringstream line;
+        line << frame << ',' << shortText(time) << ',' << shortText(ms) << ',' << shortText(kinetic) << ',' << rounds << ','
+             << maxRounds << ',' << capHits << ',' << listings << ',' << sweeps << ',' << contacts << ','
+             << shortText(1e3 * impacts) << ',' << shortText(1e3 * contactSeconds) << ',' << shortText(1e3 * listingSeconds) << '\n';
+        return line.str();
+    }
+};
+
 PileRunResult runCorebox(const PileBenchmarkOptions& o, const std::string& backend, Precision precision, int64_t n,
                          const ParticleState& initial) {
     Scene scene = pileScene(n, precision);
@@ -146,6 +175,12 @@ PileRunResult runCorebox(const PileBenchmarkOptions& o, const std::string& backe
     PileFrameTimes times;
     PilePhaseSums phases;
     ObservablesRow first, last;
+    std::unique_ptr<AtomicFile> trace;
+    if (!o.tracePrefix.empty()) {
+        trace = std::make_unique<AtomicFile>(o.tracePrefix + "_" + backend + "_" + precisionName(precision) + "_" +
+                                             std::to_string(n) + ".csv");
+        trace->stream() << "# " << o.commandLine << "\n" << kTraceHeader;
+    }
     try {
         sim =
             std::make_unique<Simulation>(scene, makeBackend(BackendChoice{backend, precision, o.threads, 0}), initial);
@@ -157,15 +192,18 @@ PileRunResult runCorebox(const PileBenchmarkOptions& o, const std::string& backe
         Clock::time_point lastProgress = Clock::now();
         for (int64_t f = 0; f < frames; ++f) {
             const Clock::time_point start = Clock::now();
+            PileTraceFrame traced;
             for (int s = 0; s < o.substeps; ++s) {
                 const StepReport step = sim->step();
                 r.maxRounds = std::max(r.maxRounds, step.rounds);
                 phases.add(step);
+                traced.add(step);
             }
             sim->backend().finish();
             times.ms.push_back(1e3 * secondsSince(start));
             last = sim->observe();
             samples.push_back({last.time, last.kinetic, last.potential});
+            if (trace) trace->stream() << traced.row(f, last.time, times.ms.back(), last.kinetic);
             if (secondsSince(lastProgress) > 2.0) {
                 lastProgress = Clock::now();
                 std::fprintf(stderr, "[corebox] bench pile: %s %s N = %lld: t = %.2f of %.2f s, %.1f ms/frame\n",
@@ -202,6 +240,7 @@ PileRunResult runCorebox(const PileBenchmarkOptions& o, const std::string& backe
             }
         }
     }
+    if (trace) trace->commit();  // a failed run keeps the frames it made
     r.frames = int64_t(times.ms.size());
     r.frameMs = times.ms;
     r.msPerFrameMean = times.mean();

@@ -37,6 +37,10 @@ struct PileBenchmarkOptions {
     int contactSweeps = 0;     // [interaction] contact_sweeps of the scene (0: the backend's own cap)
     std::string bulletPath;    // the Bullet driver; "": corebox_bullet_pile beside this program if built; "none": skip
     std::string outputPrefix;  // writes PREFIX.csv and PREFIX.json; "": CSV on stdout only
+    // Writes TRACE_<backend>_<precision>_<n>.csv for each corebox run: a row per frame with the
+    // collision stage's work and host-clock time by phase, to see where a forming and a resting pile
+    // spend their frames. "": no trace.
+    std::string tracePrefix;
     std::string commandLine;
 };
 
