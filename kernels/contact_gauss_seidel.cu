@@ -10,10 +10,25 @@
 // its particles has yet; a row keeps its candidate unless another uncoloured row of one of its
 // particles wants the same colour and has the higher priority (a hash of the row: neighbouring rows get
 // unrelated priorities, so the rows that lose once seldom lose again); the winners' colours join their
-// particles' masks. Each round reads only what the round before wrote, so the colouring is the same
-// bits every time. Then a stable radix sort of the own rows by colour gives each colour's rows in row
-// order. A pile of monodisperse balls takes 11 to 13 colours (a host emulation of the greedy colouring
-// on a settled 10,000-ball pile: 11 to 12), a particle at most 15 contacts (12 neighbours and 3 walls).
+// particles' masks. Each round reads only
+// what the round before wrote, so the colouring is the same bits every time; each round looks only at
+// the rows the round before left (a list), not at every particle. Then a stable radix sort of the own
+// rows by colour gives each colour's rows in row order, and the rows are packed in that order (what a
+// sweep reads of a row, in one coalesced read each). A pile of monodisperse balls takes 11 to 13
+// colours (a host emulation of the greedy colouring on a settled 10,000-ball pile: 11 to 12), a
+// particle at most 15 contacts (12 neighbours and 3 walls).
+// Tried and not kept: priority to the lower contact (then the hash), so that the colours rise with the
+// height and a sweep carries support up several layers, as the CPU's bottom-up order does. Priorities
+// that follow the height make chains as long as the pile is deep: the 10^6-ball pile's colouring took
+// 44 ms instead of 3.6 (an H200), and the sweeps a listing and the pile's stillness did not change.
+// Evidence (an H200, fp32, `corebox bench pile --trace` and ncu on two steps of the settled 10^6-ball
+// pile). Before the packed rows and the lists: 42 ms a step, 2 listings of 16 sweeps each (every
+// listing at the sweep cap with its speed still above tolerance) and about 16 impact rounds (the pile
+// never quite still: 0.2 of kinetic energy a ball); a listing's 16 sweeps took 13.2 ms, its colouring
+// 3.55 (a round per colour over every particle). Packed, the 16 sweeps take 8.3 ms; with the lists
+// the colouring takes 3.4 (its first round, over every row, is most of it). Same bits as before (the
+// same colours, and each row's updates in the same order): the same overlaps, energy, rounds and
+// sweeps; 198 ms a frame before, 171 after (the last second 169 and 141), 10^5 balls 34.2 and 31.3.
 //
 // Why not Jacobi: a Jacobi sweep carries support one layer of a pile, a fraction 1 / max(k_i, k_j) of
 // it at a time; Gauss-Seidel in any order that visits each contact once carries it much further, and
@@ -27,6 +42,7 @@
 #include <cub/device/device_radix_sort.cuh>
 
 #include <algorithm>
+#include <cstdint>
 
 #include "contact_residual.cuh"
 #include "gpu_common.cuh"
@@ -36,7 +52,6 @@ namespace corebox::gpu {
 namespace {
 
 constexpr uint8_t kUncoloured = 0xFF;  // an own row not coloured yet, and every row that is not own
-constexpr uint8_t kColoured = 0xFE;    // candidate of a row already coloured
 static_assert(kMaxContactColours <= 64, "a particle's colours are a 64-bit mask");
 
 COREBOX_HD inline bool isOwnRow(int64_t i, int64_t partner) { return partner < 0 || partner > i; }
@@ -53,8 +68,8 @@ __device__ bool beats(int64_t a, int64_t b) {
     return pa > pb || (pa == pb && a < b);
 }
 
-// Particle i's rows: their particle, their pair's own row, uncoloured; returns the deepest overlap of
-// its own rows at the listed positions.
+// Particle i's rows: their particle, their pair's own row, uncoloured; returns the deepest overlap of its
+// own rows at the listed positions.
 template <class Real>
 __device__ Real prepareRowsOf(const ContactArgs<Real>& a, int64_t i) {
     const int si = a.p.species[i];
@@ -90,7 +105,9 @@ __device__ Real prepareRowsOf(const ContactArgs<Real>& a, int64_t i) {
 }
 
 // Per row: its particle and the pair's own row, uncoloured; per particle: no colour yet. The deepest
-// overlap of the own rows at the listed positions (ContactResidual::overlap) into *deepest (double bits).
+// overlap of the own rows at the listed positions (ContactResidual::overlap) into *deepest (double
+// bits). Particles in index order, so that a warp writes neighbouring rows (in cell order, the
+// 10^6-ball pile's took 1.2 ms instead of 0.43 on an H200).
 template <class Real>
 __global__ void prepareRowsKernel(ContactArgs<Real> a, unsigned long long* used, unsigned long long* deepest) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
@@ -104,80 +121,70 @@ __global__ void prepareRowsKernel(ContactArgs<Real> a, unsigned long long* used,
     if (threadIdx.x % 32 == 0 && overlap > 0) atomicMaxNonNegative(deepest, overlap);
 }
 
-// The rounds of the colouring (design note above), in one cooperative launch. words: [0] colours
-// used, [1] failed, [4..5] the uncoloured rows left by a round (two slots, in turn).
+// The rounds of the colouring (design note above), in one cooperative launch: round 0 over every own
+// row, each later one over the rows the round before left uncoloured: lists[0 .. rows) and lists[rows ..
+// 2 rows) in turn, their lengths in words[2 + round % 2]. words: [0] colours used, [1] failed. A
+// coloured row's candidate stays its colour, which is in both its particles' masks, so no row of
+// theirs left uncoloured can want it again: it needs no mark to leave the contest.
 template <class Real>
 __global__ void __launch_bounds__(kBlock) colourRowsKernel(ContactArgs<Real> a, unsigned long long* used, uint8_t* candidate,
-                                                           unsigned int* words) {
+                                                           int32_t* lists, int64_t rows, unsigned int* words) {
     cooperative_groups::grid_group grid = cooperative_groups::this_grid();
     const int64_t first = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     const int64_t stride = int64_t(gridDim.x) * blockDim.x;
-    const int64_t n = a.p.n;
-    __shared__ unsigned int blockLeft;
     for (int round = 0;; ++round) {
+        const int32_t* list = lists + (round % 2) * rows;
+        int32_t* next = lists + ((round + 1) % 2) * rows;
+        const int64_t length = round == 0 ? rows : int64_t(__ldcg(&words[2 + round % 2]));
+        // The row at place k of this round: round 0's every own row, then the list's.
+        auto rowAt = [&](int64_t k) -> int64_t { return round == 0 ? (a.mirror[k] == k ? k : -1) : int64_t(list[k]); };
         // Candidates: the lowest colour neither particle has.
-        for (int64_t i = first; i < n; i += stride) {
-            for (int64_t s = a.contactStart[i]; s < a.contactStart[i + 1]; ++s) {
-                const int64_t p = a.partner[s];
-                if (!isOwnRow(i, p) || a.colour[s] != kUncoloured) continue;
-                const unsigned long long taken = used[i] | (isWallContact(p) ? 0ull : used[p]);
-                if (~taken == 0ull) {
-                    candidate[s] = kUncoloured;
-                    words[1] = 1;
-                } else {
-                    candidate[s] = uint8_t(__ffsll((long long)~taken) - 1);
-                }
+        for (int64_t k = first; k < length; k += stride) {
+            const int64_t s = rowAt(k);
+            if (s < 0) continue;
+            const int64_t i = a.rowParticle[s], p = a.partner[s];
+            const unsigned long long taken = used[i] | (isWallContact(p) ? 0ull : used[p]);
+            if (~taken == 0ull) {
+                candidate[s] = kUncoloured;
+                words[1] = 1;
+            } else {
+                candidate[s] = uint8_t(__ffsll((long long)~taken) - 1);
             }
         }
-        if (threadIdx.x == 0) blockLeft = 0;
         grid.sync();
-        // Winners take their candidate; every row a particle of the row has is looked at through its own row.
-        unsigned int left = 0;
-        for (int64_t i = first; i < n; i += stride) {
-            for (int64_t s = a.contactStart[i]; s < a.contactStart[i + 1]; ++s) {
-                const int64_t p = a.partner[s];
-                if (!isOwnRow(i, p) || a.colour[s] != kUncoloured) continue;
-                const uint8_t c = candidate[s];
-                if (c == kUncoloured) continue;  // out of colours: the listing falls back to Jacobi
-                bool wins = true;
-                for (int side = 0; side < 2 && wins; ++side) {
-                    const int64_t q = side == 0 ? i : p;
-                    if (q < 0) break;  // a wall
-                    for (int64_t t = a.contactStart[q]; t < a.contactStart[q + 1]; ++t) {
-                        const int64_t e = a.mirror[t];
-                        if (e != s && candidate[e] == c && beats(e, s)) {
-                            wins = false;
-                            break;
-                        }
+        // This round's list length is read by every thread (above): its slot counts the round after next.
+        if (first == 0) words[2 + round % 2] = 0;
+        // Winners take their candidate into their particles' masks; every row a particle of the row has
+        // is looked at through its own row. Losers make the next list.
+        for (int64_t k = first; k < length; k += stride) {
+            const int64_t s = rowAt(k);
+            if (s < 0) continue;
+            const int64_t i = a.rowParticle[s], p = a.partner[s];
+            const uint8_t c = candidate[s];
+            if (c == kUncoloured) continue;  // out of colours: the listing falls back to Jacobi
+            bool wins = true;
+            for (int side = 0; side < 2 && wins; ++side) {
+                const int64_t q = side == 0 ? i : p;
+                if (q < 0) break;  // a wall
+                for (int64_t t = a.contactStart[q]; t < a.contactStart[q + 1]; ++t) {
+                    const int64_t e = a.mirror[t];
+                    if (e != s && candidate[e] == c && beats(e, s)) {
+                        wins = false;
+                        break;
                     }
                 }
-                if (wins) {
-                    a.colour[s] = c;
-                    atomicMax(&words[0], unsigned(c) + 1);
-                } else {
-                    ++left;
-                }
+            }
+            if (wins) {
+                a.colour[s] = c;
+                atomicMax(&words[0], unsigned(c) + 1);
+                atomicOr(&used[i], 1ull << c);
+                if (!isWallContact(p)) atomicOr(&used[p], 1ull << c);
+            } else {
+                next[warpAggregatedIncrement(&words[2 + (round + 1) % 2])] = int32_t(s);
             }
         }
-        if (left > 0) atomicAdd(&blockLeft, left);
-        __syncthreads();
-        if (threadIdx.x == 0 && blockLeft > 0) atomicAdd(&words[4 + round % 2], blockLeft);
         grid.sync();
-        const bool done = __ldcg(&words[4 + round % 2]) == 0 || __ldcg(&words[1]) != 0;
-        if (done) return;
-        // Colours into the masks; coloured rows leave the contest.
-        if (first == 0) words[4 + (round + 1) % 2] = 0;
-        for (int64_t i = first; i < n; i += stride) {
-            unsigned long long mask = 0;
-            for (int64_t s = a.contactStart[i]; s < a.contactStart[i + 1]; ++s) {
-                const uint8_t c = a.colour[a.mirror[s]];
-                if (c == kUncoloured) continue;
-                mask |= 1ull << c;
-                if (a.mirror[s] == s) candidate[s] = kColoured;
-            }
-            used[i] = mask;
-        }
-        grid.sync();
+        if (__ldcg(&words[2 + (round + 1) % 2]) == 0 || __ldcg(&words[1]) != 0) return;
     }
 }
 
@@ -200,24 +207,43 @@ __global__ void colourBoundsKernel(const uint8_t* sortedKeys, int64_t rows, int3
     colourStart[key + 1] = int32_t(k + 1);
 }
 
-// One contact's Gauss-Seidel update from its own row s: the velocity level (stopPairContact,
-// stopWallContact: over-relaxed towards the row's target, lambda >= 0), then the position level
-// (separatePair, a wall's full depth), as the CPU's passes do them; the impulse given goes to the owner's
-// rows (impulse_sums.h): a wall's momentum, a pair's r . J.
+// The own rows packed in colour order (position e of order), what a sweep reads of a row in one
+// coalesced read each: its particle, partner, target and impulse, and the pair virial r . J it gives
+// (summed per particle by the mirror kernel); rowRank[s] = e. The order's other rows are not packed.
 template <class Real>
-__device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t s, ContactResidual<Real>& r) {
-    const int64_t i = a.rowParticle[s], p = a.partner[s];
+__global__ void packRowsKernel(ContactArgs<Real> a, int64_t rows) {
+    const int64_t e = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (e >= rows) return;
+    const int64_t s = a.order[e];
+    if (a.mirror[s] != s) return;
+    a.packedParticle[e] = int32_t(a.rowParticle[s]);
+    a.packedPartner[e] = int32_t(a.partner[s]);
+    a.packedTarget[e] = a.target[s];
+    a.packedLambda[e] = a.lambda[s];
+    a.packedVirial[e] = 0;
+    a.rowRank[s] = int32_t(e);
+}
+
+// One contact's Gauss-Seidel update from its packed own row e: the velocity level (stopPairContact,
+// stopWallContact: over-relaxed towards the row's target, lambda >= 0), then the position level
+// (separatePair, a wall's full depth), as the CPU's passes do them; the impulse given goes to the
+// owner's rows (impulse_sums.h): a wall's momentum at once, a pair's r . J into the packed row.
+template <class Real>
+__device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidual<Real>& r) {
+    const int64_t i = a.packedParticle[e], p = a.packedPartner[e];
     const size_t n = size_t(a.p.n);
     const int si = a.p.species[i];
     const Real mi = a.table.mass[si], ai = a.table.radius[si];
     Vec3<Real> xi = a.p.x[i], vi = a.p.v[i];
-    const Real before = a.lambda[s];
+    Real lambda = a.packedLambda[e];
+    const Real before = lambda;
     if (isWallContact(p)) {
         const int code = int(-1 - p), axis = code / 2, side = code % 2;
         const Real inward = side == 0 ? Real(1) : Real(-1);
-        stopWallContact(vi[axis], inward, a.target[s], a.lambda[s], r, a.omega);
-        const Real push = a.lambda[s] - before;  // per unit mass
+        stopWallContact(vi[axis], inward, a.packedTarget[e], lambda, r, a.omega);
+        const Real push = lambda - before;  // per unit mass
         if (push != Real(0)) {
+            a.packedLambda[e] = lambda;
             a.impulses[size_t(code) * n + size_t(i)] += double(mi) * double(push);
             if (atWallCentre(xi, ai, a.box, axis)) a.impulses[size_t(kWallCount + code) * n + size_t(i)] += double(mi) * double(push);
         }
@@ -236,9 +262,12 @@ __device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t s, ContactResidu
     const Vec3<Real> rij = xi - xj;
     const Real dist = realSqrt(norm2(rij));
     if (!(dist > Real(0))) return;  // coincident centres carry no direction
-    stopPairContact(vi, vj, mi, mj, (Real(1) / dist) * rij, a.target[s], a.lambda[s], r, a.omega);
-    const Real impulse = a.lambda[s] - before;
-    if (impulse != Real(0)) a.impulses[size_t(kPairVirialRow) * n + size_t(i)] += double(dist) * double(impulse);
+    stopPairContact(vi, vj, mi, mj, (Real(1) / dist) * rij, a.packedTarget[e], lambda, r, a.omega);
+    const Real impulse = lambda - before;
+    if (impulse != Real(0)) {
+        a.packedLambda[e] = lambda;
+        a.packedVirial[e] += double(dist) * double(impulse);
+    }
     separatePair(xi, xj, mi, mj, d, a.up, r);
     a.p.x[i] = xi;
     a.p.v[i] = vi;
@@ -252,7 +281,7 @@ template <class Real>
 __global__ void gaussSeidelColourKernel(ContactArgs<Real> a, int colour, bool measure) {
     const int64_t e = a.colourStart[colour] + int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     ContactResidual<Real> r{0, 0};
-    if (e < a.colourStart[colour + 1]) relaxOwnRow(a, a.order[e], r);
+    if (e < a.colourStart[colour + 1]) relaxOwnRow(a, e, r);
     if (measure) addResidual(r, a.residual);
 }
 
@@ -271,7 +300,7 @@ __global__ void __launch_bounds__(kBlock) gaussSeidelListingKernel(ContactArgs<R
         ContactResidual<Real> r{0, 0};
         for (int c = 0; c < colours; ++c) {
             const int64_t end = a.colourStart[c + 1];
-            for (int64_t e = a.colourStart[c] + first; e < end; e += stride) relaxOwnRow(a, a.order[e], r);
+            for (int64_t e = a.colourStart[c] + first; e < end; e += stride) relaxOwnRow(a, e, r);
             grid.sync();
         }
         ++done;
@@ -283,19 +312,29 @@ __global__ void __launch_bounds__(kBlock) gaussSeidelListingKernel(ContactArgs<R
     }
 }
 
+// Per particle i: each row takes its pair's impulse from the packed own row (as Jacobi leaves both
+// rows), and the pair virial of i's own rows, summed in row order, joins i's impulse row.
 template <class Real>
-__global__ void mirrorImpulsesKernel(ContactArgs<Real> a, int64_t rows) {
-    const int64_t s = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (s >= rows) return;
-    const Real lambda = a.lambda[a.mirror[s]];  // own rows read themselves; no own row is written
-    a.lambda[s] = lambda;
-    a.applied[s] = lambda;
+__global__ void mirrorImpulsesKernel(ContactArgs<Real> a) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.p.n) return;
+    double virial = 0;
+    for (int64_t s = a.contactStart[i]; s < a.contactStart[i + 1]; ++s) {
+        const int64_t own = a.mirror[s];
+        const int32_t e = a.rowRank[own];
+        const Real lambda = a.packedLambda[e];
+        a.lambda[s] = lambda;
+        a.applied[s] = lambda;
+        if (own == s && !isWallContact(a.partner[s])) virial += a.packedVirial[e];
+    }
+    if (virial != 0) a.impulses[size_t(kPairVirialRow) * size_t(a.p.n) + size_t(i)] += virial;
 }
 
 struct ColouringScratch {
     unsigned long long* used;
     uint8_t *candidate, *keys, *sortedKeys;
     int64_t* index;
+    int32_t* lists;  // the colouring's two lists of rows left, rows each
     void* sort;
     size_t sortBytes;
 };
@@ -323,6 +362,8 @@ ColouringScratch carve(void* scratch, int64_t n, int64_t rows) {
     at += align256(size_t(rows));
     c.index = reinterpret_cast<int64_t*>(at);
     at += align256(size_t(rows) * sizeof(int64_t));
+    c.lists = reinterpret_cast<int32_t*>(at);
+    at += align256(2 * size_t(rows) * sizeof(int32_t));
     c.sort = at;
     c.sortBytes = radixSortBytes(rows);
     return c;
@@ -332,13 +373,14 @@ ColouringScratch carve(void* scratch, int64_t n, int64_t rows) {
 
 size_t contactColouringScratchBytes(int64_t n, int64_t rows) {
     return align256(size_t(n) * sizeof(unsigned long long)) + 3 * align256(size_t(rows)) + align256(size_t(rows) * sizeof(int64_t)) +
-           radixSortBytes(rows);
+           align256(2 * size_t(rows) * sizeof(int32_t)) + radixSortBytes(rows);
 }
 
 template <class Real>
 bool launchColourContacts(const ContactArgs<Real>& a, int64_t rows, void* scratch, size_t scratchBytes, unsigned int* words,
                           unsigned long long* deepest, cudaStream_t stream) {
-    if (a.p.n == 0 || rows == 0) return false;
+    // Packed rows and the lists hold particles and rows as 32-bit indices.
+    if (a.p.n == 0 || rows == 0 || a.p.n > INT32_MAX || rows > INT32_MAX) return false;
     static const int resident = cooperativeResidentBlocks(colourRowsKernel<Real>);
     if (resident < 1) return false;
     if (scratchBytes < contactColouringScratchBytes(a.p.n, rows)) throw DeviceError("contact colouring: scratch too small");
@@ -355,8 +397,10 @@ bool launchColourContacts(const ContactArgs<Real>& a, int64_t rows, void* scratc
     ContactArgs<Real> args = a;
     unsigned long long* used = c.used;
     uint8_t* candidate = c.candidate;
-    void* params[] = {&args, &used, &candidate, &words};
-    const int64_t blocks = std::min<int64_t>(resident, blocksFor(a.p.n));
+    int32_t* lists = c.lists;
+    int64_t listRows = rows;
+    void* params[] = {&args, &used, &candidate, &lists, &listRows, &words};
+    const int64_t blocks = std::min<int64_t>(resident, blocksFor(rows));
     e = cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(colourRowsKernel<Real>), dim3(unsigned(blocks)), dim3(kBlock), params, 0,
                                     stream);
     if (e != cudaSuccess) throw DeviceError(std::string("contact colouring kernel: ") + cudaGetErrorString(e));
@@ -367,6 +411,8 @@ bool launchColourContacts(const ContactArgs<Real>& a, int64_t rows, void* scratc
     if (e != cudaSuccess) throw DeviceError(std::string("contact colour sort: ") + cudaGetErrorString(e));
     colourBoundsKernel<<<blocksFor(rows), kBlock, 0, stream>>>(c.sortedKeys, rows, a.colourStart);
     checkLaunch("contact colour bounds kernel");
+    packRowsKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(a, rows);
+    checkLaunch("contact row packing kernel");
     return true;
 }
 
@@ -409,9 +455,9 @@ bool launchGaussSeidelListing(const ContactArgs<Real>& a, const std::vector<int3
 }
 
 template <class Real>
-void launchMirrorImpulses(const ContactArgs<Real>& a, int64_t rows, cudaStream_t stream) {
-    if (rows == 0) return;
-    mirrorImpulsesKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(a, rows);
+void launchMirrorImpulses(const ContactArgs<Real>& a, cudaStream_t stream) {
+    if (a.p.n == 0) return;
+    mirrorImpulsesKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
     checkLaunch("contact mirror kernel");
 }
 
@@ -422,7 +468,7 @@ void launchMirrorImpulses(const ContactArgs<Real>& a, int64_t rows, cudaStream_t
     template bool launchGaussSeidelListing<Real>(const ContactArgs<Real>&, const std::vector<int32_t>&, const RelaxationPlan&, \
                                                  unsigned long long*,                                                          \
                                                  cudaStream_t);                                                            \
-    template void launchMirrorImpulses<Real>(const ContactArgs<Real>&, int64_t, cudaStream_t);
+    template void launchMirrorImpulses<Real>(const ContactArgs<Real>&, cudaStream_t);
 COREBOX_INSTANTIATE(float)
 COREBOX_INSTANTIATE(double)
 #undef COREBOX_INSTANTIATE

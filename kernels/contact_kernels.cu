@@ -78,11 +78,23 @@ __global__ void countContactsKernel(ContactArgs<Real> a, unsigned long long* tot
     if (total && count > 0) atomicAdd(total, (unsigned long long)count);  // a sum of integers: the same in any order
 }
 
-// Particle i's impulse on `partner` at the end of the last step (its row there), or 0.
+// Particle i's impulse on `partner` at the end of the last step (its row there), or 0. The search
+// starts at *from (wrapping round) and leaves it after the row found: a particle's contacts come in
+// the order they came the step before, unless the cells changed, so a particle's lookups take about
+// one read each instead of one per row.
 template <class Real>
-__device__ Real warmLambdaOf(const ContactArgs<Real>& a, int64_t i, int64_t partner) {
-    for (int64_t k = a.warmStart[i]; k < a.warmStart[i + 1]; ++k) {
-        if (a.warmPartner[k] == partner) return a.warmLambda[k];
+__device__ Real warmLambdaOf(const ContactArgs<Real>& a, int64_t i, int64_t partner, int64_t& from) {
+    const int64_t begin = a.warmStart[i], end = a.warmStart[i + 1];
+    if (from < begin || from >= end) from = begin;
+    for (int64_t k = from; k < end; ++k) {
+        if (a.warmPartner[k] != partner) continue;
+        from = k + 1;
+        return a.warmLambda[k];
+    }
+    for (int64_t k = begin; k < from; ++k) {
+        if (a.warmPartner[k] != partner) continue;
+        from = k + 1;
+        return a.warmLambda[k];
     }
     return Real(0);
 }
@@ -116,13 +128,15 @@ __device__ void addImpulseRows(const ContactArgs<Real>& a, int64_t i, const Impu
     if (given.pairVirial != 0) a.impulses[size_t(kPairVirialRow) * n + size_t(i)] += given.pairVirial;
 }
 
+// Particles in index order, so that a warp writes neighbouring rows (in cell order, as the count walks
+// them, the 10^6-ball pile's fill took 1.6 ms on an H200 instead of 1.5).
 template <class Real>
 __global__ void fillContactsKernel(ContactArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.p.n) return;
     const int64_t first = a.contactStart[i];
     const int count = int(a.contactStart[i + 1] - first);
-    int64_t slot = first;
+    int64_t slot = first, warmFrom = -1;
     forEachContact(a, i, [&](int64_t partner) {
         a.partner[slot] = partner;
         // An isolated contact may bounce. Jacobi (relaxParticle) decides it sweep by sweep: nothing to
@@ -132,7 +146,7 @@ __global__ void fillContactsKernel(ContactArgs<Real> a) {
         const Real target = a.gaussSeidel && isolated ? contactTarget(a, i, partner) : Real(0);
         if (a.gaussSeidel) a.target[slot] = target;
         const bool warm = a.warm && (a.gaussSeidel ? !(target > Real(0)) : !isolated);
-        a.lambda[slot] = warm ? warmLambdaOf(a, i, partner) : Real(0);
+        a.lambda[slot] = warm ? warmLambdaOf(a, i, partner, warmFrom) : Real(0);
         a.applied[slot] = a.lambda[slot];
         ++slot;
     });

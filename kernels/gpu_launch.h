@@ -430,6 +430,15 @@ struct ContactArgs {
     Real* target;
     int64_t* order;        // own rows by colour, then the other rows
     int32_t* colourStart;  // kMaxContactColours + 1: colour c's rows are order[colourStart[c] .. colourStart[c + 1])
+    // The own rows packed at their place e in order (what the sweeps read and write), and each own
+    // row's place: rowRank[s] = e. The sweeps keep a row's impulse and its pair virial r . J here; the
+    // mirror kernel hands them back to the rows.
+    int32_t* packedParticle;
+    int32_t* packedPartner;
+    Real* packedTarget;
+    Real* packedLambda;
+    double* packedVirial;
+    int32_t* rowRank;
     Real omega;            // over-relaxation of the stopping updates (kGaussSeidelOverRelaxation)
 };
 
@@ -466,7 +475,7 @@ bool launchRelaxListing(const ContactArgs<Real>& args, const RelaxationPlan& pla
 // ---- Gauss-Seidel in colours (contact_gauss_seidel.cu) ----
 // Colours the listing's pairs and walls so that no particle has two contacts of one colour (each
 // pair from its own row; rowParticle, mirror and the bounce targets filled on the way), then sorts
-// the own rows by colour into order and colourStart. words (6): [0] the colours used, [1] 1 if more
+// the own rows by colour into order and colourStart and packs them (packed*, rowRank). words (6): [0] the colours used, [1] 1 if more
 // than kMaxContactColours were needed (then nothing after the colouring is valid), [4..5] the
 // colouring's own; *deepest: the deepest overlap of the listed contacts (double bits,
 // ContactResidual::overlap). Scratch: contactColouringScratchBytes. Returns false, launching
@@ -485,10 +494,10 @@ template <class Real>
 bool launchGaussSeidelListing(const ContactArgs<Real>& args, const std::vector<int32_t>& colourStart, const RelaxationPlan& plan,
                               unsigned long long* words,
                               cudaStream_t stream);
-// Each pair's other row takes the impulse of its own row (as Jacobi leaves both): the rows the next
-// step's warm start and a checkpoint read.
+// Each row takes its pair's impulse from the packed own row (as Jacobi leaves both rows): the rows the
+// next step's warm start and a checkpoint read; the packed pair virials join the impulse rows.
 template <class Real>
-void launchMirrorImpulses(const ContactArgs<Real>& args, int64_t rows, cudaStream_t stream);
+void launchMirrorImpulses(const ContactArgs<Real>& args, cudaStream_t stream);
 
 // row[i] = -m_i g_i . (x_i - xListed_i): the work against the uniform field of particle i's species
 // (SpeciesTable::field) of its contact moves.

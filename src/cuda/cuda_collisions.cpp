@@ -544,6 +544,12 @@ gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
     a.target = m_rowTarget.data();
     a.order = m_colourOrder.data();
     a.colourStart = m_colourStartOnDevice.data();
+    a.packedParticle = m_packedParticle.data();
+    a.packedPartner = m_packedPartner.data();
+    a.packedTarget = m_packedTarget.data();
+    a.packedLambda = m_packedLambda.data();
+    a.packedVirial = m_packedVirial.data();
+    a.rowRank = m_rowRank.data();
     a.omega = Real(kGaussSeidelOverRelaxation);
     return a;
 }
@@ -556,6 +562,9 @@ template <class Real>
 bool CudaDevice<Real>::colourListing(int64_t rows) {
     cudaStream_t s = stream();
     for (auto* b : {&m_rowParticle, &m_rowMirror, &m_colourOrder}) b->resize(size_t(rows));
+    for (auto* b : {&m_packedParticle, &m_packedPartner, &m_rowRank}) b->resize(size_t(rows));
+    for (auto* b : {&m_packedTarget, &m_packedLambda}) b->resize(size_t(rows));
+    m_packedVirial.resize(size_t(rows));
     m_rowColour.resize(size_t(rows));
     m_colourStartOnDevice.resize(gpu::kMaxContactColours + 1);
     m_colouringWords.resize(8);  // [6..7]: the deepest overlap's bits
@@ -712,7 +721,7 @@ void CudaDevice<Real>::endRelaxation() {
     if (m_sweepsDone == 0) return;
     // Gauss-Seidel sweeps hold each pair's impulse in its own row, with nothing extrapolated: the other
     // row takes it. Jacobi's rows go from their applied impulses to their projected ones.
-    if (m_gaussSeidel) gpu::launchMirrorImpulses(contactArgs(), m_contactPartner.size(), stream());
+    if (m_gaussSeidel) gpu::launchMirrorImpulses(contactArgs(), stream());
     else gpu::launchSettleContacts(contactArgs(), stream());
     homeChanged();
     m_sweepsDone = 0;

@@ -489,6 +489,10 @@ private:
     DeviceBuffer<int64_t> m_rowParticle, m_rowMirror, m_colourOrder;
     DeviceBuffer<uint8_t> m_rowColour;
     DeviceBuffer<Real> m_rowTarget;
+    // The own rows packed in colour order for the sweeps (gpu::ContactArgs::packed*), and each own row's place.
+    DeviceBuffer<int32_t> m_packedParticle, m_packedPartner, m_rowRank;
+    DeviceBuffer<Real> m_packedTarget, m_packedLambda;
+    DeviceBuffer<double> m_packedVirial;
     DeviceBuffer<int32_t> m_colourStartOnDevice;
     DeviceBuffer<unsigned int> m_colouringWords;
     DeviceBuffer<unsigned char> m_colouringScratch;
