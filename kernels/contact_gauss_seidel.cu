@@ -10,7 +10,10 @@
 // its particles has yet; a row keeps its candidate unless another uncoloured row of one of its
 // particles wants the same colour and has the higher priority (a hash of the row: neighbouring rows get
 // unrelated priorities, so the rows that lose once seldom lose again); the winners' colours join their
-// particles' masks. Each round reads only
+// particles' masks. In a listing of many rows, round 0 instead spreads the candidates over 16 colours
+// by the row's hash: from colour 0 only one row in twenty-odd wins a round (the highest priority
+// among the rows it shares a particle with), and the colouring took a round per colour over most
+// rows; spread, about half win at once. Each round reads only
 // what the round before wrote, so the colouring is the same bits every time; each round looks only at
 // the rows the round before left (a list), not at every particle. Then a stable radix sort of the own
 // rows by colour gives each colour's rows in row order, and the rows are packed in that order (what a
@@ -53,6 +56,12 @@ namespace {
 
 constexpr uint8_t kUncoloured = 0xFF;  // an own row not coloured yet, and every row that is not own
 static_assert(kMaxContactColours <= 64, "a particle's colours are a 64-bit mask");
+// Round 0 of a listing of at least kSpreadRows rows spreads the candidates over kSpreadColours colours
+// (design note above); smaller listings start from colour 0, so that they take no more colours (a
+// grid barrier each, every sweep) than they need.
+constexpr int64_t kSpreadRows = 32768;
+constexpr int kSpreadColours = 16;
+static_assert(kSpreadColours <= kMaxContactColours, "the spread is within the colours");
 
 COREBOX_HD inline bool isOwnRow(int64_t i, int64_t partner) { return partner < 0 || partner > i; }
 
@@ -128,7 +137,7 @@ __global__ void prepareRowsKernel(ContactArgs<Real> a, unsigned long long* used,
 // theirs left uncoloured can want it again: it needs no mark to leave the contest.
 template <class Real>
 __global__ void __launch_bounds__(kBlock) colourRowsKernel(ContactArgs<Real> a, unsigned long long* used, uint8_t* candidate,
-                                                           int32_t* lists, int64_t rows, unsigned int* words) {
+                                                           int32_t* lists, int64_t rows, int spread, unsigned int* words) {
     cooperative_groups::grid_group grid = cooperative_groups::this_grid();
     const int64_t first = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     const int64_t stride = int64_t(gridDim.x) * blockDim.x;
@@ -138,10 +147,15 @@ __global__ void __launch_bounds__(kBlock) colourRowsKernel(ContactArgs<Real> a, 
         const int64_t length = round == 0 ? rows : int64_t(__ldcg(&words[2 + round % 2]));
         // The row at place k of this round: round 0's every own row, then the list's.
         auto rowAt = [&](int64_t k) -> int64_t { return round == 0 ? (a.mirror[k] == k ? k : -1) : int64_t(list[k]); };
-        // Candidates: the lowest colour neither particle has.
+        // Candidates: the lowest colour neither particle has; in round 0, with a spread, a colour below
+        // it from the row's hash (other bits than its priority's lowest).
         for (int64_t k = first; k < length; k += stride) {
             const int64_t s = rowAt(k);
             if (s < 0) continue;
+            if (round == 0 && spread > 1) {
+                candidate[s] = uint8_t((rowPriority(s) >> 16) % unsigned(spread));
+                continue;
+            }
             const int64_t i = a.rowParticle[s], p = a.partner[s];
             const unsigned long long taken = used[i] | (isWallContact(p) ? 0ull : used[p]);
             if (~taken == 0ull) {
@@ -196,15 +210,15 @@ __global__ void colourKeysKernel(const uint8_t* colour, const int64_t* mirror, i
     index[s] = s;
 }
 
-// colourStart[c + 1] = the end of colour c in the sorted keys.
+// colourStart[c] = the own rows of colours below c in the sorted keys, for c = 0 .. kMaxContactColours:
+// place k (of rows + 1) writes the c in (key before k, key at k], so a colour no row took (round 0's
+// spread can leave one) begins where the next does.
 __global__ void colourBoundsKernel(const uint8_t* sortedKeys, int64_t rows, int32_t* colourStart) {
     const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (k >= rows) return;
-    if (k == 0) colourStart[0] = 0;
-    const uint8_t key = sortedKeys[k];
-    const uint8_t next = k + 1 < rows ? sortedKeys[k + 1] : kUncoloured;
-    if (key == kUncoloured || next == key) return;
-    colourStart[key + 1] = int32_t(k + 1);
+    if (k > rows) return;
+    const int before = k == 0 ? -1 : int(sortedKeys[k - 1]);
+    const int at = k == rows ? int(kUncoloured) : int(sortedKeys[k]);
+    for (int c = before + 1; c <= at && c <= kMaxContactColours; ++c) colourStart[c] = int32_t(k);
 }
 
 // The own rows packed in colour order (position e of order), what a sweep reads of a row in one
@@ -399,7 +413,8 @@ bool launchColourContacts(const ContactArgs<Real>& a, int64_t rows, void* scratc
     uint8_t* candidate = c.candidate;
     int32_t* lists = c.lists;
     int64_t listRows = rows;
-    void* params[] = {&args, &used, &candidate, &lists, &listRows, &words};
+    int spread = rows >= kSpreadRows ? kSpreadColours : 1;
+    void* params[] = {&args, &used, &candidate, &lists, &listRows, &spread, &words};
     const int64_t blocks = std::min<int64_t>(resident, blocksFor(rows));
     e = cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(colourRowsKernel<Real>), dim3(unsigned(blocks)), dim3(kBlock), params, 0,
                                     stream);
@@ -409,7 +424,7 @@ bool launchColourContacts(const ContactArgs<Real>& a, int64_t rows, void* scratc
     size_t sortBytes = c.sortBytes;
     e = cub::DeviceRadixSort::SortPairs(c.sort, sortBytes, c.keys, c.sortedKeys, c.index, a.order, int(rows), 0, 8, stream);
     if (e != cudaSuccess) throw DeviceError(std::string("contact colour sort: ") + cudaGetErrorString(e));
-    colourBoundsKernel<<<blocksFor(rows), kBlock, 0, stream>>>(c.sortedKeys, rows, a.colourStart);
+    colourBoundsKernel<<<blocksFor(rows + 1), kBlock, 0, stream>>>(c.sortedKeys, rows, a.colourStart);
     checkLaunch("contact colour bounds kernel");
     packRowsKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(a, rows);
     checkLaunch("contact row packing kernel");
