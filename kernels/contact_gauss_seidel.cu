@@ -10,16 +10,15 @@
 // its particles has yet; a row keeps its candidate unless another uncoloured row of one of its
 // particles wants the same colour and has the higher priority (a hash of the row: neighbouring rows get
 // unrelated priorities, so the rows that lose once seldom lose again); the winners' colours join their
-// particles' masks. In a listing of many rows, round 0 instead spreads the candidates over 16 colours
-// by the row's hash: from colour 0 only one row in twenty-odd wins a round (the highest priority
-// among the rows it shares a particle with), and the colouring took a round per colour over most
-// rows; spread, about half win at once. Each round reads only
-// what the round before wrote, so the colouring is the same bits every time; each round looks only at
-// the rows the round before left (a list), not at every particle. Then a stable radix sort of the own
-// rows by colour gives each colour's rows in row order, and the rows are packed in that order (what a
-// sweep reads of a row, in one coalesced read each). A pile of monodisperse balls takes 11 to 13
-// colours (a host emulation of the greedy colouring on a settled 10,000-ball pile: 11 to 12), a
-// particle at most 15 contacts (12 neighbours and 3 walls).
+// particles' masks. Each round reads only what the round before wrote, so the colouring is the same
+// bits every time; each round looks only at the rows the round before left (a list), not at every
+// particle. In a listing of many rows, round 0 spreads the candidates over 16 colours by the row's
+// hash instead: from colour 0 only one row in twenty-odd wins a round (the highest priority among the
+// rows it shares a particle with), so most rows waited a round per colour; spread, about half win at
+// once. Then a stable radix sort of the own rows by colour gives each colour's rows in row order, and
+// the rows are packed in that order (what a sweep reads of a row, in one coalesced read each). A pile
+// of monodisperse balls takes 11 to 13 colours from colour 0 (a host emulation of the greedy colouring
+// on a settled 10,000-ball pile: 11 to 12), a particle at most 15 contacts (12 neighbours and 3 walls).
 // Tried and not kept: priority to the lower contact (then the hash), so that the colours rise with the
 // height and a sweep carries support up several layers, as the CPU's bottom-up order does. Priorities
 // that follow the height make chains as long as the pile is deep: the 10^6-ball pile's colouring took
@@ -28,10 +27,11 @@
 // pile). Before the packed rows and the lists: 42 ms a step, 2 listings of 16 sweeps each (every
 // listing at the sweep cap with its speed still above tolerance) and about 16 impact rounds (the pile
 // never quite still: 0.2 of kinetic energy a ball); a listing's 16 sweeps took 13.2 ms, its colouring
-// 3.55 (a round per colour over every particle). Packed, the 16 sweeps take 8.3 ms; with the lists
-// the colouring takes 3.4 (its first round, over every row, is most of it). Same bits as before (the
-// same colours, and each row's updates in the same order): the same overlaps, energy, rounds and
-// sweeps; 198 ms a frame before, 171 after (the last second 169 and 141), 10^5 balls 34.2 and 31.3.
+// 3.55. Packed, the 16 sweeps take 8.3 ms; with the lists the colouring takes 3.4 (its first round,
+// over every row, is most of it), with the same colours and so the same bits as before: the same
+// overlaps, energy, rounds and sweeps, 198 ms a frame before and 171 after (the last second 169 and
+// 141), 10^5 balls 34.2 and 31.3. Spread from round 0 (other colours, other bits), in one run beside
+// the lists alone: 156.5 ms a frame against 160.7 (the last second 124.9 and 132.6).
 //
 // Why not Jacobi: a Jacobi sweep carries support one layer of a pile, a fraction 1 / max(k_i, k_j) of
 // it at a time; Gauss-Seidel in any order that visits each contact once carries it much further, and
