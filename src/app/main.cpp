@@ -271,8 +271,8 @@ int main(int argc, char** argv) {
                         "The Bullet driver (default: corebox_bullet_pile beside corebox when built; none: no Bullet)");
     pileCmd->add_option("--out", pile.outputPrefix, "Write OUT.csv and OUT.json");
     pileCmd->add_option("--trace", pile.tracePrefix,
-                        "Write TRACE_<backend>_<precision>_<n>.csv: a row per frame with rounds, sweeps, listings and the "
-                        "host-clock ms of the impacts, contacts and listings");
+                        "Write TRACE_<backend>_<precision>_<n>.csv: a row per frame with rounds, sweeps, listings, the largest "
+                        "overlap left and the host-clock ms of the impacts, contacts and listings");
 
     P2pBenchmarkOptions p2p;
     CLI::App* p2pCmd = benchCmd->add_subcommand(

@@ -131,12 +131,13 @@ struct PilePhaseSums {
 
 // One frame's row of the per-frame trace (PileBenchmarkOptions::tracePrefix).
 constexpr const char* kTraceHeader =
-    "frame,time,ms_frame,kinetic,rounds,max_rounds,round_cap_hits,listings,sweeps,contacts_max,ms_impacts,ms_contacts,"
-    "ms_listings\n";
+    "frame,time,ms_frame,kinetic,rounds,max_rounds,round_cap_hits,listings,sweeps,contacts_max,overlap_left_max,ms_impacts,"
+    "ms_contacts,ms_listings\n";
 
 struct PileTraceFrame {
     int64_t rounds = 0, capHits = 0, listings = 0, sweeps = 0, contacts = 0;
     int maxRounds = 0;
+    double overlapLeft = 0;  // the largest overlap a step's contact phase left, fraction of a contact distance
     double impacts = 0, contactSeconds = 0, listingSeconds = 0;
     void add(const StepReport& s) {
         rounds += s.rounds;
@@ -145,6 +146,7 @@ struct PileTraceFrame {
         listings += s.contactListings;
         sweeps += s.contactSweeps;
         contacts = std::max(contacts, s.contacts);
+        overlapLeft = std::max(overlapLeft, s.contactOverlap);
         impacts += s.secondsImpacts;
         contactSeconds += s.secondsContacts;
         listingSeconds += s.secondsListings;
@@ -152,8 +154,8 @@ struct PileTraceFrame {
     std::string row(int64_t frame, double time, double ms, double kinetic) const {
         std::ostringstream line;
         line << frame << ',' << shortText(time) << ',' << shortText(ms) << ',' << shortText(kinetic) << ',' << rounds << ','
-             << maxRounds << ',' << capHits << ',' << listings << ',' << sweeps << ',' << contacts << ','
-             << shortText(1e3 * impacts) << ',' << shortText(1e3 * contactSeconds) << ',' << shortText(1e3 * listingSeconds) << '\n';
+             << maxRounds << ',' << capHits << ',' << listings << ',' << sweeps << ',' << contacts << ',' << shortText(overlapLeft)
+             << ',' << shortText(1e3 * impacts) << ',' << shortText(1e3 * contactSeconds) << ',' << shortText(1e3 * listingSeconds) << '\n';
         return line.str();
     }
 };

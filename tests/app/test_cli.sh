@@ -318,11 +318,20 @@ done
 
 # `corebox bench pile` on a tiny pile (200 balls, 0.2 s): CSV and JSON written with their columns and
 # keys, one corebox row per precision and a Bullet row where the driver was built, whatever the runs'
-# outcome (a blow-up is a recorded result, not an exit code 3).
+# outcome (a blow-up is a recorded result, not an exit code 3); with --trace, a CSV per corebox run
+# with a row per frame (0.2 s: 12 frames), each frame's impact rounds at least its 4 steps.
 rm -rf "$work/out" && mkdir -p "$work/out"
 pile="$work/out/pile"
-if "$COREBOX" bench pile --n 200 --seconds 0.2 --precision fp32,fp64 --out "$pile" >/dev/null 2>"$work/err"; then
+if "$COREBOX" bench pile --n 200 --seconds 0.2 --precision fp32,fp64 --out "$pile" --trace "$pile-trace" >/dev/null 2>"$work/err"; then
     pass
+    trace_columns='frame,time,ms_frame,kinetic,rounds,max_rounds,round_cap_hits,listings,sweeps,contacts_max,'
+    trace_columns+='overlap_left_max,ms_impacts,ms_contacts,ms_listings'
+    for precision in fp32 fp64; do
+        trace="$pile-trace_cpu_${precision}_200.csv"
+        [ "$(sed -n 2p "$trace" 2>/dev/null)" = "$trace_columns" ] && pass || fail "pile trace $precision header: $(sed -n 2p "$trace" 2>/dev/null)"
+        frames=$(tail -n +3 "$trace" | awk -F, '$1 == NR - 1 && $5 >= 4' | wc -l)
+        [ "$frames" -eq 12 ] && pass || fail "pile trace $precision: $frames frames of 12 numbered with 4 or more rounds"
+    done
     columns='engine,backend,device,precision,threads,n,box_x,box_y,box_z,box_grown,substeps,dt,seconds_requested,'
     columns+='seconds_simulated,frames,ms_per_frame_mean,ms_per_frame_last_second,ms_per_frame_max,max_overlap_fraction,'
     columns+='max_wall_penetration_fraction,outside,energy_start,energy_end,energy_change_relative,potential_released,'
