@@ -152,6 +152,12 @@ __global__ void fillContactsKernel(ContactArgs<Real> a) {
     });
 }
 
+template <class Real>
+__global__ void dropBounceImpulsesKernel(Real* lambda, const Real* target, int64_t rows) {
+    const int64_t s = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (s < rows && target[s] > Real(0)) lambda[s] = Real(0);
+}
+
 // Impulses on particle i's rows, no sweep: the warm start (each row's lambda, which it begins with) or,
 // with `settle`, the end of the accelerated sweeps (settleRow). Reads positions only: no hazard
 // between particles.
@@ -314,6 +320,13 @@ void launchFillContacts(const ContactArgs<Real>& a, cudaStream_t stream) {
 }
 
 template <class Real>
+void launchDropBounceImpulses(Real* lambda, const Real* target, int64_t rows, cudaStream_t stream) {
+    if (rows == 0) return;
+    dropBounceImpulsesKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(lambda, target, rows);
+    checkLaunch("contact bounce-drop kernel");
+}
+
+template <class Real>
 void launchWarmStart(const ContactArgs<Real>& a, cudaStream_t stream) {
     if (a.p.n == 0) return;
     rowImpulsesKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, false);
@@ -373,6 +386,7 @@ void launchLiftWorkRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, 
     template void launchCountContacts<Real>(const ContactArgs<Real>&, cudaStream_t, unsigned long long*);                               \
     template void launchFillContacts<Real>(const ContactArgs<Real>&, cudaStream_t);                                \
     template void launchWarmStart<Real>(const ContactArgs<Real>&, cudaStream_t);                                   \
+    template void launchDropBounceImpulses<Real>(Real*, const Real*, int64_t, cudaStream_t);                       \
     template void launchSettleContacts<Real>(const ContactArgs<Real>&, cudaStream_t);                              \
     template void launchRelaxContacts<Real>(const ContactArgs<Real>&, int, int, cudaStream_t);                     \
     template bool launchRelaxListing<Real>(const ContactArgs<Real>&, const RelaxationPlan&, unsigned long long*, cudaStream_t); \

@@ -98,7 +98,14 @@
 // applied to the velocities before the first sweep, and the sweeps correct it, taking back what is
 // no longer needed (lambda >= 0; the residual counts take-backs as well as approaches, so a converged
 // relaxation holds no push that separates). Bouncing contacts start from 0. Checkpoints carry the
-// impulses (bit-identical restarts); setting the state or the model forgets them.
+// impulses (bit-identical restarts); setting the state or the model forgets them. A later listing of
+// the same step (deep overlaps moved particles) starts each contact from its impulse so far in the
+// step, already in the velocities and booked, so not applied again: lambda >= 0 then bounds the
+// step's whole impulse, a push an earlier listing overdid can be taken back, and the next step starts
+// from the whole of it. Started from 0, as this code first did, each listing could only push more and
+// the next step began from the last listing's share alone; a pile 40 layers deep (4,444 balls on a
+// 10 x 10 floor, CPU, fp64, 16 sweeps a listing) then kept 1,234 of kinetic energy at 4 s (1.7
+// listings a step, the pile rattling), carried 35.
 // Evidence (2,000 balls dropped into a 30 x 60 x 30 box, e = 0.5, g = 9.81, dt = 1/240, 10 s):
 // the old rounds alone hit their cap on most steps once the pile formed and failed at t = 4.6 s with
 // a ball thrown out of the box; with the two phases the pile comes to rest (kinetic energy 3e-5 of

@@ -456,6 +456,10 @@ void scanContactCounts(int64_t* contactStart, int64_t n, void* scratch, size_t s
 // with `warm`, each contact's impulse at the end of the last step (0 for a new or isolated contact).
 template <class Real>
 void launchFillContacts(const ContactArgs<Real>& args, cudaStream_t stream);
+// lambda[s] = 0 where target[s] > 0 (a Gauss-Seidel listing's bounces), for `rows` rows: what a later
+// listing of the step carries is support, not impacts.
+template <class Real>
+void launchDropBounceImpulses(Real* lambda, const Real* target, int64_t rows, cudaStream_t stream);
 // Applies the filled impulses to V (the warm start), before the first sweep.
 template <class Real>
 void launchWarmStart(const ContactArgs<Real>& args, cudaStream_t stream);

@@ -625,6 +625,17 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
         m_firstListing = false;
         return 0;
     }
+    // A later listing of this step carries this step's impulses so far: the last listing's rows become
+    // the rows its fill looks each contact up in (as the first listing's look up the last step's), their
+    // bounces dropped (an impact, not a support to take back), not applied again (contact_relaxation.h;
+    // the CPU's listContacts says why).
+    const bool carry = !m_firstListing && m_listedThisStep;
+    if (carry) {
+        if (m_gaussSeidel) gpu::launchDropBounceImpulses(m_contactLambda.data(), m_rowTarget.data(), int64_t(m_contactPartner.size()), s);
+        std::swap(m_contactStart, m_warmStart);
+        std::swap(m_contactPartner, m_warmPartner);
+        std::swap(m_contactLambda, m_warmLambda);
+    }
     int64_t total = 0;
     if (m_tailListing && resting.speed == m_tailResting.speed && resting.gap == m_tailResting.gap) {
         total = m_tailListed;  // counted behind the rounds (queueStageTail), nothing moved since
@@ -641,8 +652,8 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     }
     m_tailListing = false;
     m_listedThisStep = true;
-    const bool warm = m_firstListing && m_warmValid;
-    m_firstListing = false;  // a listing again in this step starts cold: this one's impulses are applied
+    const bool warm = m_firstListing && m_warmValid;  // the last step's impulses, applied before the first sweep
+    m_firstListing = false;
     if (total == 0) return 0;
     m_wallsOnlyMoved = false;  // the relaxation may move particles the wall impacts did not
     m_contactPartner.resize(size_t(total));
@@ -653,7 +664,7 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     cudaCheck(cudaMemsetAsync(m_contactImpulses.data(), 0, size_t(kImpulseRows) * size_t(m_n) * sizeof(double), s), "memset");
     if (m_gaussSeidelContacts) m_rowTarget.resize(size_t(total));  // the fill sets the targets
     gpu::ContactArgs<Real> fill = contactArgs();
-    fill.warm = warm;
+    fill.warm = warm || carry;
     gpu::launchFillContacts(fill, s);
     m_warmPending = warm;
     m_gaussSeidel = m_gaussSeidelContacts && colourListing(total);
