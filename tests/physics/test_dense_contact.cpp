@@ -55,6 +55,29 @@ Scene pileOf400() {
     return scene;
 }
 
+// `count` balls in a 12-wide box at dt = 1/240 under gravity -9.81 along y, restitution 0.5 with each
+// other and the walls.
+Scene columnScene(int count) {
+    Scene scene = hardSphereScene(count, 12.0, Method::Verlet, 1.0 / 240);
+    scene.interaction.gravity = {0, -9.81, 0};
+    scene.interaction.restitution = 0.5;
+    scene.box.wallRestitution = 0.5;
+    return scene;
+}
+
+// A column of `count` balls of radius 0.5 at rest at x = z = 6, touching each other, the lowest centre
+// at y = `bottom` (0.5: touching the floor).
+ParticleState columnAt(int count, double bottom) {
+    ParticleState st;
+    st.resize(size_t(count));
+    for (int i = 0; i < count; ++i) {
+        st.position[size_t(i)] = {6.0, bottom + 1.0 * i, 6.0};
+        st.velocity[size_t(i)] = {0, 0, 0};
+        st.species[size_t(i)] = 0;
+    }
+    return st;
+}
+
 Vec3<double> momentum(const ParticleState& st) {
     Vec3<double> p{0, 0, 0};
     for (const Vec3<double>& v : st.velocity) p += v;  // unit masses
@@ -140,17 +163,8 @@ TEST_P(DenseContact, ABallOnTheFloorAndAColumnOfTenStayPut) {
     // Balls of radius 0.5 touching the floor (y = 0.5) and each other, gravity -9.81 along y,
     // restitution 0.5, dt = 1/240: 10^4 steps (42 s).
     for (int count : {1, 10}) {
-        Scene scene = hardSphereScene(count, 12.0, Method::Verlet, 1.0 / 240);
-        scene.interaction.gravity = {0, -9.81, 0};
-        scene.interaction.restitution = 0.5;
-        scene.box.wallRestitution = 0.5;
-        ParticleState st;
-        st.resize(size_t(count));
-        for (int i = 0; i < count; ++i) {
-            st.position[size_t(i)] = {6.0, 0.5 + 1.0 * i, 6.0};
-            st.velocity[size_t(i)] = {0, 0, 0};
-            st.species[size_t(i)] = 0;
-        }
+        const Scene scene = columnScene(count);
+        const ParticleState st = columnAt(count, 0.5);
         auto sim = makeSimulation(backendName(), scene, st);
         const double conserved0 = sim->observe().conserved();
         for (int s = 0; s < 10000; ++s) sim->step();
@@ -180,19 +194,8 @@ TEST_P(DenseContact, AListingAgainInAStepCarriesTheStepsImpulses) {
     // push, about the column's weight times dt, for the next step's warm start. Started from 0, the
     // second listing would keep only the little it added.
     const int count = 10;
-    const double dt = 1.0 / 240;
-    Scene scene = hardSphereScene(count, 12.0, Method::Verlet, dt);
-    scene.interaction.gravity = {0, -9.81, 0};
-    scene.interaction.restitution = 0.5;
-    scene.box.wallRestitution = 0.5;
-    ParticleState st;
-    st.resize(size_t(count));
-    for (int i = 0; i < count; ++i) {
-        st.position[size_t(i)] = {6.0, 0.49 + 1.0 * i, 6.0};
-        st.velocity[size_t(i)] = {0, 0, 0};
-        st.species[size_t(i)] = 0;
-    }
-    auto sim = makeSimulation(backendName(), scene, st);
+    const Scene scene = columnScene(count);
+    auto sim = makeSimulation(backendName(), scene, columnAt(count, 0.49));
     const StepReport report = sim->step();
     ASSERT_GE(report.contactListings, 2) << "the deep overlap did not list again: the test tests nothing";
     const int64_t floorCode = -1 - (2 * 1 + 0);  // axis y, side 0
@@ -200,7 +203,7 @@ TEST_P(DenseContact, AListingAgainInAStepCarriesTheStepsImpulses) {
     for (const ContactWarmStart& w : sim->backend().contactWarmStart()) {
         if (w.i == 0 && w.partner == floorCode) floorPush = w.lambda;  // per unit mass, m = 1
     }
-    const double weightImpulse = count * 9.81 * dt;
+    const double weightImpulse = count * 9.81 * scene.integrator.dt;
     EXPECT_GT(floorPush, 0.9 * weightImpulse) << "the floor's impulse kept for the next step";
     EXPECT_LT(floorPush, 2.0 * weightImpulse);
 }
