@@ -479,9 +479,9 @@ bool launchRelaxListing(const ContactArgs<Real>& args, const RelaxationPlan& pla
 // ---- Gauss-Seidel in colours (contact_gauss_seidel.cu) ----
 // Colours the listing's pairs and walls so that no particle has two contacts of one colour (each
 // pair from its own row; rowParticle, mirror and the bounce targets filled on the way), then sorts
-// the own rows by colour into order and colourStart and packs them (packed*, rowRank). words (6): [0] the colours used, [1] 1 if more
-// than kMaxContactColours were needed (then nothing after the colouring is valid), [4..5] the
-// colouring's own; *deepest: the deepest overlap of the listed contacts (double bits,
+// the own rows by colour into order and colourStart and packs them (packed*, rowRank). words (6): [0]
+// the colours used, [1] 1 if more than kMaxContactColours were needed (then nothing after the
+// colouring is valid), [2..3] the colouring's own (its lists' lengths); *deepest: the deepest overlap of the listed contacts (double bits,
 // ContactResidual::overlap). Scratch: contactColouringScratchBytes. Returns false, launching
 // nothing, where the device has no cooperative launch.
 size_t contactColouringScratchBytes(int64_t n, int64_t rows);
