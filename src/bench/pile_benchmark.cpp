@@ -135,27 +135,23 @@ constexpr const char* kTraceHeader =
     "ms_contacts,ms_listings\n";
 
 struct PileTraceFrame {
-    int64_t rounds = 0, capHits = 0, listings = 0, sweeps = 0, contacts = 0;
+    PilePhaseSums sums;  // the frame's steps summed, as the run's
+    int64_t capHits = 0, contacts = 0;
     int maxRounds = 0;
     double overlapLeft = 0;  // the largest overlap a step's contact phase left, fraction of a contact distance
-    double impacts = 0, contactSeconds = 0, listingSeconds = 0;
     void add(const StepReport& s) {
-        rounds += s.rounds;
+        sums.add(s);
         maxRounds = std::max(maxRounds, s.rounds);
         capHits += s.roundCapHit ? 1 : 0;
-        listings += s.contactListings;
-        sweeps += s.contactSweeps;
         contacts = std::max(contacts, s.contacts);
         overlapLeft = std::max(overlapLeft, s.contactOverlap);
-        impacts += s.secondsImpacts;
-        contactSeconds += s.secondsContacts;
-        listingSeconds += s.secondsListings;
     }
     std::string row(int64_t frame, double time, double ms, double kinetic) const {
         std::ostringstream line;
-        line << frame << ',' << shortText(time) << ',' << shortText(ms) << ',' << shortText(kinetic) << ',' << rounds << ','
-             << maxRounds << ',' << capHits << ',' << listings << ',' << sweeps << ',' << contacts << ',' << shortText(overlapLeft)
-             << ',' << shortText(1e3 * impacts) << ',' << shortText(1e3 * contactSeconds) << ',' << shortText(1e3 * listingSeconds) << '\n';
+        line << frame << ',' << shortText(time) << ',' << shortText(ms) << ',' << shortText(kinetic) << ',' << sums.rounds << ','
+             << maxRounds << ',' << capHits << ',' << sums.listings << ',' << sums.sweeps << ',' << contacts << ','
+             << shortText(overlapLeft) << ',' << shortText(1e3 * sums.impacts) << ',' << shortText(1e3 * sums.contacts) << ','
+             << shortText(1e3 * sums.listingSeconds) << '\n';
         return line.str();
     }
 };

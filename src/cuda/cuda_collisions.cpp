@@ -192,15 +192,19 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     beginWarmStart();
 }
 
+// The last listing's rows become the rows the next listing's fill looks its impulses up in.
+template <class Real>
+void CudaDevice<Real>::swapListingIntoWarmRows() {
+    std::swap(m_contactStart, m_warmStart);
+    std::swap(m_contactPartner, m_warmPartner);
+    std::swap(m_contactLambda, m_warmLambda);
+}
+
 // The last listing's rows become the warm start of this step's first listing.
 template <class Real>
 void CudaDevice<Real>::beginWarmStart() {
     m_warmValid = m_listedThisStep;
-    if (m_warmValid) {
-        std::swap(m_contactStart, m_warmStart);
-        std::swap(m_contactPartner, m_warmPartner);
-        std::swap(m_contactLambda, m_warmLambda);
-    }
+    if (m_warmValid) swapListingIntoWarmRows();
     m_listedThisStep = false;
     m_firstListing = true;
 }
@@ -632,9 +636,7 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     const bool carry = !m_firstListing && m_listedThisStep;
     if (carry) {
         if (m_gaussSeidel) gpu::launchDropBounceImpulses(m_contactLambda.data(), m_rowTarget.data(), int64_t(m_contactPartner.size()), s);
-        std::swap(m_contactStart, m_warmStart);
-        std::swap(m_contactPartner, m_warmPartner);
-        std::swap(m_contactLambda, m_warmLambda);
+        swapListingIntoWarmRows();
     }
     int64_t total = 0;
     if (m_tailListing && resting.speed == m_tailResting.speed && resting.gap == m_tailResting.gap) {

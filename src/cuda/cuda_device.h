@@ -208,6 +208,7 @@ private:
     static CollisionTally tallyOf(const unsigned long long kindCounts[2], const std::vector<double>& rowSums);
     gpu::CollisionArgs<Real> collisionArgs();
     void beginWarmStart();  // beginCollisions: the last listing's rows become the warm start
+    void swapListingIntoWarmRows();  // the last listing's rows into m_warm*, for the next listing's fill
     // Room for `records` contact log records, keeping those written so far (at most m_logBound).
     void reserveLog(size_t records);
     gpu::ContactArgs<Real> contactArgs();
