@@ -33,6 +33,14 @@
 // 141), 10^5 balls 34.2 and 31.3. Spread from round 0 (other colours, other bits), the colouring takes
 // 1.44 ms, and in one run beside the lists alone the pile 156.5 ms a frame against 160.7 (the last
 // second 124.9 and 132.6).
+// The sweeps read and write the particles as packed bodies (packed_body.cuh: X with the radius, V with
+// the mass, 16 bytes each in fp32), copied from X and V before a listing's sweeps and back after them:
+// a row's particles sit at random places, and as Vec3 arrays each coordinate was a load or store of
+// its own, every one a 32-byte sector. ncu on a listing of the settled 10^6-ball pile (an H200, fp32,
+// 16 sweeps): 9.39 ms with 1.10e9 L2 sectors, 80% of them excess, L2-bound (69% of its throughput);
+// packed, 5.88 ms (0.37 a sweep) with 4.0e8. The same bits. `corebox bench pile` (fp32, the same call):
+// 10^6 balls 113.4 ms a frame instead of 138.1 (the last second 64.1 instead of 79.0); with the count
+// and the fill on the packed bodies too, 111.9 (62.4); 10^5 balls 26.4 instead of 31.1 (12.4 and 16.3).
 //
 // Why not Jacobi: a Jacobi sweep carries support one layer of a pile, a fraction 1 / max(k_i, k_j) of
 // it at a time; Gauss-Seidel in any order that visits each contact once carries it much further, and
@@ -51,6 +59,7 @@
 #include "contact_residual.cuh"
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
+#include "packed_body.cuh"
 
 namespace corebox::gpu {
 namespace {
@@ -247,9 +256,9 @@ template <class Real>
 __device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidual<Real>& r) {
     const int64_t i = a.packedParticle[e], p = a.packedPartner[e];
     const size_t n = size_t(a.p.n);
-    const int si = a.p.species[i];
-    const Real mi = a.table.mass[si], ai = a.table.radius[si];
-    Vec3<Real> xi = a.p.x[i], vi = a.p.v[i];
+    const PackedBody<Real> bxi = a.bodyX[i], bvi = a.bodyV[i];
+    const Real mi = bvi.w, ai = bxi.w;
+    Vec3<Real> xi = positionOf(bxi), vi = positionOf(bvi);
     Real lambda = a.packedLambda[e];
     const Real before = lambda;
     if (isWallContact(p)) {
@@ -267,13 +276,13 @@ __device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidu
             if (depth / (Real(2) * ai) > r.overlap) r.overlap = depth / (Real(2) * ai);
             xi[axis] += inward * depth;
         }
-        a.p.x[i] = xi;
-        a.p.v[i] = vi;
+        a.bodyX[i] = packed(xi, ai);
+        a.bodyV[i] = packed(vi, mi);
         return;
     }
-    const int sj = a.p.species[p];
-    const Real mj = a.table.mass[sj], d = ai + a.table.radius[sj];
-    Vec3<Real> xj = a.p.x[p], vj = a.p.v[p];
+    const PackedBody<Real> bxj = a.bodyX[p], bvj = a.bodyV[p];
+    const Real mj = bvj.w, d = ai + bxj.w;
+    Vec3<Real> xj = positionOf(bxj), vj = positionOf(bvj);
     const Vec3<Real> rij = xi - xj;
     const Real dist = realSqrt(norm2(rij));
     if (!(dist > Real(0))) return;  // coincident centres carry no direction
@@ -284,10 +293,10 @@ __device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidu
         a.packedVirial[e] += double(dist) * double(impulse);
     }
     separatePair(xi, xj, mi, mj, d, a.up, r);
-    a.p.x[i] = xi;
-    a.p.v[i] = vi;
-    a.p.x[p] = xj;
-    a.p.v[p] = vj;
+    a.bodyX[i] = packed(xi, ai);
+    a.bodyV[i] = packed(vi, mi);
+    a.bodyX[p] = packed(xj, bxj.w);
+    a.bodyV[p] = packed(vj, mj);
 }
 
 // One colour's contacts, a thread each; with `measure`, their residual (every thread of the grid calls
@@ -435,6 +444,8 @@ bool launchColourContacts(const ContactArgs<Real>& a, int64_t rows, void* scratc
 template <class Real>
 void launchGaussSeidelSweeps(const ContactArgs<Real>& a, const std::vector<int32_t>& colourStart, int sweeps, cudaStream_t stream) {
     const int colours = int(colourStart.size()) - 1;
+    if (a.p.n == 0 || sweeps < 1) return;
+    launchPackBodies(a, stream);
     for (int sweep = 0; sweep < sweeps; ++sweep) {
         const bool last = sweep == sweeps - 1;
         if (last) cudaMemsetAsync(a.residual, 0, 2 * sizeof(unsigned long long), stream);
@@ -445,6 +456,7 @@ void launchGaussSeidelSweeps(const ContactArgs<Real>& a, const std::vector<int32
             checkLaunch("contact Gauss-Seidel kernel");
         }
     }
+    launchUnpackBodies(a, stream);
 }
 
 template <class Real>
@@ -464,9 +476,11 @@ bool launchGaussSeidelListing(const ContactArgs<Real>& a, const std::vector<int3
     // A thread a row of the largest colour, no more than fit: the barriers cost more with more blocks
     // (a thread a particle instead: the 10^5-ball pile 38.3 ms a frame against 34.1, an H200, fp32).
     const int64_t blocks = std::min<int64_t>(resident, std::max<int64_t>(1, blocksFor(largest)));
+    launchPackBodies(a, stream);
     const cudaError_t e = cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(gaussSeidelListingKernel<Real>), dim3(unsigned(blocks)),
                                                       dim3(kBlock), params, 0, stream);
     if (e != cudaSuccess) throw DeviceError(std::string("contact Gauss-Seidel kernel: ") + cudaGetErrorString(e));
+    launchUnpackBodies(a, stream);
     return true;
 }
 

@@ -13,14 +13,19 @@
 #include "gpu_launch.h"
 #include "contact_residual.cuh"
 #include "neighbour_walk.cuh"
+#include "packed_body.cuh"
 
 namespace corebox::gpu {
 namespace {
 
-// Whether pair (i, j) is a contact the relaxation acts on.
+// Whether pair (i, j) is a contact the relaxation acts on. The count and the fill read the packed bodies
+// (launchPackBodies, by the count): a neighbour's position with its radius and its velocity, a vector
+// read each.
 template <class Real>
 __device__ bool isPairContact(const ContactArgs<Real>& a, int64_t i, const Vec3<Real>& xi, const Vec3<Real>& vi, Real ai, int64_t j) {
-    return j != i && pairContactActive(xi, vi, a.p.x[j], a.p.v[j], ai + a.table.radius[a.p.species[j]], a.resting);
+    if (j == i) return false;
+    const PackedBody<Real> xj = a.bodyX[j];
+    return pairContactActive(xi, vi, positionOf(xj), positionOf(a.bodyV[j]), ai + xj.w, a.resting);
 }
 
 // fn(wall code) for each wall contact of the particle at xi, in wall order; returns their count.
@@ -42,9 +47,9 @@ __device__ int forEachWallContact(const ContactArgs<Real>& a, const Vec3<Real>& 
 template <class Real, class Fn>
 __device__ int forEachContact(const ContactArgs<Real>& a, int64_t i, Fn&& fn) {
     int count = 0;
-    const Vec3<Real> xi = a.p.x[i];
-    const Real ai = a.table.radius[a.p.species[i]];
-    const Vec3<Real> vi = a.p.v[i];
+    const PackedBody<Real> bxi = a.bodyX[i];
+    const Vec3<Real> xi = positionOf(bxi), vi = positionOf(a.bodyV[i]);
+    const Real ai = bxi.w;
     forEachNeighbour(a.cells, xi, [&](int64_t j) {
         if (!isPairContact(a, i, xi, vi, ai, j)) return;
         fn(j);
@@ -66,8 +71,9 @@ __global__ void countContactsKernel(ContactArgs<Real> a, unsigned long long* tot
     if (G == 1) {
         count = forEachContact(a, i, [](int64_t) {});
     } else {
-        const Vec3<Real> xi = a.p.x[i], vi = a.p.v[i];
-        const Real ai = a.table.radius[a.p.species[i]];
+        const PackedBody<Real> bxi = a.bodyX[i];
+        const Vec3<Real> xi = positionOf(bxi), vi = positionOf(a.bodyV[i]);
+        const Real ai = bxi.w;
         int pairs = 0;
         forEachNeighbourShared<G>(a.cells, xi, rank, [&](int64_t j) { pairs += isPairContact(a, i, xi, vi, ai, j) ? 1 : 0; });
         for (int offset = G / 2; offset > 0; offset /= 2) pairs += __shfl_xor_sync(groupMask<G>(), pairs, offset);
@@ -102,16 +108,16 @@ __device__ Real warmLambdaOf(const ContactArgs<Real>& a, int64_t i, int64_t part
 // The normal speed an isolated contact's Gauss-Seidel update aims at (isolatedContactTarget).
 template <class Real>
 __device__ Real contactTarget(const ContactArgs<Real>& a, int64_t i, int64_t partner) {
-    const Vec3<Real> xi = a.p.x[i], vi = a.p.v[i];
+    const Vec3<Real> xi = positionOf(a.bodyX[i]), vi = positionOf(a.bodyV[i]);
     Real vn = 0, e = 0;
     if (isWallContact(partner)) {
         const int code = int(-1 - partner);
         vn = (code % 2 == 0 ? Real(1) : Real(-1)) * vi[code / 2];
         e = a.bounce.wallRestitution;
     } else {
-        const Vec3<Real> r = xi - a.p.x[partner];
+        const Vec3<Real> r = xi - positionOf(a.bodyX[partner]);
         const Real dist = realSqrt(norm2(r));
-        vn = dist > Real(0) ? dot(vi - a.p.v[partner], r) / dist : Real(0);
+        vn = dist > Real(0) ? dot(vi - positionOf(a.bodyV[partner]), r) / dist : Real(0);
         e = a.bounce.restitution;
     }
     return isolatedContactTarget(vn, e, a.bounce);
@@ -287,11 +293,44 @@ __global__ void liftWorkKernel(ParticleArrays<Real> p, SpeciesTable<Real> table,
     row[i] = -m * dot(vec3Cast<double>(table.field[s]), vec3Cast<double>(p.x[i]) - vec3Cast<double>(xListed[i]));
 }
 
+// The contact phase's copy of the state (ContactArgs::bodyX, bodyV) from X, V and the species, and back.
+template <class Real>
+__global__ void packBodiesKernel(ContactArgs<Real> a) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.p.n) return;
+    const int s = a.p.species[i];
+    a.bodyX[i] = packed(a.p.x[i], a.table.radius[s]);
+    a.bodyV[i] = packed(a.p.v[i], a.table.mass[s]);
+}
+
+template <class Real>
+__global__ void unpackBodiesKernel(ContactArgs<Real> a) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.p.n) return;
+    a.p.x[i] = positionOf(a.bodyX[i]);
+    a.p.v[i] = positionOf(a.bodyV[i]);
+}
+
 }  // namespace
+
+template <class Real>
+void launchPackBodies(const ContactArgs<Real>& a, cudaStream_t stream) {
+    if (a.p.n == 0) return;
+    packBodiesKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+    checkLaunch("contact body packing kernel");
+}
+
+template <class Real>
+void launchUnpackBodies(const ContactArgs<Real>& a, cudaStream_t stream) {
+    if (a.p.n == 0) return;
+    unpackBodiesKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+    checkLaunch("contact body unpacking kernel");
+}
 
 template <class Real>
 void launchCountContacts(const ContactArgs<Real>& a, cudaStream_t stream, unsigned long long* total) {
     const int64_t n = a.p.n > 0 ? a.p.n : 1;  // one thread at least: contactStart[0]
+    launchPackBodies(a, stream);
     switch (searchGroupFor(n)) {
         case 32: countContactsKernel<Real, 32><<<blocksFor(n * 32), kBlock, 0, stream>>>(a, total); break;
         case 8: countContactsKernel<Real, 8><<<blocksFor(n * 8), kBlock, 0, stream>>>(a, total); break;
@@ -383,6 +422,8 @@ void launchLiftWorkRow(const ParticleArrays<Real>& p, SpeciesTable<Real> table, 
 }
 
 #define COREBOX_INSTANTIATE(Real)                                                                                  \
+    template void launchPackBodies<Real>(const ContactArgs<Real>&, cudaStream_t);                                                         \
+    template void launchUnpackBodies<Real>(const ContactArgs<Real>&, cudaStream_t);                                                       \
     template void launchCountContacts<Real>(const ContactArgs<Real>&, cudaStream_t, unsigned long long*);                               \
     template void launchFillContacts<Real>(const ContactArgs<Real>&, cudaStream_t);                                \
     template void launchWarmStart<Real>(const ContactArgs<Real>&, cudaStream_t);                                   \

@@ -28,6 +28,14 @@ struct ParticleArrays {
     int64_t n;
 };
 
+// A particle's position or velocity with a fourth value (its hard-core radius, its mass), aligned so that
+// a thread reads or writes it whole in one vector access (two for fp64): the Gauss-Seidel sweeps'
+// copy of the state (ContactArgs::bodyX, bodyV).
+template <class Real>
+struct alignas(4 * sizeof(Real)) PackedBody {
+    Real x, y, z, w;
+};
+
 template <class Real>
 struct SpeciesTable {
     const PairCoefficients<Real>* pairs;  // S x S
@@ -439,20 +447,32 @@ struct ContactArgs {
     Real* packedLambda;
     double* packedVirial;
     int32_t* rowRank;
+    // n each: the contact phase's copy of X with each radius and of V with each mass (packed_body.cuh
+    // says why): packed by the count, which the fill reads too, and again before a listing's
+    // Gauss-Seidel sweeps, which write it back into p when they end.
+    PackedBody<Real>* bodyX;
+    PackedBody<Real>* bodyV;
     Real omega;            // over-relaxation of the stopping updates (kGaussSeidelOverRelaxation)
 };
 
 // The most colours a listing's pairs may take: a particle's colours are a 64-bit mask. A listing that
 // needs more (a particle with more than ~32 contacts) is relaxed with Jacobi sweeps.
 constexpr int kMaxContactColours = 64;
+// bodyX, bodyV from p (X with each radius, V with each mass), and back into p.
+template <class Real>
+void launchPackBodies(const ContactArgs<Real>& args, cudaStream_t stream);
+template <class Real>
+void launchUnpackBodies(const ContactArgs<Real>& args, cudaStream_t stream);
 // contactStart[i + 1] = particle i's contact count (contactStart[0] = 0); the caller scans it. With
-// total set, the counts are also added into *total (zeroed by the caller).
+// total set, the counts are also added into *total (zeroed by the caller). Packs the bodies first
+// (launchPackBodies), which it and the fill read.
 template <class Real>
 void launchCountContacts(const ContactArgs<Real>& args, cudaStream_t stream, unsigned long long* total = nullptr);
 // Exclusive-scans counts in place into offsets: n + 1 entries.
 size_t contactScanScratchBytes(int64_t n);
 void scanContactCounts(int64_t* contactStart, int64_t n, void* scratch, size_t scratchBytes, cudaStream_t stream);
-// Fills partner[] in the order the count visited them (cell-list order, then walls), and lambda[]:
+// Fills partner[] in the order the count visited them (cell-list order, then walls), and lambda[],
+// from the bodies the count packed (nothing may move in between):
 // with `warm`, each contact's impulse at the end of the last step (0 for a new or isolated contact).
 template <class Real>
 void launchFillContacts(const ContactArgs<Real>& args, cudaStream_t stream);

@@ -554,6 +554,8 @@ gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
     a.packedLambda = m_packedLambda.data();
     a.packedVirial = m_packedVirial.data();
     a.rowRank = m_rowRank.data();
+    a.bodyX = m_bodyX.data();
+    a.bodyV = m_bodyV.data();
     a.omega = Real(kGaussSeidelOverRelaxation);
     return a;
 }
@@ -602,6 +604,7 @@ void CudaDevice<Real>::countContacts(bool scan, unsigned long long* total) {
     m_contactStart.resize(size_t(m_n) + 1);
     m_residual.resize(2);
     for (auto* b : {&m_xListed, &m_dv, &m_dx}) b->resize(size_t(m_n));
+    for (auto* b : {&m_bodyX, &m_bodyV}) b->resize(size_t(m_n));  // packed by the count
     gpu::launchCountContacts(contactArgs(), stream(), total);
     if (scan) scanContacts();
 }
