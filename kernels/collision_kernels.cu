@@ -23,6 +23,15 @@ __global__ void openStageKernel(StageOpenArgs a) {
     a.flagged[i] = 0;
 }
 
+// Whether this round's search is narrowed to the marked particles (CollisionArgs::walker): where the
+// round before left fewer than one particle in kNarrowedActiveShare active. With more, nearly every
+// particle is near an active one and the marks cost more than they save.
+constexpr int64_t kNarrowedActiveShare = 8;
+template <class Real>
+__device__ bool narrowed(const CollisionArgs<Real>& a) {
+    return int64_t(*a.activeInCount) * kNarrowedActiveShare < a.p.n;
+}
+
 // G lanes a particle (neighbour_walk.cuh; G = 1: a thread walks alone), whole groups in a block.
 template <class Real, int G>
 __global__ void findEventsKernel(CollisionArgs<Real> a) {
@@ -33,6 +42,12 @@ __global__ void findEventsKernel(CollisionArgs<Real> a) {
     // Threads take particles in the cell list's order: a warp's 27-cell walks overlap, so its loads of
     // the partners hit the caches (in index order, 10^7 particles took 14 ms per search on an H200).
     const int64_t i = a.grid.sorted[k];
+    if (a.walker && narrowed(a)) {  // a later round: only the particles near an active one (launchMarkSearchers)
+        const bool marked = a.walker[i] != 0;
+        if (G > 1) __syncwarp(groupMask<G>());  // every lane has read the mark before it is cleared
+        if (!marked) return;  // the whole group
+        if (rank == 0) a.walker[i] = 0;
+    }
     const bool checkAll = a.active[i] != 0;
     const Vec3<Real> xi = a.p.x[i], vi = a.p.v[i];
     const Real ri = a.table.radius[a.p.species[i]];
@@ -56,12 +71,25 @@ __global__ void findEventsKernel(CollisionArgs<Real> a) {
     considerWalls(xi, vi, ri, a.box, a.window, best);
     a.events[i] = best;
     if (!isValid(best)) return;
-    warpAggregatedIncrement(&a.counters[1]);  // a count: the same whatever the order
+    const unsigned listed = warpAggregatedIncrement(&a.counters[1]);  // a count: the same whatever the order
+    if (a.activeOut) a.activeOut[listed] = int32_t(i);  // the next round's marks start from these
     if (!a.hasContactAcceleration[i]) {
         const unsigned slot = warpAggregatedIncrement(&a.counters[0]);  // list order varies, each entry's work does not
         a.needList[slot] = int32_t(i);
         a.hasContactAcceleration[i] = 1;
     }
+}
+
+// A thread an active particle of the round before: every particle in the cells around it may find an
+// event with it. Inactive particles meet only active ones (resolveKernel: inactive = no event in the
+// round before, and not moved since), so the rest keep their no-event; the marks are a superset, never
+// a different result. The grid covers n (the count is on the device).
+template <class Real>
+__global__ void markSearchersKernel(CollisionArgs<Real> a) {
+    const int64_t t = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if ((a.gate && *a.gate == 0u) || !narrowed(a) || t >= int64_t(*a.activeInCount)) return;
+    const int64_t i = a.activeIn[t];
+    forEachNeighbour(a.grid, a.p.x[i], [&](int64_t j) { a.walker[j] = 1; });
 }
 
 // The wall event e of particle i (its partner a wall code), resolved with the particle's acceleration
@@ -215,6 +243,13 @@ void launchFindEvents(const CollisionArgs<Real>& a, cudaStream_t stream) {
 }
 
 template <class Real>
+void launchMarkSearchers(const CollisionArgs<Real>& a, cudaStream_t stream) {
+    if (a.p.n == 0) return;
+    markSearchersKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+    checkLaunch("searcher marking kernel");
+}
+
+template <class Real>
 void launchResolve(const CollisionArgs<Real>& a, cudaStream_t stream) {
     resolveKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
     checkLaunch("resolve kernel");
@@ -242,6 +277,7 @@ void launchStageWalls(const CollisionArgs<Real>& a, const Vec3<Real>* accelerati
     template void launchStageWalls<Real>(const CollisionArgs<Real>&, const Vec3<Real>*, Real, const Vec3<Real>*, Real,              \
                                          const StageOpening<Real>&, cudaStream_t);                                                                   \
     template void launchFindEvents<Real>(const CollisionArgs<Real>&, cudaStream_t);                                \
+    template void launchMarkSearchers<Real>(const CollisionArgs<Real>&, cudaStream_t);                             \
     template void launchResolve<Real>(const CollisionArgs<Real>&, cudaStream_t);
 COREBOX_INSTANTIATE(float)
 COREBOX_INSTANTIATE(double)

@@ -359,6 +359,15 @@ struct CollisionArgs {
     // When set, the search, the resolution and the active flags do nothing where *gate == 0: a round
     // queued behind one that found no event (CudaDevice::runImpactRounds).
     const unsigned int* gate;
+    // The search lists each particle with an event at activeOut[its count in counters[1]] where set.
+    int32_t* activeOut;
+    // A round after the first (launchMarkSearchers): walker[i] = 1 for every particle within the cells
+    // around a particle of activeIn[0 .. *activeInCount) (the round before's activeOut and count); the
+    // search then skips every particle left unmarked (and clears the marks it reads). Null: every
+    // particle searches.
+    unsigned char* walker;
+    const int32_t* activeIn;
+    const unsigned int* activeInCount;
 };
 // A collision stage opened in one launch (CudaDevice::beginCollisions): for every particle i, active[i]
 // = 1 where active is set; where flagged[i], rows[r * n + i] = 0 for r < rowCount and flagged[i] = 0
@@ -381,6 +390,11 @@ void launchOpenStage(const StageOpenArgs& args, cudaStream_t stream);
 // over the listed rows, ForceArgs::rowIndex).
 template <class Real>
 void launchFindEvents(const CollisionArgs<Real>& args, cudaStream_t stream);
+// Marks the particles whose search can find an event this round (CollisionArgs::walker): an inactive
+// particle meets only active ones, which all lie within the cells around it, so a particle with no
+// active one in its cells keeps the no-event its last search left. Gated as the search.
+template <class Real>
+void launchMarkSearchers(const CollisionArgs<Real>& args, cudaStream_t stream);
 // Resolves the matching of mutual-earliest events and adds to the kind counts and losses (a pair by
 // its lower index, as the CPU), and to the contact log when it is set; active[i] = particle i had an
 // event this round (the next search's flags).

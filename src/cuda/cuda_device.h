@@ -207,6 +207,7 @@ private:
     // (kImpulseRows, then the loss).
     static CollisionTally tallyOf(const unsigned long long kindCounts[2], const std::vector<double>& rowSums);
     gpu::CollisionArgs<Real> collisionArgs();
+    void narrowSearch(gpu::CollisionArgs<Real>& a, int round, const unsigned int* lastCount, cudaStream_t s);
     void beginWarmStart();  // beginCollisions: the last listing's rows become the warm start
     void swapListingIntoWarmRows();  // the last listing's rows into m_warm*, for the next listing's fill
     // Room for `records` contact log records, keeping those written so far (at most m_logBound).
@@ -452,6 +453,13 @@ private:
     mutable DeviceBuffer<Vec3<Real>> m_snapshotX, m_snapshotV;  // mutable: a deferred snapshot is taken when read
     DeviceBuffer<unsigned char> m_homeForceScratch;  // force passes over every row on the home GPU
     DeviceBuffer<int32_t> m_needList;
+    // A round's particles with events, two lists in turn (CollisionArgs::activeOut, activeIn), and the
+    // marks of the particles that search in a later round (walker: zeroed when allocated, each mark
+    // cleared by the search that reads it).
+    DeviceBuffer<int32_t> m_activeLists;
+    DeviceBuffer<unsigned char> m_walker;
+    int64_t m_walkerN = -1;
+    int m_searchRound = 0;  // the host-driven rounds' count this stage (findEvents)
     DeviceCellList<Real> m_contactCells;
     CellListView m_cellList{};  // of the last findEvents or listContacts
     bool m_cellsMatchPositions = false;  // m_cellList was built from the current positions
