@@ -352,10 +352,11 @@ struct CollisionArgs {
     double* impulses;          // kImpulseRows x n (impulse_sums.h), per particle: walls, wall centres, pair virial
     Real restitution, wallRestitution, elasticBelow;
     ImpactWindow<Real> window;  // which overlaps are impacts of this step
-    // The contact log, when set: each resolved impact appended at log[counters[2]++] (in no particular
+    // The contact log, when set: each resolved impact appended at log[(*logCount)++] (in no particular
     // order: the host sorts), room for every particle with an event this round left by the caller.
     ImpactRecord<Real>* log;
-    int32_t logRound;  // the applyEvents call of this step
+    unsigned int* logCount;
+    int32_t logRound;  // this step's rounds with events before this one
     // When set, the search, the resolution and the active flags do nothing where *gate == 0: a round
     // queued behind one that found no event (CudaDevice::runImpactRounds).
     const unsigned int* gate;

@@ -68,6 +68,7 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
     m_runAheadEnabled = options.fusedSteps && options.runAhead;
     m_aheadListColumns = options.aheadListColumns;
     m_gaussSeidelContacts = options.gaussSeidelContacts;
+    if (options.narrowedSearchFrom >= 0) m_narrowedSearchFrom = options.narrowedSearchFrom;
     const bool peerAccess = peerAccessProblem(devicesOf(options)).empty();
     m_pairsOnceAcross = options.pairsOnce && options.gpus > 1 && peerAccess;
     const Exchange exchange = options.exchange != Exchange::Auto ? options.exchange : fastestExchange(options.gpus, peerAccess);
@@ -78,9 +79,10 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
     cudaCheck(cudaEventCreateWithFlags(&m_mailCopied, cudaEventDisableTiming), "cudaEventCreate");
     cudaCheck(cudaEventCreateWithFlags(&m_stageDone, cudaEventDisableTiming), "cudaEventCreate");
     cudaCheck(cudaStreamCreateWithFlags(&m_mailStream, cudaStreamNonBlocking), "cudaStreamCreate");
-    m_counters.resize(3);
-    // findEvents reads all three back, the log's count even when no step has logged.
-    cudaCheck(cudaMemsetAsync(m_counters.data(), 0, 3 * sizeof(unsigned int), stream()), "memset");
+    // [0..2]: findEvents reads them back, the log's count even when no step has logged; [3]: the host-driven
+    // rounds' count of the round before (findEvents).
+    m_counters.resize(4);
+    cudaCheck(cudaMemsetAsync(m_counters.data(), 0, 4 * sizeof(unsigned int), stream()), "memset");
     sizeStepBuffers();
 }
 

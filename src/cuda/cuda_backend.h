@@ -39,6 +39,10 @@ struct CudaBackendOptions {
     // comparison and tests. A listing whose contacts need more than gpu::kMaxContactColours colours is
     // relaxed with Jacobi sweeps either way.
     bool gaussSeidelContacts = true;
+    // Tests only: the particle count from which the impact searches after a stage's first are narrowed
+    // to the particles near the last round's active ones (cuda_collisions.cpp: narrowSearch); -1: the
+    // default (kNarrowedSearchMin), 0: always, a huge count: never (the same bits, for comparison).
+    int64_t narrowedSearchFrom = -1;
 };
 
 // Number of usable CUDA devices; 0 when there is no driver or no GPU (never throws).

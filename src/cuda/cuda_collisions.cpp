@@ -50,6 +50,7 @@ gpu::CollisionArgs<Real> CudaDevice<Real>::collisionArgs() {
     a.window = m_window;
     a.grid = m_cellList;
     a.log = m_logging ? m_log.data() : nullptr;
+    a.logCount = m_counters.data() + 2;
     a.logRound = m_logRound;
     a.activeOut = nullptr;
     a.walker = nullptr;
@@ -61,20 +62,22 @@ gpu::CollisionArgs<Real> CudaDevice<Real>::collisionArgs() {
 // Round `round` of a stage's searches: lists its particles with events in one of the two lists, and
 // after the first round marks the particles near the last round's (CollisionArgs::walker) before its
 // search, where few are active (collision_kernels.cu: narrowed). Not where no pair can meet (the
-// search's cells are empty: every search is then the walls'), nor below kNarrowedSearchMin particles.
+// search's cells are empty: every search is then the walls'), nor below kNarrowedSearchMin (524,288)
+// particles (m_narrowedSearchFrom), where the marks cost what they save. lastCount: the round before's
+// count of particles with events, on the device, where neither this round's search nor anything
+// queued before it writes it.
 // Measured on an H200 (fp32, each pair in the same call, the same bits). Marks in every later round:
 // `corebox bench pile` 10^6 balls 104.7 ms a frame instead of 112.1 (the last second 58.6 instead of
 // 62.9), 10^5 balls 28.2 instead of 26.3, table1's N = 1024 0.154 ms a step instead of 0.137 (a launch
-// more a round). As here: 10^6 balls 105.1 against 112.9 (59.1 and 63.1), 10^5 27.8 against 26.9,
-// N = 1024 0.136 against 0.135, N = 65536 7.893 against 7.883; the sandbox example at 10^5 balls
-// (`--headless --backend cuda --scripted`, the contact log on: a wait a round) 20.2 ms of simulation a
-// frame on average instead of 37.3 (95th percentile 62.6 instead of 194.4, the median 18.6 and 17.5).
+// more a round). Narrowed only where fewer than one particle in eight is active, from 65,536 particles:
+// 10^6 balls 104.8 against 114.6 (59.0 and 63.7), 10^5 29.5 against 27.1 (13.2 and 12.3), N = 1024
+// 0.136 against 0.135, N = 65536 7.893 against 7.883; the sandbox example at 10^5 balls (`--headless
+// --backend cuda --scripted`) 40.9 ms of simulation a frame against 38.7. Hence from 2^19 particles.
 template <class Real>
 void CudaDevice<Real>::narrowSearch(gpu::CollisionArgs<Real>& a, int round, const unsigned int* lastCount, cudaStream_t s) {
-    constexpr int64_t kNarrowedSearchMin = 1 << 16;
     const size_t n = size_t(m_n);
     a.activeOut = m_activeLists.data() + size_t(round % 2) * n;
-    if (round == 0 || m_pairsClear || m_n < kNarrowedSearchMin) return;
+    if (round == 0 || m_pairsClear || m_n < m_narrowedSearchFrom) return;
     a.walker = m_walker.data();
     a.activeIn = m_activeLists.data() + size_t((round + 1) % 2) * n;
     a.activeInCount = lastCount;
@@ -305,12 +308,15 @@ int64_t CudaDevice<Real>::findEvents(EventScope scope) {
     m_cellList = impactCells();
     m_cellsMatchPositions = !m_pairsClear;
     gpu::CollisionArgs<Real> a = collisionArgs();
-    // The round before's count is still in counters[1]: the marks are made before it is cleared.
     if (scope == EventScope::All) {
         cudaCheck(cudaMemsetAsync(m_active.data(), 1, size_t(m_n), s), "memset");
         m_searchRound = 0;  // every particle searches
     }
-    narrowSearch(a, m_searchRound++, m_counters.data() + 1, s);
+    // The round before's count moves from counters[1], which this search counts into, to counters[3].
+    if (m_searchRound > 0)
+        cudaCheck(cudaMemcpyAsync(m_counters.data() + 3, m_counters.data() + 1, sizeof(unsigned int), cudaMemcpyDeviceToDevice, s),
+                  "event count");
+    narrowSearch(a, m_searchRound++, m_counters.data() + 3, s);
     cudaCheck(cudaMemsetAsync(m_counters.data(), 0, 2 * sizeof(unsigned int), s), "memset");
     gpu::launchFindEvents(a, s);
     auto* counts = reinterpret_cast<unsigned int*>(m_hostWords.resize(kHostWords));
@@ -371,7 +377,11 @@ void CudaDevice<Real>::applyEvents() {
 // extra rounds' cell-list builds, one too short a read-back.
 // The batch's wait also brings back what the calls after the rounds would each wait for (queueStageTail):
 // read where the batch's last round found nothing.
-// With the contact log, with lists on one GPU or without CudaBackendOptions::fusedSteps: a round a wait.
+// With lists on one GPU or without CudaBackendOptions::fusedSteps: a round a wait. With the contact log,
+// the batch is as long as a record per particle a round fits in kLogBatchBytes (at least one round),
+// room the log gets before the batch; its count comes back with the batch's. The same bits as a round a
+// wait (tests/gpu/test_cuda_contacts.cpp); the sandbox example at 10^5 balls on an H200 (fp32, with the
+// narrowed searches above, which cost it about as much) took 40.9 ms of simulation a frame against 38.7.
 // Measured (`corebox bench pile`, H200, fp32, 5 s, the same run with both): the impact phase of the
 // 10^4-ball pile (18 rounds a step) took 7.2 ms a frame instead of 8.6, of 10^5 balls (26) 11.6 instead
 // of 14.0; whole frames 17.7 and 43.5 ms instead of 19.0 and 46.4. What is left of a round is its
@@ -383,7 +393,7 @@ void CudaDevice<Real>::applyEvents() {
 template <class Real>
 ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
     const bool listRows = m_model.anyPairForce && useLists() && gpuCount() == 1;  // applyEvents' list rows: checked on the host
-    if (m_logging || listRows || !m_fusedSteps || maxRounds < 1) return Backend::runImpactRounds(maxRounds);
+    if (listRows || !m_fusedSteps || maxRounds < 1) return Backend::runImpactRounds(maxRounds);
     beforeStateChange();
     m_tailTally = false;
     cudaStream_t s = stream();
@@ -402,10 +412,17 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
     bool applied = false;
     int batch = std::clamp(m_lastImpactRounds, std::min(2, maxRounds), maxRounds);
     while (result.rounds < maxRounds && !result.settled) {
-        const int first = result.rounds, queued = std::min(batch, maxRounds - first);
+        const int first = result.rounds;
+        int queued = std::min(batch, maxRounds - first);
+        if (m_logging) {  // room for a record per particle a round, within kLogBatchBytes beyond one round
+            const size_t perRound = size_t(m_n) * sizeof(gpu::ImpactRecord<Real>);
+            queued = std::clamp(int(kLogBatchBytes / perRound), 1, queued);
+            reserveLog(m_logBound + size_t(queued) * size_t(m_n));
+        }
         for (int r = first; r < first + queued; ++r) {
             m_cellList = impactCells();
             gpu::CollisionArgs<Real> a = collisionArgs();
+            a.logRound = m_logRound + (r - first);  // every round before r in the batch found events, or r does nothing
             a.counters = m_roundCounters.data() + 2 * r;
             a.gate = r > first ? a.counters - 1 : nullptr;  // the round before (known to have found events when r == first)
             narrowSearch(a, r, r > 0 ? a.counters - 1 : nullptr, s);
@@ -417,12 +434,15 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
             a.gate = a.counters + 1;  // this round's events
             gpu::launchResolve(a, s);
         }
-        unsigned int* counts = m_hostRoundCounts.resize(2 * size_t(queued));
+        unsigned int* counts = m_hostRoundCounts.resize(2 * size_t(queued) + 1);
         cudaCheck(cudaMemcpyAsync(counts, m_roundCounters.data() + 2 * first, 2 * size_t(queued) * sizeof(unsigned int),
                                   cudaMemcpyDeviceToHost, s),
                   "round counts");
+        if (m_logging)
+            cudaCheck(cudaMemcpyAsync(counts + 2 * queued, m_counters.data() + 2, sizeof(unsigned int), cudaMemcpyDeviceToHost, s), "log count");
         const StageTail tail = queueStageTail();
         sync();
+        if (m_logging) m_logBound = counts[2 * queued];
         for (int k = 0; k < queued && !result.settled; ++k) {
             ++result.rounds;
             result.settled = counts[2 * size_t(k) + 1] == 0;

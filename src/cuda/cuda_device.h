@@ -460,6 +460,9 @@ private:
     DeviceBuffer<unsigned char> m_walker;
     int64_t m_walkerN = -1;
     int m_searchRound = 0;  // the host-driven rounds' count this stage (findEvents)
+    // Narrowed impact searches from this many particles (narrowSearch; CudaBackendOptions::narrowedSearchFrom).
+    static constexpr int64_t kNarrowedSearchMin = int64_t(1) << 19;
+    int64_t m_narrowedSearchFrom = kNarrowedSearchMin;
     DeviceCellList<Real> m_contactCells;
     CellListView m_cellList{};  // of the last findEvents or listContacts
     bool m_cellsMatchPositions = false;  // m_cellList was built from the current positions
@@ -539,6 +542,8 @@ private:
     // Read-back mailboxes in page-locked memory: words (event counts, collision kinds, residual bits,
     // health counts at kHealthWord..), health examples, block partial sums.
     static constexpr size_t kHostWords = 16, kHealthWord = 8;
+    // The contact log's room for a batch of impact rounds (runImpactRounds): 64 MiB, 13 rounds of 10^5 particles.
+    static constexpr size_t kLogBatchBytes = size_t(64) << 20;
     PinnedBuffer<unsigned long long> m_hostWords;
     PinnedBuffer<long long> m_hostHealthExamples;
     PinnedBuffer<double> m_hostPartials;

@@ -205,3 +205,61 @@ TEST(CudaContacts, AListingColouredFromSpreadColoursGivesTheSameBitsInOneLaunchA
     std::printf("16000 balls: at most %lld rows listed, conserved sum changed by %.3e of %.6g\n", (long long)std::get<1>(fused),
                 std::get<3>(fused) / std::get<4>(fused), std::get<4>(fused));
 }
+
+TEST(CudaContacts, SearchesNarrowedToTheActiveParticlesGiveTheBitsOfFullOnes) {
+    // After a stage's first search, only the particles in the cells around the last round's active
+    // ones search (cuda_collisions.cpp: narrowSearch), from 524,288 particles by default: here from any
+    // count, against never, with the rounds queued in batches and one at a time, and with the contact
+    // log on (its batches bounded by the log's room): the same state, impacts, rounds, dissipation and
+    // log, in fp32 and fp64.
+    COREBOX_REQUIRE_GPU();
+    struct Outcome {
+        uint64_t hash;
+        int64_t pairs, walls, rounds, records;
+        double dissipated;
+        uint64_t logHash;
+    };
+    auto run = [](const Scene& scene, bool narrowed, bool fused, bool log) {
+        CudaBackendOptions options;
+        options.precision = scene.integrator.precision;
+        options.fusedSteps = fused;
+        options.narrowedSearchFrom = narrowed ? 0 : INT64_MAX;
+        Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
+        sim.backend().setContactLog(log);
+        Outcome o{0, 0, 0, 0, 0, 0.0, 1469598103934665603ull};
+        for (int k = 0; k < 360; ++k) {
+            const StepReport r = sim.step();
+            o.pairs += r.pairCollisions;
+            o.walls += r.wallCollisions;
+            o.rounds += r.rounds;
+            for (const ContactRecord& c : sim.backend().contactLog()) {
+                ++o.records;
+                for (int64_t v : {c.a, c.b, int64_t(c.round)}) o.logHash = (o.logHash ^ uint64_t(v)) * 1099511628211ull;
+            }
+        }
+        o.hash = stateHash(sim.state());
+        o.dissipated = sim.observe().dissipated;
+        return o;
+    };
+    for (Precision p : {Precision::Fp32, Precision::Fp64}) {
+        const Scene scene = deepPile(p);
+        for (bool fused : {true, false}) {
+            for (bool log : {false, true}) {
+                const Outcome full = run(scene, false, fused, log), narrowed = run(scene, true, fused, log);
+                const std::string where = std::string(precisionName(p)) + (fused ? ", rounds in batches" : ", a round a wait") +
+                                          (log ? ", contact log on" : "");
+                EXPECT_EQ(narrowed.hash, full.hash) << where << ": the state";
+                EXPECT_EQ(narrowed.pairs, full.pairs) << where << ": the pair impacts";
+                EXPECT_EQ(narrowed.walls, full.walls) << where << ": the wall impacts";
+                EXPECT_EQ(narrowed.rounds, full.rounds) << where << ": the rounds";
+                EXPECT_EQ(narrowed.dissipated, full.dissipated) << where << ": the dissipated energy";
+                EXPECT_EQ(narrowed.records, full.records) << where << ": the log's records";
+                EXPECT_EQ(narrowed.logHash, full.logHash) << where << ": the log";
+                EXPECT_GT(full.rounds, 2 * 360) << where << ": rounds beyond the first of a step";
+                if (log) {
+                    EXPECT_EQ(full.records, full.pairs + full.walls) << where << ": a record an impact";
+                }
+            }
+        }
+    }
+}
