@@ -467,12 +467,22 @@ struct ContactArgs {
     // Gauss-Seidel sweeps, which write it back into p when they end.
     PackedBody<Real>* bodyX;
     PackedBody<Real>* bodyV;
+    // n x kListedPartners, where set (contactCountListsPartners): the count writes each particle's first
+    // kListedPartners contacts here in list order, and the fill copies them instead of walking the
+    // cells again (a particle with more walks them again).
+    int32_t* partnerScratch;
     Real omega;            // over-relaxation of the stopping updates (kGaussSeidelOverRelaxation)
 };
 
 // The most colours a listing's pairs may take: a particle's colours are a 64-bit mask. A listing that
 // needs more (a particle with more than ~32 contacts) is relaxed with Jacobi sweeps.
 constexpr int kMaxContactColours = 64;
+// Contacts a particle's count lists for the fill (ContactArgs::partnerScratch): monodisperse balls have
+// at most 15 (12 neighbours and 3 walls).
+constexpr int kListedPartners = 16;
+// Whether the count of n particles lists them: where a thread walks a particle's cells alone (the walks of
+// several lanes a particle visit its contacts out of list order), and indices fit 32 bits.
+bool contactCountListsPartners(int64_t n);
 // bodyX, bodyV from p (X with each radius, V with each mass), and back into p.
 template <class Real>
 void launchPackBodies(const ContactArgs<Real>& args, cudaStream_t stream);
