@@ -74,10 +74,15 @@ gpu::CollisionArgs<Real> CudaDevice<Real>::collisionArgs() {
 // 0.136 against 0.135, N = 65536 7.893 against 7.883; the sandbox example at 10^5 balls (`--headless
 // --backend cuda --scripted`) 40.9 ms of simulation a frame against 38.7. Hence from 2^19 particles.
 template <class Real>
+bool CudaDevice<Real>::narrowsSearch(int round) const {
+    return round > 0 && !m_pairsClear && m_n >= m_narrowedSearchFrom;
+}
+
+template <class Real>
 void CudaDevice<Real>::narrowSearch(gpu::CollisionArgs<Real>& a, int round, const unsigned int* lastCount, cudaStream_t s) {
     const size_t n = size_t(m_n);
     a.activeOut = m_activeLists.data() + size_t(round % 2) * n;
-    if (round == 0 || m_pairsClear || m_n < m_narrowedSearchFrom) return;
+    if (!narrowsSearch(round)) return;
     a.walker = m_walker.data();
     a.activeIn = m_activeLists.data() + size_t((round + 1) % 2) * n;
     a.activeInCount = lastCount;
@@ -313,7 +318,7 @@ int64_t CudaDevice<Real>::findEvents(EventScope scope) {
         m_searchRound = 0;  // every particle searches
     }
     // The round before's count moves from counters[1], which this search counts into, to counters[3].
-    if (m_searchRound > 0)
+    if (narrowsSearch(m_searchRound))
         cudaCheck(cudaMemcpyAsync(m_counters.data() + 3, m_counters.data() + 1, sizeof(unsigned int), cudaMemcpyDeviceToDevice, s),
                   "event count");
     narrowSearch(a, m_searchRound++, m_counters.data() + 3, s);
@@ -415,7 +420,7 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
         const int first = result.rounds;
         int queued = std::min(batch, maxRounds - first);
         if (m_logging) {  // room for a record per particle a round, within kLogBatchBytes beyond one round
-            const size_t perRound = size_t(m_n) * sizeof(gpu::ImpactRecord<Real>);
+            const size_t perRound = size_t(std::max<int64_t>(m_n, 1)) * sizeof(gpu::ImpactRecord<Real>);
             queued = std::clamp(int(kLogBatchBytes / perRound), 1, queued);
             reserveLog(m_logBound + size_t(queued) * size_t(m_n));
         }

@@ -207,6 +207,7 @@ private:
     // (kImpulseRows, then the loss).
     static CollisionTally tallyOf(const unsigned long long kindCounts[2], const std::vector<double>& rowSums);
     gpu::CollisionArgs<Real> collisionArgs();
+    bool narrowsSearch(int round) const;
     void narrowSearch(gpu::CollisionArgs<Real>& a, int round, const unsigned int* lastCount, cudaStream_t s);
     void beginWarmStart();  // beginCollisions: the last listing's rows become the warm start
     void swapListingIntoWarmRows();  // the last listing's rows into m_warm*, for the next listing's fill
