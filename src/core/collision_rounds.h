@@ -45,8 +45,12 @@ struct CollisionSettings {
     // rest by 4 s, the 10,000-ball pile 3.5x slower). Over-relaxed (contact_relaxation.h:
     // kGaussSeidelOverRelaxation) 16 suffice: that pile at 6.5e-5 by 6 s, the 40,000-ball pile at rest
     // by 2.25 s. The GPU's coloured Gauss-Seidel sweeps take the same cap (contact_gauss_seidel.cu:
-    // on that 40-layer pile 16 of them did what 128 Jacobi sweeps did). [interaction] contact_sweeps
-    // replaces both caps.
+    // on that 40-layer pile 16 of them did what 128 Jacobi sweeps did). Fewer do not pay on the GPU
+    // either: `corebox bench pile --contact-sweeps 8|12|16` (an H200, fp32, one call) took 10^6 balls 72.0
+    // / 55.2 / 53.0 ms a frame over the last second, the pile's kinetic energy at 5 s 2.5e5 / 3.3e4 /
+    // 1.7e4 and its overlaps 0.39% / 0.16% / 0.08% of a diameter (10^5 balls: 17.0 / 12.9 / 12.2 ms,
+    // 3.1e4 / 5.4e3 / 1.7e3): a pile relaxed less rattles, lists again and takes more impact rounds.
+    // [interaction] contact_sweeps replaces both caps.
     int maxSweepsJacobi = 128;
     int maxSweepsGaussSeidel = 16;
     double speedTolerance = 0;     // contacts converged when no approach is faster than this ...
