@@ -41,6 +41,10 @@
 // packed, 5.88 ms (0.37 a sweep) with 4.0e8. The same bits. `corebox bench pile` (fp32, the same call):
 // 10^6 balls 113.4 ms a frame instead of 138.1 (the last second 64.1 instead of 79.0); with the count
 // and the fill on the packed bodies too, 111.9 (62.4); 10^5 balls 26.4 instead of 31.1 (12.4 and 16.3).
+// Tried and not kept: more resident blocks for the sweeps (ncu: 64 registers a thread, half the warps an
+// SM could hold, and the sweeps waiting on L2 and on the colours' barriers): __launch_bounds__(kBlock, 6)
+// and (kBlock, 5) made the 10^6-ball pile 109.0 and 100.1 ms a frame against 96.4 (the same call, an
+// H200, fp32; the last second 64.0 and 55.5 against 53.7): more blocks make each barrier dearer.
 //
 // Why not Jacobi: a Jacobi sweep carries support one layer of a pile, a fraction 1 / max(k_i, k_j) of
 // it at a time; Gauss-Seidel in any order that visits each contact once carries it much further, and
