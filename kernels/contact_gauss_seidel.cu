@@ -262,7 +262,7 @@ __device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidu
     const size_t n = size_t(a.p.n);
     const PackedBody<Real> bxi = a.bodyX[i], bvi = a.bodyV[i];
     const Real mi = bvi.w, ai = bxi.w;
-    Vec3<Real> xi = positionOf(bxi), vi = positionOf(bvi);
+    Vec3<Real> xi = vec3Of(bxi), vi = vec3Of(bvi);
     Real lambda = a.packedLambda[e];
     const Real before = lambda;
     if (isWallContact(p)) {
@@ -286,7 +286,7 @@ __device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidu
     }
     const PackedBody<Real> bxj = a.bodyX[p], bvj = a.bodyV[p];
     const Real mj = bvj.w, d = ai + bxj.w;
-    Vec3<Real> xj = positionOf(bxj), vj = positionOf(bvj);
+    Vec3<Real> xj = vec3Of(bxj), vj = vec3Of(bvj);
     const Vec3<Real> rij = xi - xj;
     const Real dist = realSqrt(norm2(rij));
     if (!(dist > Real(0))) return;  // coincident centres carry no direction

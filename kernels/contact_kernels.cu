@@ -25,7 +25,7 @@ template <class Real>
 __device__ bool isPairContact(const ContactArgs<Real>& a, int64_t i, const Vec3<Real>& xi, const Vec3<Real>& vi, Real ai, int64_t j) {
     if (j == i) return false;
     const PackedBody<Real> xj = a.bodyX[j];
-    return pairContactActive(xi, vi, positionOf(xj), positionOf(a.bodyV[j]), ai + xj.w, a.resting);
+    return pairContactActive(xi, vi, vec3Of(xj), vec3Of(a.bodyV[j]), ai + xj.w, a.resting);
 }
 
 // fn(wall code) for each wall contact of the particle at xi, in wall order; returns their count.
@@ -48,7 +48,7 @@ template <class Real, class Fn>
 __device__ int forEachContact(const ContactArgs<Real>& a, int64_t i, Fn&& fn) {
     int count = 0;
     const PackedBody<Real> bxi = a.bodyX[i];
-    const Vec3<Real> xi = positionOf(bxi), vi = positionOf(a.bodyV[i]);
+    const Vec3<Real> xi = vec3Of(bxi), vi = vec3Of(a.bodyV[i]);
     const Real ai = bxi.w;
     forEachNeighbour(a.cells, xi, [&](int64_t j) {
         if (!isPairContact(a, i, xi, vi, ai, j)) return;
@@ -77,7 +77,7 @@ __global__ void countContactsKernel(ContactArgs<Real> a, unsigned long long* tot
         });
     } else {
         const PackedBody<Real> bxi = a.bodyX[i];
-        const Vec3<Real> xi = positionOf(bxi), vi = positionOf(a.bodyV[i]);
+        const Vec3<Real> xi = vec3Of(bxi), vi = vec3Of(a.bodyV[i]);
         const Real ai = bxi.w;
         int pairs = 0;
         forEachNeighbourShared<G>(a.cells, xi, rank, [&](int64_t j) { pairs += isPairContact(a, i, xi, vi, ai, j) ? 1 : 0; });
@@ -113,16 +113,16 @@ __device__ Real warmLambdaOf(const ContactArgs<Real>& a, int64_t i, int64_t part
 // The normal speed an isolated contact's Gauss-Seidel update aims at (isolatedContactTarget).
 template <class Real>
 __device__ Real contactTarget(const ContactArgs<Real>& a, int64_t i, int64_t partner) {
-    const Vec3<Real> xi = positionOf(a.bodyX[i]), vi = positionOf(a.bodyV[i]);
+    const Vec3<Real> xi = vec3Of(a.bodyX[i]), vi = vec3Of(a.bodyV[i]);
     Real vn = 0, e = 0;
     if (isWallContact(partner)) {
         const int code = int(-1 - partner);
         vn = (code % 2 == 0 ? Real(1) : Real(-1)) * vi[code / 2];
         e = a.bounce.wallRestitution;
     } else {
-        const Vec3<Real> r = xi - positionOf(a.bodyX[partner]);
+        const Vec3<Real> r = xi - vec3Of(a.bodyX[partner]);
         const Real dist = realSqrt(norm2(r));
-        vn = dist > Real(0) ? dot(vi - positionOf(a.bodyV[partner]), r) / dist : Real(0);
+        vn = dist > Real(0) ? dot(vi - vec3Of(a.bodyV[partner]), r) / dist : Real(0);
         e = a.bounce.restitution;
     }
     return isolatedContactTarget(vn, e, a.bounce);
@@ -322,8 +322,8 @@ template <class Real>
 __global__ void unpackBodiesKernel(ContactArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.p.n) return;
-    a.p.x[i] = positionOf(a.bodyX[i]);
-    a.p.v[i] = positionOf(a.bodyV[i]);
+    a.p.x[i] = vec3Of(a.bodyX[i]);
+    a.p.v[i] = vec3Of(a.bodyV[i]);
 }
 
 }  // namespace

@@ -29,8 +29,8 @@ struct ParticleArrays {
 };
 
 // A particle's position or velocity with a fourth value (its hard-core radius, its mass), aligned so that
-// a thread reads or writes it whole in one vector access (two for fp64): the Gauss-Seidel sweeps'
-// copy of the state (ContactArgs::bodyX, bodyV).
+// a thread reads or writes it whole in one vector access (two for fp64): the contact phase's copy of
+// the state (ContactArgs::bodyX, bodyV).
 template <class Real>
 struct alignas(4 * sizeof(Real)) PackedBody {
     Real x, y, z, w;
@@ -526,8 +526,8 @@ bool launchRelaxListing(const ContactArgs<Real>& args, const RelaxationPlan& pla
 // pair from its own row; rowParticle, mirror and the bounce targets filled on the way), then sorts
 // the own rows by colour into order and colourStart and packs them (packed*, rowRank). words (6): [0]
 // the colours used, [1] 1 if more than kMaxContactColours were needed (then nothing after the
-// colouring is valid), [2..3] the colouring's own (its lists' lengths); *deepest: the deepest overlap of the listed contacts (double bits,
-// ContactResidual::overlap). Scratch: contactColouringScratchBytes. Returns false, launching
+// colouring is valid), [2..3] the colouring's own (its lists' lengths); *deepest: the deepest overlap
+// of the listed contacts (double bits, ContactResidual::overlap). Scratch: contactColouringScratchBytes. Returns false, launching
 // nothing, where the device has no cooperative launch.
 size_t contactColouringScratchBytes(int64_t n, int64_t rows);
 template <class Real>

@@ -181,10 +181,9 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     m_hasContactAcceleration.resize(n);
     m_needList.resize(n);
     m_activeLists.resize(2 * n);
-    if (m_walkerN != m_n) {
+    if (m_walker.size() != n) {  // a new count of particles: no marks yet
         m_walker.resize(n);
         cudaCheck(cudaMemsetAsync(m_walker.data(), 0, n, stream()), "memset");
-        m_walkerN = m_n;
     }
     m_searchRound = 0;
     m_impactRows.resize(size_t(kImpulseRows + 2) * n);  // the last row: the one-wait step's kinetic row (cuda_step.cpp)

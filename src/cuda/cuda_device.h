@@ -455,11 +455,10 @@ private:
     DeviceBuffer<unsigned char> m_homeForceScratch;  // force passes over every row on the home GPU
     DeviceBuffer<int32_t> m_needList;
     // A round's particles with events, two lists in turn (CollisionArgs::activeOut, activeIn), and the
-    // marks of the particles that search in a later round (walker: zeroed when allocated, each mark
+    // marks of the particles that search in a later round (walker: zeroed when n changes, each mark
     // cleared by the search that reads it).
     DeviceBuffer<int32_t> m_activeLists;
     DeviceBuffer<unsigned char> m_walker;
-    int64_t m_walkerN = -1;
     int m_searchRound = 0;  // the host-driven rounds' count this stage (findEvents)
     // Narrowed impact searches from this many particles (narrowSearch; CudaBackendOptions::narrowedSearchFrom).
     static constexpr int64_t kNarrowedSearchMin = int64_t(1) << 19;
