@@ -394,6 +394,13 @@ void CudaDevice<Real>::applyEvents() {
 // neighbours only near one (the later rounds' few active particles): the same bits, but the flags'
 // kernel cost what the search saved (H200, fp32, bench pile, same run: 10^5 balls 38.9 against 38.3 ms
 // a frame, 10^6 over 3 s 209 against 217).
+// Tried and not kept: up to 1024 particles, every round in one launch of one block (the cell list built
+// in shared memory, a thread a particle for the search and the resolution, the rows by teams of 128
+// lanes, barriers between): Table 1's N = 1024 stage took 0.093 ms a step against 0.099 (H200, same
+// call), and the same search and resolution code inlined into that kernel did not give the bits of
+// the separate kernels (a pile in fp32, the LJ fluid in fp64; most likely the same source contracted
+// into different fused multiply-adds in another kernel, not verified), so the paths' same-bits
+// guarantee would have gone for 6 us.
 template <class Real>
 ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
     const bool listRows = m_model.anyPairForce && useLists() && gpuCount() == 1;  // applyEvents' list rows: checked on the host

@@ -55,14 +55,14 @@ Scene deepPile(Precision precision) {
 // Table 1's model (bench table1): 1234 Lennard-Jones particles with hard cores of radius 0.56 at number
 // density 0.5, all pairs, RK4, here with restitution 0.8 so that the impacts dissipate: a dozen impacts
 // a step, in two or three rounds.
-Scene ljWithCores(Precision precision, ForceModel forces) {
+Scene ljWithCores(Precision precision, ForceModel forces, int64_t count = 1234) {
     Scene scene;
     SpeciesDef s;
     s.name = "LJ";
-    s.count = 1234;
+    s.count = count;
     s.radius = 0.56;
     scene.species = {s};
-    const double box = std::cbrt(1234.0 / 0.5);
+    const double box = std::cbrt(double(count) / 0.5);
     scene.box.size = {box, box, box};
     scene.interaction.restitution = 0.8;
     scene.interaction.forces = forces;
@@ -102,12 +102,16 @@ TEST(CudaContacts, AStageWithPairForcesWithoutHostWaitsGivesTheBitsOfTheHostDriv
     const int gpuCounts = cudaDeviceCount() >= 2 ? 2 : 1;
     if (gpuCounts == 1) std::printf("one CUDA device: the two-GPU case skipped\n");
     for (Precision p : {Precision::Fp32, Precision::Fp64}) {
-        // All pairs, and lists on several GPUs (whose rounds take all pairs on the gathered state).
+        // All pairs, and lists on several GPUs (whose rounds take all pairs on the gathered state); below
+        // and above 2048 particles, where the full force pass stops being the one that takes a block a row
+        // (force_kernels.cu: kRowBlockMaxRows) and the rounds' rows alone are.
         for (ForceModel forces : {ForceModel::AllPairs, ForceModel::NeighbourList}) {
-            const Scene scene = ljWithCores(p, forces);
+          for (int64_t count : {int64_t(1234), int64_t(4099)}) {
+            const Scene scene = ljWithCores(p, forces, count);
             for (int gpus = forces == ForceModel::AllPairs ? 1 : 2; gpus <= gpuCounts; ++gpus) {
                 const auto fused = run(scene, gpus, true), separate = run(scene, gpus, false);
-                const std::string where = std::string(precisionName(p)) + ", " + forceModelName(forces) + ", " + std::to_string(gpus) + " GPU(s)";
+                const std::string where = std::string(precisionName(p)) + ", " + forceModelName(forces) + ", N = " +
+                                          std::to_string(count) + ", " + std::to_string(gpus) + " GPU(s)";
                 EXPECT_EQ(std::get<0>(fused), std::get<0>(separate)) << where << ": the state";
                 EXPECT_EQ(std::get<1>(fused), std::get<1>(separate)) << where << ": the pair impacts";
                 EXPECT_EQ(std::get<2>(fused), std::get<2>(separate)) << where << ": the wall impacts";
@@ -123,6 +127,7 @@ TEST(CudaContacts, AStageWithPairForcesWithoutHostWaitsGivesTheBitsOfTheHostDriv
                 std::printf("%s: %lld pair and %lld wall impacts in %lld rounds over 200 steps\n", where.c_str(),
                             (long long)std::get<1>(fused), (long long)std::get<2>(fused), (long long)std::get<3>(fused));
             }
+          }
         }
     }
 }
