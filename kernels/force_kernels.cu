@@ -150,7 +150,7 @@ __global__ void combineChunksKernel(ForceArgs<Real> a, int chunks, const Vec3<Re
     if (partialEnergy) a.pairEnergy[out] = energy;
 }
 
-// A block a row (all pairs, no peers, no energy): the block's threads over j in strides, their sums
+// A block a row (all pairs, no energy): the block's threads over j in strides, their sums
 // added in a fixed order (each warp by shuffles, then the warps in turn). For rows that are few or
 // short, where the tiled kernel cannot fill the GPU:
 // - listed rows counted on the device (ForceArgs::rowCount): a row's bits depend neither on where its
@@ -182,7 +182,7 @@ __global__ void __launch_bounds__(kRowBlock) rowBlocksKernel(ForceArgs<Real> a) 
         const int si = a.species[i];
         Vec3<Real> force{0, 0, 0};
         for (int64_t j = threadIdx.x; j < a.n; j += kRowBlock) {
-            const Vec3<Real> xj = a.x[j];
+            const Vec3<Real> xj = a.peers.count > 0 ? a.peers.x[j / a.peers.chunk][j] : a.x[j];  // DA: in place
             const Vec3<Real> d{xi.x - xj.x, xi.y - xj.y, xi.z - xj.z};
             const Real r2 = norm2(d);
             if (kCutoff && r2 == Real(0)) continue;  // itself (ljForceOverR gives zero there by itself)
@@ -326,7 +326,9 @@ void launchForces(const ForceArgs<Real>& a, cudaStream_t stream) {
         launchPairsOnceForces(a, stream);
         return;
     }
-    if (rows <= kRowBlockMaxRows && a.peers.count == 0 && !a.pairEnergy) {
+    // With DA too (positions read from the peers in place): every exchange then takes the same pass and
+    // gives the same bits (tests/gpu/test_cuda_conformance.cpp).
+    if (rows <= kRowBlockMaxRows && !a.pairEnergy) {
         launchRowBlocks(a, stream);
         return;
     }

@@ -180,6 +180,110 @@ def p2p_section(f):
     return out + topology(f) + [""]
 
 
+def best_row(f, n, gpus, precision="fp32"):
+    """The fastest successful configuration among f.rows at (n, gpus, precision), or None."""
+    rows = [r for r in f.rows if int(r["n"]) == n and int(r["gpus"]) == gpus and r["precision"] == precision
+            and r["outcome"] == "ok"]
+    return min(rows, key=lambda r: number(r["ms_per_step"])) if rows else None
+
+
+def targets_section(files):
+    """The multi-GPU targets (one and two GPUs, fp32) against the two-GPU records (table1_h200x2*), with each
+    missed target's phase split from them: where a step's time went bounds what P GPUs can gain."""
+    two = [f for f in files if "h200x2" in f.path.name]
+    if not two:
+        return []
+
+    class Union:  # the records' rows together, the first file's row where two hold the same configuration
+        rows = [r for g in two for r in g.rows]
+
+    f = Union()
+    one_small, one_large, two_large = best_row(f, 1024, 1), best_row(f, 65536, 1), best_row(f, 65536, 2)
+    big = [r for r in f.rows if int(r["n"]) >= 262144 and r["outcome"] == "ok" and r["precision"] == "fp32"]
+    sources = ", ".join(f"`{relative(g.path)}`" for g in two)
+    out = ["## The targets, and what bounds the two that are missed", "",
+           f"From {sources} (fp32, RK4 with collisions; the fastest record of each configuration; pair interactions"
+           " counted as nbody counts them, N^2 a pass).", "", "| target | measured | met |", "|---|---|---|"]
+
+    def row(name, value, ok):
+        out.append(f"| {name} | {value} | {'yes' if ok else 'no'} |")
+
+    if one_small:
+        ms = number(one_small["ms_per_step"])
+        row("N = 1024, <= 0.1 ms a step", f"{ms:.3f} ms (1 GPU)", ms <= 0.1)
+    if one_large:
+        ms = number(one_large["ms_per_step"])
+        row("N = 65536, <= 11 ms a step on 1 GPU", f"{ms:.3f} ms", ms <= 11)
+        rate = number(one_large["pair_interactions_per_second"])
+        row("1 GPU, N >= 65536, >= 2.0e12 pair interactions/s", f"{rate:.3g}", rate >= 2.0e12)
+    if two_large:
+        ms = number(two_large["ms_per_step"])
+        row("N = 65536, <= 6 ms a step on 2 GPUs", f"{ms:.3f} ms ({METHOD_NAMES[two_large['exchange']]})", ms <= 6)
+    if one_large and two_large:
+        speedup = number(one_large["ms_per_step"]) / number(two_large["ms_per_step"])
+        row("N = 65536, >= 1.85x on 2 GPUs", f"{speedup:.2f}x (nbody: 1.29x)", speedup >= 1.85)
+    big2 = [r for r in big if int(r["gpus"]) == 2]
+    if big2:
+        r = min(big2, key=lambda r: number(r["ms_per_step"]))
+        per_gpu = number(r["pair_interactions_per_second"]) / 2
+        row(f"P = 2, N >= 262144, >= 1.5e12 pair interactions/s a GPU", f"{per_gpu:.3g} at N = {r['n']}", per_gpu >= 1.5e12)
+    out.append("")
+    if one_large and two_large and number(one_large["ms_forces"]) is not None:
+        f1, c1 = number(one_large["ms_forces"]), number(one_large["ms_collide"])
+        f2, i2, c2 = number(two_large["ms_forces"]), number(two_large["ms_integrate"]), number(two_large["ms_collide"])
+        ideal = number(one_large["ms_per_step"]) / (number(one_large["ms_per_step"]) - f1 / 2)
+        out += [f"Where a step's time went at N = 65536 (GPU events on the home GPU): one GPU {f1:.3f} ms in the force"
+                f" passes and {c1:.3f} ms in the collision stage; two GPUs {f2:.3f} ms in the force passes (half of one"
+                f" GPU's would be {f1 / 2:.3f}: the rest is the exchanges and the wait for the slower GPU), {i2:.3f} ms in"
+                f" the rest of the integration and {c2:.3f} ms in the collision stage, which runs on the home GPU on the"
+                f" gathered state (docs/architecture.md) while the other waits. With the force passes halved and nothing"
+                f" else changed (no exchange, no wait), two GPUs would give {ideal:.2f}x: what stays on one GPU leaves"
+                " no room for the exchanges. Profiled on one H200 (ncu, one kernel at a time), about half of that"
+                " stage at this N is the end-of-step accelerations of the particles about to be resolved, a pass over"
+                " all N for each of a round's hundreds of new rows, bound by its pair arithmetic"
+                " (kernels/force_kernels.cu: rowBlocksKernel); much of the rest is the cell list's radix sort, rebuilt"
+                " each round. Closing the gap needs that stage split between the GPUs with the one-GPU result kept"
+                " (each GPU resolving the events of its own slice, events matched across slices), not a faster"
+                " exchange.", ""]
+    if one_small and number(one_small["ms_collide"]) is not None:
+        out += [f"At N = 1024 a step is {number(one_small['ms_per_step']):.3f} ms: {number(one_small['ms_forces']):.3f}"
+                f" in the RK step (one CUDA graph of four force passes and stage updates) and"
+                f" {number(one_small['ms_collide']):.3f} in the collision stage ({number(one_small['rounds_per_step']):.1f}"
+                " impact rounds a step). That stage is about seventeen kernels of a few microseconds each (opening, per"
+                " round a cell list, a search, the new rows' accelerations and the resolution, then the contact count,"
+                " step check and tally), run back to back with one host wait: bounded by how many small launches it"
+                " makes, not by arithmetic or by host waits. Its rounds fused into one launch of one block saved little"
+                " and did not keep the separate kernels' bits (src/cuda/cuda_collisions.cpp); the whole stage"
+                " captured with the RK step in one graph, with fewer, fused launches whose results are checked bit for"
+                " bit against the separate kernels, is what is left to try.", ""]
+    return out
+
+
+def p2p_figures(files):
+    """The sentence that puts numbers on the paragraph above: each method's time at 1 MiB and 1 GiB on two GPUs."""
+    two = [f for f in files if any(int(r["gpus"]) == 2 for r in f.rows)]
+    if not two:
+        return []
+    f = two[0]
+    parts = []
+    for size in (1 << 20, 1 << 30):
+        cells = []
+        for m in METHOD_ORDER:
+            r = [r for r in f.rows if r["method"] == m and int(r["bytes"]) == size and int(r["gpus"]) == 2 and r["outcome"] == "ok"]
+            if r:
+                seconds = number(r[0]["median_s"])
+                cells.append(f"{METHOD_NAMES[m]} {seconds * 1e6:.0f} us" if size < (1 << 30) else
+                             f"{METHOD_NAMES[m]} {seconds * 1e3:.2f} ms ({number(r[0]['gb_per_s_per_gpu']):.0f} GB/s a GPU)")
+        if cells:
+            parts.append(f"{size_label(size)}: " + ", ".join(cells))
+    if not parts:
+        return []
+    return [f"On two GPUs (`{relative(f.path)}`), each GPU fetching its neighbour's buffer: " + "; ".join(parts) + "."
+            " DT-S at 1 GiB takes about twice DT-A's time, as its copies run one after another; NCCL's all-gather stays"
+            " below DT-A's rate at this size (its transfers go through the channels NCCL sets up rather than"
+            " straight from the copy engines, our reading, not profiled).", ""]
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("results", nargs="*", type=pathlib.Path)
@@ -232,6 +336,7 @@ def main():
                  " 0.14 ms. Records with phase columns say where a step's time"
                  " went (forces, the rest of the integration, the collision stage on the home GPU): what stays on one"
                  " GPU bounds the speed-up.", ""]
+        text += targets_section(table1)
         text += scaling_section(table1)
         for f in table1:
             text += table1_section(f)
@@ -249,6 +354,7 @@ def main():
                  " bounded by how fast the SMs of the receiving GPU can issue remote loads; NCCL moves the data through"
                  " its own pipelined channels. On the report's C2070s over PCIe the link itself was the limit for every"
                  " method, so the curves lay together.", ""]
+        text += p2p_figures(p2p)
         for f in p2p:
             text += p2p_section(f)
     args.out.parent.mkdir(parents=True, exist_ok=True)

@@ -140,7 +140,8 @@ int main(int argc, char** argv) {
             "P|auto", "gpu count"));
     addChoice<Exchange>(runCmd, "--exchange", exchangeTable(),
                         "CUDA with several GPUs: how they share positions before each force pass: dts (synchronous peer copies), "
-                        "dta (asynchronous peer copies), da (kernels read peer memory), nccl (all-gather); auto: the fastest measured",
+                        "dta (asynchronous peer copies), da (kernels read peer memory; neighbour lists are then not used, every pair is "
+                        "computed), nccl (all-gather); auto: the fastest measured",
                         [&](Exchange e) { run.exchange = e; });
     addChoice<ForceModel>(runCmd, "--forces", forceModelTable(),
                           "Override the scene's [interaction] forces: auto (the cheapest model that serves the scene), all_pairs, "

@@ -69,10 +69,10 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
     m_aheadListColumns = options.aheadListColumns;
     m_gaussSeidelContacts = options.gaussSeidelContacts;
     if (options.narrowedSearchFrom >= 0) m_narrowedSearchFrom = options.narrowedSearchFrom;
-    const bool peerAccess = peerAccessProblem(devicesOf(options)).empty();
+    const bool peerAccess = peerAccessProblem(devicesOf(options), options.peerAccessDenied).empty();
     m_pairsOnceAcross = options.pairsOnce && options.gpus > 1 && peerAccess;
     const Exchange exchange = options.exchange != Exchange::Auto ? options.exchange : fastestExchange(options.gpus, peerAccess);
-    m_exchange = std::make_unique<PeerExchange>(m_partition, exchange);
+    m_exchange = std::make_unique<PeerExchange>(m_partition, exchange, options.peerAccessDenied);
     cudaCheck(cudaSetDevice(home().device), "cudaSetDevice");
     for (PhaseEvents& set : m_phaseSets)
         for (cudaEvent_t& e : set.marks) cudaCheck(cudaEventCreate(&e), "cudaEventCreate");

@@ -36,13 +36,13 @@ void enablePeerAccess(int from, int to) {
 
 }  // namespace
 
-std::string peerAccessProblem(const std::vector<int>& devices) {
+std::string peerAccessProblem(const std::vector<int>& devices, bool denied) {
     std::string missing;
     for (int a : devices) {
         for (int b : devices) {
             if (a == b) continue;
             int can = 0;
-            cudaCheck(cudaDeviceCanAccessPeer(&can, a, b), "cudaDeviceCanAccessPeer");
+            if (!denied) cudaCheck(cudaDeviceCanAccessPeer(&can, a, b), "cudaDeviceCanAccessPeer");
             if (!can) missing += (missing.empty() ? "" : ", ") + std::to_string(a) + " -> " + std::to_string(b);
         }
     }
@@ -52,19 +52,20 @@ std::string peerAccessProblem(const std::vector<int>& devices) {
     return "no peer access between GPUs " + missing + " (devices " + names + ")";
 }
 
-PeerExchange::PeerExchange(const DevicePartition& partition, Exchange method) : m_partition(partition), m_method(method) {
+PeerExchange::PeerExchange(const DevicePartition& partition, Exchange method, bool peerAccessDenied)
+    : m_partition(partition), m_method(method) {
     if (method == Exchange::Auto) throw std::logic_error("PeerExchange: resolve Exchange::Auto first");
     std::vector<int> devices;
     for (const DeviceSlice& s : partition.slices()) devices.push_back(s.device);
     if (devices.size() > 1) {
-        const std::string problem = peerAccessProblem(devices);
+        const std::string problem = peerAccessProblem(devices, peerAccessDenied);
         if (!problem.empty() && method == Exchange::Da)
             throw DeviceError("--exchange da reads peer memory in place and needs peer access: " + problem +
                               "; use --exchange dta, dts or nccl (they copy through host memory there)");
         for (int a : devices) {
             for (int b : devices) {
                 int can = 0;
-                cudaCheck(cudaDeviceCanAccessPeer(&can, a, b), "cudaDeviceCanAccessPeer");
+                if (!peerAccessDenied) cudaCheck(cudaDeviceCanAccessPeer(&can, a, b), "cudaDeviceCanAccessPeer");
                 if (a != b && can) enablePeerAccess(a, b);
             }
         }

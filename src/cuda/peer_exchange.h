@@ -6,7 +6,7 @@
 //   DT-A  its Listing 2: each GPU pulls every other slice with cudaMemcpyPeerAsync on its own stream,
 //         ordered after the writers by events; no host wait.
 //   DA    its Listing 3: nothing moves; the force kernel reads the other slices in place over
-//         unified addressing (peerSources()), ordered after the writers by events.
+//         unified addressing (ForceArgs::peers), ordered after the writers by events.
 //   NCCL  ncclAllGather in place, one group over one communicator per GPU (ncclCommInitAll).
 // Ordering without host waits (DT-A, DA): barrier() makes every GPU's stream wait for the work queued
 // so far on every other stream (one event per GPU). share() opens with one, so no slice is read
@@ -32,7 +32,8 @@ namespace corebox {
 class PeerExchange {
 public:
     // `method` must not be Auto. Throws DeviceError when DA lacks peer access or NCCL fails.
-    PeerExchange(const DevicePartition& partition, Exchange method);
+    // peerAccessDenied (tests only, CudaBackendOptions::peerAccessDenied): every pair taken to have none.
+    PeerExchange(const DevicePartition& partition, Exchange method, bool peerAccessDenied = false);
     ~PeerExchange();
     PeerExchange(const PeerExchange&) = delete;
     PeerExchange& operator=(const PeerExchange&) = delete;
@@ -62,7 +63,8 @@ private:
     std::vector<void*> m_comms;        // ncclComm_t per GPU (NCCL only)
 };
 
-// Which GPUs can read each other's memory, and a message naming those that cannot ("" when all can).
-std::string peerAccessProblem(const std::vector<int>& devices);
+// Which GPUs can read each other's memory, and a message naming those that cannot ("" when all can);
+// denied: every pair taken to have no peer access (tests of that path on machines whose GPUs have it).
+std::string peerAccessProblem(const std::vector<int>& devices, bool denied = false);
 
 }  // namespace corebox

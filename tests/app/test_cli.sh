@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Command-line contract of `corebox run`: exit codes, messages that name file, line and key, no
 # partial output files on errors, blow-up reporting with the last good state, and a normal run; the
-# files of `corebox bench pile`; and the device errors of `corebox bench p2p|table1` without GPUs.
+# files of `corebox bench pile`; and the device errors of `corebox bench p2p|table1` and of `corebox run --gpus`
+# without enough GPUs.
 # Needs COREBOX (the binary) and SRC (the source tree) in the environment.
 set -u
 : "${COREBOX:?}" "${SRC:?}"
@@ -424,6 +425,14 @@ fi
 if [ "${gpus:-0}" -eq 0 ]; then
     expect "bench table1 without a GPU" 4 "device error: bench table1 needs a CUDA device; (found none|this build)" -- \
         bench table1 --sizes 1024 --gpus-list 1
+fi
+# `corebox run` asking for more GPUs than exist: exit 4 naming what was found (none here, or the
+# devices CUDA sees where nvidia-smi lists some).
+if [ "${gpus:-0}" -eq 0 ]; then
+    expect "run on GPUs without one" 4 "device error: (no CUDA device found|--backend cuda: this build)" -- run "$work/good.toml" --backend cuda --gpus 2 --steps 1
+else
+    expect "run on more GPUs than exist" 4 "device error: $((gpus + 1)) GPU\(s\) asked for from device 0, but only devices 0 \.\. $((gpus - 1)) exist \($gpus found: " -- \
+        run "$work/good.toml" --backend cuda --gpus $((gpus + 1)) --steps 1
 fi
 expect "bench p2p: auto is not a method" 2 "--methods: 'auto' is not a transfer method" -- bench p2p --methods dts,auto
 expect "bench p2p: max below min" 2 "--max-bytes: 1024 is below --min-bytes 4096" -- bench p2p --max-bytes 1KiB

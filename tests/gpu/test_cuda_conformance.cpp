@@ -1,7 +1,8 @@
 // CUDA backend against the CPU oracle on N = 1234 particles (not a multiple of a block, nor of the
 // GPU counts) and N = 4099: every integrator in fp64 without collisions (positions to 1e-9 relative
 // after 20 steps), collision counts and energies with collisions, fp32 tolerances, identical initial
-// states, and the same observables machinery (energies, health, speed statistics). Every body runs
+// states, the thermostats, and the same observables machinery (energies, health, speed statistics);
+// for several GPUs, the one-GPU collisions and the same bytes from every exchange. Every body runs
 // on one GPU and on P = 2, 3, 4 and 8 GPUs with each exchange (named Gpus/CudaConformance.Test/p2_dta
 // and so on); a configuration needing more GPUs than are visible skips with a message.
 #include <cmath>
@@ -12,6 +13,7 @@
 #include "gpu_fixture.h"
 #include "initial_conditions.h"
 #include "simulation.h"
+#include "vocabulary.h"
 
 using namespace corebox;
 
@@ -290,6 +292,49 @@ TEST_P(CudaConformance, SeveralGpusGiveTheOneGpuCollisionsAndExchangesTheSameByt
     }
 }
 
+TEST_P(CudaConformance, SeveralGpusExchangeTheSameBytesUnderPairForces) {
+    // As above with every position read by a force pass (the LJ gas, all pairs and a cutoff run as
+    // lists, RK4 and Verlet): for one P, every exchange method gives DT-S's state bit for bit. DA reads
+    // the positions in place and computes every pair even where lists are asked for (useLists), so it
+    // is held to the all-pairs runs only.
+    if (GetParam().gpus == 1) GTEST_SKIP() << "compares exchange methods: several GPUs";
+    for (Method m : {Method::Rk4, Method::Verlet}) {
+        for (ForceModel forces : {ForceModel::AllPairs, ForceModel::NeighbourList}) {
+            if (forces == ForceModel::NeighbourList && GetParam().exchange == Exchange::Da) continue;
+            Scene scene = ljGas(m, Precision::Fp64);
+            scene.interaction.forces = forces;
+            const ParticleState a = simulate(scene, "cuda", 20).state();
+            const ParticleState b = simulate(scene, "cuda", 20, nullptr, nullptr, GpuConfig{GetParam().gpus, Exchange::Dts}).state();
+            size_t differing = 0;
+            for (size_t i = 0; i < a.size(); ++i)
+                for (int k = 0; k < 3; ++k) differing += a.position[i][k] != b.position[i][k] || a.velocity[i][k] != b.velocity[i][k];
+            EXPECT_EQ(differing, 0u) << methodName(m) << ", " << forceModelName(forces) << ": " << exchangeName(GetParam().exchange)
+                                     << " against dts";
+        }
+    }
+}
+
+TEST_P(CudaConformance, ThermostatsMatchTheCpu) {
+    // The thermostats draw from the counter-based generator (the same numbers on every backend) and
+    // scale with the kinetic energy summed on the device: with P GPUs as with one, the CPU's state
+    // and the energy the thermostat gave, to round-off, heating the gas from 1 to 2 over 60 steps.
+    for (ThermostatKind kind : {ThermostatKind::Bussi, ThermostatKind::Rescale}) {
+        Scene scene = ljGas(Method::Verlet, Precision::Fp64);
+        scene.init.temperature = 1.0;
+        scene.thermostat.kind = kind;
+        scene.thermostat.temperature = 2.0;
+        scene.thermostat.tau = 0.02;
+        const OracleRun& cpu = cpuOracle(std::string("lj_thermostat_") + thermostatName(kind), scene, 60);
+        Simulation cuda = simulate(scene, "cuda", 60);
+        const ObservablesRow& a = cpu.row;
+        const ObservablesRow b = cuda.observe();
+        EXPECT_GT(a.thermostat, 0.1 * a.kinetic) << thermostatName(kind) << ": the thermostat heated the gas";
+        EXPECT_NEAR(a.thermostat, b.thermostat, 1e-9 * a.kinetic) << thermostatName(kind);
+        EXPECT_NEAR(a.kinetic, b.kinetic, 1e-9 * a.kinetic) << thermostatName(kind);
+        EXPECT_LT(maxRelativeDifference(cpu.state, cuda.state(), scene.box.size[0]), 1e-9) << thermostatName(kind);
+    }
+}
+
 TEST_P(CudaConformance, FewerParticlesThanGpusStepAsOneGpu) {
     // P - 1 particles on P GPUs: the last slice is empty, and every per-slice launch must skip it (a
     // grid of no blocks is a launch error); P + 1 leaves empty slices from four GPUs on (chunks of 2).
@@ -379,5 +424,43 @@ TEST(CudaDevices, AskingForMoreGpusThanExistNamesTheDevicesFound) {
         const std::string message = e.what();
         EXPECT_NE(message.find("found"), std::string::npos) << message;
         EXPECT_NE(message.find(cudaDeviceDescription(0)), std::string::npos) << message;
+    }
+}
+
+TEST(CudaDevices, WithoutPeerAccessDaIsRefusedAndTheCopiesMatchTheCpu) {
+    // Every pair taken to lack peer access (CudaBackendOptions::peerAccessDenied): DA refused with a
+    // message naming the pairs and the methods that work; DT-S, DT-A and NCCL (and auto, which must
+    // not pick DA) give the CPU's state to 1e-9 and one another's bits.
+    COREBOX_REQUIRE_GPUS(2);
+    auto options = [](Exchange exchange) {
+        CudaBackendOptions o;
+        o.precision = Precision::Fp64;
+        o.gpus = 2;
+        o.exchange = exchange;
+        o.peerAccessDenied = true;
+        return o;
+    };
+    try {
+        makeCudaBackend(options(Exchange::Da));
+        FAIL() << "DA accepted without peer access";
+    } catch (const DeviceError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("no peer access between GPUs 0 -> 1, 1 -> 0"), std::string::npos) << message;
+        EXPECT_NE(message.find("use --exchange dta, dts or nccl"), std::string::npos) << message;
+    }
+    const Scene scene = ljGas(Method::Rk4, Precision::Fp64);
+    const OracleRun& cpu = cpuOracle("lj_rk4_1234", scene, 20);
+    ParticleState first;
+    for (Exchange e : {Exchange::Dts, Exchange::Dta, Exchange::Nccl, Exchange::Auto}) {
+        Simulation sim(scene, makeCudaBackend(options(e)), makeInitialState(scene));
+        EXPECT_EQ(sim.backend().deviceName().find("da exchange"), std::string::npos) << sim.backend().deviceName();
+        for (int s = 0; s < 20; ++s) sim.step();
+        const ParticleState state = sim.state();
+        EXPECT_LT(maxRelativeDifference(cpu.state, state, scene.box.size[0]), 1e-9) << exchangeName(e);
+        if (first.size() == 0) first = state;
+        size_t differing = 0;
+        for (size_t i = 0; i < state.size(); ++i)
+            for (int k = 0; k < 3; ++k) differing += state.position[i][k] != first.position[i][k] || state.velocity[i][k] != first.velocity[i][k];
+        EXPECT_EQ(differing, 0u) << exchangeName(e) << " against dts";
     }
 }
