@@ -326,8 +326,12 @@ void launchForces(const ForceArgs<Real>& a, cudaStream_t stream) {
         launchPairsOnceForces(a, stream);
         return;
     }
-    // With DA too (positions read from the peers in place): every exchange then takes the same pass and
-    // gives the same bits (tests/gpu/test_cuda_conformance.cpp).
+    // With DA too (each row block reads the peers' positions in place): every exchange takes the same
+    // pass and gives the same bits, and several GPUs the bits of one (tests/gpu/test_cuda_conformance.cpp).
+    // The price is DA's: every row reads the peers' slices over the link, where the tiled kernel read them
+    // once a block of 256 rows: bench table1 on two H200s, DA at N = 4096 0.539 ms a step (NCCL 0.474 in
+    // the same run) where the last record with the tiled kernel had 0.384, at 1024 0.318 where it had
+    // 0.291; from 8192 on, slices of more than kRowBlockMaxRows rows take the tiled kernel either way.
     if (rows <= kRowBlockMaxRows && !a.pairEnergy) {
         launchRowBlocks(a, stream);
         return;
