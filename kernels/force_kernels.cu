@@ -163,10 +163,11 @@ __global__ void combineChunksKernel(ForceArgs<Real> a, int chunks, const Vec3<Re
 //   then a second kernel adding them, 6.1 + 2.9 us on an H200), this one 1024 blocks and no second
 //   kernel.
 // The rounds' rows are bound by their pair arithmetic, not by reading all n positions per row: at
-// N = 65536 (Table 1, ~800 rows a round) a launch takes about 128 us (ncu, H100), some 5e11 pair
-// evaluations a second. Tried and not kept: eight rows a block of 256 lanes, each position loaded once
-// for the group (the same bits by construction, checked against a launch a row): 140 us a launch and
-// the stage 0.602 ms a step against 0.577 (same call): fewer resident warps, no fewer evaluations.
+// N = 65536 (Table 1, several hundred rows in a step's first round) a launch takes about 128 us (ncu,
+// H100), some 3e11 to 4e11 pair evaluations a second. Tried and not kept: eight rows a block of 256
+// lanes, each position loaded once for the group (the same bits by construction, checked against a
+// launch a row): 140 us a launch and the stage 0.602 ms a step against 0.577 (same call, one H100):
+// fewer resident warps, no fewer evaluations.
 constexpr int kRowBlock = 128;
 constexpr int64_t kRowBlockMaxRows = 2048;
 
@@ -327,11 +328,12 @@ void launchForces(const ForceArgs<Real>& a, cudaStream_t stream) {
         return;
     }
     // With DA too (each row block reads the peers' positions in place): every exchange takes the same
-    // pass and gives the same bits, and several GPUs the bits of one (tests/gpu/test_cuda_conformance.cpp).
-    // The price is DA's: every row reads the peers' slices over the link, where the tiled kernel read them
-    // once a block of 256 rows: bench table1 on two H200s, DA at N = 4096 0.539 ms a step (NCCL 0.474 in
-    // the same run) where the last record with the tiled kernel had 0.384, at 1024 0.318 where it had
-    // 0.291; from 8192 on, slices of more than kRowBlockMaxRows rows take the tiled kernel either way.
+    // pass and gives the same bits, and where every GPU has at most kRowBlockMaxRows rows, several GPUs
+    // the bits of one (tests/gpu/test_cuda_conformance.cpp). The price is DA's: every row reads the
+    // peers' slices over the link, where the tiled kernel read them once a block of kBlock * kRows rows:
+    // bench table1 on two H200s, DA's force passes at N = 4096 0.190 ms a step where the last record, with
+    // the tiled kernel, had 0.079 (another host; the step 0.539 against 0.384, NCCL's 0.474 in the same
+    // run). Slices of more than kRowBlockMaxRows rows (N above 2048 P) take the tiled kernel either way.
     if (rows <= kRowBlockMaxRows && !a.pairEnergy) {
         launchRowBlocks(a, stream);
         return;

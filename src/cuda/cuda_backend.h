@@ -43,9 +43,10 @@ struct CudaBackendOptions {
     // to the particles near the last round's active ones (cuda_collisions.cpp: narrowSearch); -1: the
     // default (kNarrowedSearchMin), 0: always, a huge count: never (the same bits, for comparison).
     int64_t narrowedSearchFrom = -1;
-    // Tests only: take every pair of GPUs to have no peer access (peer_exchange.h), so that the path
-    // of machines without it runs where the GPUs have it: DA refused, the copies without peer access
-    // enabled by corebox, all pairs evaluated without sharing a pass across GPUs.
+    // Tests only: take every pair of GPUs to have no peer access (peer_exchange.h), so that corebox's
+    // decisions for machines without it run where the GPUs have it: DA refused, no peer access enabled
+    // by corebox, no pass shared across GPUs, auto never DA. The copies themselves are not forced through
+    // host memory: peer access enabled earlier in the process stays, and NCCL picks its own transport.
     bool peerAccessDenied = false;
 };
 

@@ -427,11 +427,11 @@ if [ "${gpus:-0}" -eq 0 ]; then
         bench table1 --sizes 1024 --gpus-list 1
 fi
 # `corebox run` asking for more GPUs than exist: exit 4 naming what was found (none here, or the
-# devices CUDA sees where nvidia-smi lists some).
+# devices CUDA sees where nvidia-smi lists some; CUDA may see fewer, so no count is assumed).
 if [ "${gpus:-0}" -eq 0 ]; then
     expect "run on GPUs without one" 4 "device error: (no CUDA device found|--backend cuda: this build)" -- run "$work/good.toml" --backend cuda --gpus 2 --steps 1
 else
-    expect "run on more GPUs than exist" 4 "device error: $((gpus + 1)) GPU\(s\) asked for from device 0, but only devices 0 \.\. $((gpus - 1)) exist \($gpus found: " -- \
+    expect "run on more GPUs than exist" 4 "device error: [0-9]+ GPU\(s\) asked for from device 0, but only devices 0 \.\. [0-9]+ exist \([0-9]+ found: " -- \
         run "$work/good.toml" --backend cuda --gpus $((gpus + 1)) --steps 1
 fi
 expect "bench p2p: auto is not a method" 2 "--methods: 'auto' is not a transfer method" -- bench p2p --methods dts,auto

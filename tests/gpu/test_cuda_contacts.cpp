@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <string>
 #include <tuple>
+#include <utility>
 
 #include "gpu_fixture.h"
 #include "initial_conditions.h"
@@ -52,9 +53,9 @@ Scene deepPile(Precision precision) {
     return scene;
 }
 
-// Table 1's model (bench table1): 1234 Lennard-Jones particles with hard cores of radius 0.56 at number
-// density 0.5, all pairs, RK4, here with restitution 0.8 so that the impacts dissipate: a dozen impacts
-// a step, in two or three rounds.
+// Table 1's model (bench table1): `count` Lennard-Jones particles with hard cores of radius 0.56 at
+// number density 0.5, all pairs, RK4, here with restitution 0.8 so that the impacts dissipate: at 1234,
+// a dozen impacts a step in two or three rounds.
 Scene ljWithCores(Precision precision, ForceModel forces, int64_t count = 1234) {
     Scene scene;
     SpeciesDef s;
@@ -105,8 +106,11 @@ TEST(CudaContacts, AStageWithPairForcesWithoutHostWaitsGivesTheBitsOfTheHostDriv
         // All pairs, and lists on several GPUs (whose rounds take all pairs on the gathered state); below
         // and above 2048 particles, where the full force pass stops being the one that takes a block a row
         // (force_kernels.cu: kRowBlockMaxRows) and the rounds' rows alone are.
-        for (ForceModel forces : {ForceModel::AllPairs, ForceModel::NeighbourList}) {
-          for (int64_t count : {int64_t(1234), int64_t(4099)}) {
+        const std::pair<ForceModel, int64_t> cases[] = {{ForceModel::AllPairs, 1234},
+                                                        {ForceModel::AllPairs, 4099},
+                                                        {ForceModel::NeighbourList, 1234},
+                                                        {ForceModel::NeighbourList, 4099}};
+        for (const auto& [forces, count] : cases) {
             const Scene scene = ljWithCores(p, forces, count);
             for (int gpus = forces == ForceModel::AllPairs ? 1 : 2; gpus <= gpuCounts; ++gpus) {
                 const auto fused = run(scene, gpus, true), separate = run(scene, gpus, false);
@@ -127,7 +131,6 @@ TEST(CudaContacts, AStageWithPairForcesWithoutHostWaitsGivesTheBitsOfTheHostDriv
                 std::printf("%s: %lld pair and %lld wall impacts in %lld rounds over 200 steps\n", where.c_str(),
                             (long long)std::get<1>(fused), (long long)std::get<2>(fused), (long long)std::get<3>(fused));
             }
-          }
         }
     }
 }
