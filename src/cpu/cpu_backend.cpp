@@ -432,16 +432,30 @@ public:
             const Real reach = m_radius[size_t(m_species[size_t(i)])] + m_radius[size_t(m_species[size_t(j)])] + gap;
             return j != i && norm2(m_x[size_t(i)] - m_x[size_t(j)]) < reach * reach;
         };
+        // One walk a particle: its candidates go to a row of kCandidateRow slots as they are found, then
+        // are copied into place once the starts are known; a row that overflowed walks again.
         m_candidateStart.assign(size_t(n) + 1, 0);
+        m_candidateRows.resize(size_t(n) * size_t(kCandidateRow));
         parallelFor(m_threads, n, [&](int64_t i) {
             int64_t count = 0;
-            m_grid.forNeighbours(m_x[size_t(i)], [&](int64_t j) { count += within(i, j); });
+            int32_t* row = m_candidateRows.data() + size_t(i) * size_t(kCandidateRow);
+            m_grid.forNeighbours(m_x[size_t(i)], [&](int64_t j) {
+                if (!within(i, j)) return;
+                if (count < kCandidateRow) row[count] = int32_t(j);
+                ++count;
+            });
             m_candidateStart[size_t(i) + 1] = count;
         });
         for (int64_t i = 0; i < n; ++i) m_candidateStart[size_t(i) + 1] += m_candidateStart[size_t(i)];
         m_candidates.resize(size_t(m_candidateStart[size_t(n)]));
         parallelFor(m_threads, n, [&](int64_t i) {
             int64_t slot = m_candidateStart[size_t(i)];
+            const int64_t count = m_candidateStart[size_t(i) + 1] - slot;
+            if (count <= kCandidateRow) {
+                const int32_t* row = m_candidateRows.data() + size_t(i) * size_t(kCandidateRow);
+                std::copy(row, row + count, m_candidates.begin() + slot);
+                return;
+            }
             m_grid.forNeighbours(m_x[size_t(i)], [&](int64_t j) {
                 if (within(i, j)) m_candidates[size_t(slot++)] = int32_t(j);
             });
@@ -1137,9 +1151,13 @@ private:
     // Candidate lists of a dense step's rounds (buildCandidates): the partners of particle i are
     // m_candidates[m_candidateStart[i] .. m_candidateStart[i + 1]), listed at m_xCandidates.
     static constexpr double kCandidateMargin = 0.1;  // of the largest diameter
+    // Candidates a particle keeps from its one walk (buildCandidates): in a dense packing of equal
+    // spheres 12 touch each one; larger spheres among small ones may have more and walk twice.
+    static constexpr int64_t kCandidateRow = 32;
     bool m_candidatesValid = false;
     std::vector<int64_t> m_candidateStart;
     std::vector<int32_t> m_candidates;
+    std::vector<int32_t> m_candidateRows;  // buildCandidates: kCandidateRow slots a particle
     std::vector<int32_t> m_candidateOrder;  // the grid's order at the listing: neighbours walk together
     std::vector<Vec3<Real>> m_xCandidates;
     Real m_candidateSlack2 = 0;
