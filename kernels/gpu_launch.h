@@ -527,8 +527,9 @@ bool launchRelaxListing(const ContactArgs<Real>& args, const RelaxationPlan& pla
 // the own rows by colour into order and colourStart and packs them (packed*, rowRank). words (6): [0]
 // the colours used, [1] 1 if more than kMaxContactColours were needed (then nothing after the
 // colouring is valid), [2..3] the colouring's own (its lists' lengths); *deepest: the deepest overlap
-// of the listed contacts (double bits, ContactResidual::overlap). Scratch: contactColouringScratchBytes. Returns false, launching
-// nothing, where the device has no cooperative launch.
+// of the listed contacts (double bits, ContactResidual::overlap). Scratch:
+// contactColouringScratchBytes. Returns false, launching nothing, where the device has no cooperative
+// launch.
 size_t contactColouringScratchBytes(int64_t n, int64_t rows);
 template <class Real>
 bool launchColourContacts(const ContactArgs<Real>& args, int64_t rows, void* scratch, size_t scratchBytes, unsigned int* words,

@@ -1,7 +1,8 @@
-// A particle's position or velocity as a PackedBody (gpu_launch.h) and back (vec3Of, packed): the contact phase's copy of
-// the state, which a thread reads and writes whole in one vector access. The kernels that walk contacts
-// read each neighbour's position and velocity at a random place: as three scalars each, every one its
-// own 32-byte sector; packed, one sector each (contact_gauss_seidel.cu has the evidence).
+// A particle's position or velocity as a PackedBody (gpu_launch.h) and back (vec3Of, packed): the
+// contact phase's copy of the state, which a thread reads and writes whole in one vector access. The
+// kernels that walk contacts read each neighbour's position and velocity at a random place: as three
+// scalars each, every one its own 32-byte sector; packed, one sector each (contact_gauss_seidel.cu has
+// the evidence).
 #pragma once
 
 #include "gpu_launch.h"

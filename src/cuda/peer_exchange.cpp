@@ -34,6 +34,14 @@ void enablePeerAccess(int from, int to) {
     else cudaCheck(status, "cudaDeviceEnablePeerAccess");
 }
 
+// Whether GPU `from` can read GPU `to`'s memory; never where peer access is taken to be denied (tests).
+bool canAccessPeer(int from, int to, bool denied) {
+    if (denied) return false;
+    int can = 0;
+    cudaCheck(cudaDeviceCanAccessPeer(&can, from, to), "cudaDeviceCanAccessPeer");
+    return can != 0;
+}
+
 }  // namespace
 
 std::string peerAccessProblem(const std::vector<int>& devices, bool denied) {
@@ -41,9 +49,7 @@ std::string peerAccessProblem(const std::vector<int>& devices, bool denied) {
     for (int a : devices) {
         for (int b : devices) {
             if (a == b) continue;
-            int can = 0;
-            if (!denied) cudaCheck(cudaDeviceCanAccessPeer(&can, a, b), "cudaDeviceCanAccessPeer");
-            if (!can) missing += (missing.empty() ? "" : ", ") + std::to_string(a) + " -> " + std::to_string(b);
+            if (!canAccessPeer(a, b, denied)) missing += (missing.empty() ? "" : ", ") + std::to_string(a) + " -> " + std::to_string(b);
         }
     }
     if (missing.empty()) return "";
@@ -63,11 +69,8 @@ PeerExchange::PeerExchange(const DevicePartition& partition, Exchange method, bo
             throw DeviceError("--exchange da reads peer memory in place and needs peer access: " + problem +
                               "; use --exchange dta, dts or nccl (they copy through host memory there)");
         for (int a : devices) {
-            for (int b : devices) {
-                int can = 0;
-                if (!peerAccessDenied) cudaCheck(cudaDeviceCanAccessPeer(&can, a, b), "cudaDeviceCanAccessPeer");
-                if (a != b && can) enablePeerAccess(a, b);
-            }
+            for (int b : devices)
+                if (a != b && canAccessPeer(a, b, peerAccessDenied)) enablePeerAccess(a, b);
         }
     }
     for (int d : devices) {
