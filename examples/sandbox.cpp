@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "egl_headless_context.h"
+#include "frame_worker.h"
 #include "glfw_window.h"
 #include "image_io.h"
 #include "offscreen_target.h"
@@ -94,6 +95,8 @@ struct Options {
     bool headless = false;
     bool softwareGl = false;
     bool vsync = true;
+    bool pipelined = true;
+    int samples = corebox::GlfwWindow::kAutoSamples;  // multisampling; kAutoSamples: 4 on a GPU, 0 on software GL
     bool scripted = false;
     std::string scriptPath, screenshotPath, statsPath;
     int width = 1280, height = 720;
@@ -112,6 +115,8 @@ const char* const kUsage =
     "  --software-gl          headless on Mesa's software renderer even where a GPU is present\n"
     "  --size WxH             window or frame size in pixels (default 1280x720)\n"
     "  --no-vsync             do not wait for the display between frames\n"
+    "  --samples N|auto       multisampling of the frame (default auto: 4 on a GPU, none on a software renderer)\n"
+    "  --sequential           step the world, then draw (default: the next frame's step runs while one is drawn)\n"
     "  --scripted             play the built-in session: spawn clicks, a shot at frame 30, removals\n"
     "  --script FILE          play FILE: lines 'FRAME click|hold|remove|fire|orbit|zoom|screenshot|quit ...'\n"
     "  --screenshot FILE.png  save the last frame\n"
@@ -188,6 +193,12 @@ Options parseOptions(int argc, char** argv) {
             o.softwareGl = true;
         } else if (flag == "--no-vsync") {
             o.vsync = false;
+        } else if (flag == "--samples") {
+            const std::string v = value();
+            o.samples = v == "auto" ? corebox::GlfwWindow::kAutoSamples : int(parseInteger(flag, v, 0));
+            if (o.samples > 16) throw UsageError("--samples: at most 16");
+        } else if (flag == "--sequential") {
+            o.pipelined = false;
         } else if (flag == "--size") {
             const std::string v = value();
             const size_t x = v.find('x');
@@ -348,9 +359,11 @@ public:
         return out;
     }
 
-    // One rendered frame of simulation, and the flashes of its hard impacts.
-    corebox::StepInfo advanceFrame() {
-        const corebox::StepInfo info = m_world.advance(kFramePeriod);
+    // One rendered frame of simulation (on the frame worker when frames are pipelined).
+    corebox::StepInfo advanceFrame() { return m_world.advance(kFramePeriod); }
+
+    // The flashes of the last frame's hard impacts.
+    void noteImpacts() {
         const double now = m_world.time();
         for (const corebox::Contact& c : m_world.contacts()) {
             if (std::abs(c.impulse) < m_flashImpulse) continue;
@@ -361,7 +374,6 @@ public:
         for (auto it = m_flashUntil.begin(); it != m_flashUntil.end();) {
             it = it->second <= now ? m_flashUntil.erase(it) : std::next(it);
         }
-        return info;
     }
 
     // The renderer's particle view from the World's public spans: centre, radius and a colour key per
@@ -523,11 +535,12 @@ public:
     virtual corebox::Image readFrame(int width, int height) = 0;
     virtual void present() {}
     virtual void setTitle(const std::string&) {}
+    virtual int samples() const = 0;  // multisampling of the frames drawn
 };
 
 class WindowFrontend : public Frontend {
 public:
-    explicit WindowFrontend(const Options& o) : m_window(o.width, o.height, "corebox sandbox") {
+    explicit WindowFrontend(const Options& o) : m_window(o.width, o.height, "corebox sandbox", o.samples) {
         m_window.setVsync(o.vsync);
     }
 
@@ -591,6 +604,7 @@ public:
 
     void present() override { glfwSwapBuffers(m_window.handle()); }
     void setTitle(const std::string& title) override { m_window.setTitle(title); }
+    int samples() const override { return m_window.samples(); }
 
 private:
     corebox::GlfwWindow m_window;
@@ -601,7 +615,12 @@ private:
 class HeadlessFrontend : public Frontend {
 public:
     explicit HeadlessFrontend(const Options& o)
-        : m_context(corebox::HeadlessContextOptions{-1, o.softwareGl}), m_target(o.width, o.height) {}
+        : m_context(corebox::HeadlessContextOptions{-1, o.softwareGl}),
+          m_samples(o.samples != corebox::GlfwWindow::kAutoSamples ? o.samples
+                    : corebox::GlfwWindow::isSoftwareRenderer(reinterpret_cast<const char*>(glGetString(GL_RENDERER))) ? 0
+                                                                                                                    : 4),
+          m_target(o.width, o.height, m_samples) {}
+    int samples() const override { return m_samples > 1 ? m_samples : 0; }
 
     void drawableSize(int* width, int* height) override {
         *width = m_target.width();
@@ -621,6 +640,7 @@ public:
 
 private:
     corebox::EglHeadlessContext m_context;  // first: the target's GL objects need it
+    int m_samples;                          // the target's samples a pixel (0 or 1: none)
     corebox::OffscreenTarget m_target;
 };
 
@@ -655,11 +675,12 @@ struct StepTotals {
 };
 
 void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::FrameSample>& samples,
-                const StepTotals& steps, double wallSeconds, const std::string& glRenderer) {
-    std::vector<double> sim, render, frame;
+                const StepTotals& steps, double wallSeconds, const std::string& glRenderer, int frameSamples) {
+    std::vector<double> sim, render, wait, frame;
     for (size_t k = kSkippedFrames; k < samples.size(); ++k) {
         sim.push_back(samples[k].simMs);
         render.push_back(samples[k].renderMs);
+        wait.push_back(samples[k].waitMs);
         frame.push_back(samples[k].frameMs);
     }
     const sandbox::Summary frameSummary = sandbox::summarise(frame);
@@ -682,6 +703,8 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         json.add("gpu", gpu);
     json.add("gl_renderer", glRenderer)
         .add("headless", o.headless)
+        .add("samples", int64_t(frameSamples))
+        .add("pipelined", o.pipelined)
         .add("width", int64_t(o.width))
         .add("height", int64_t(o.height))
         .add("frames", int64_t(samples.size()))
@@ -706,6 +729,7 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         .add("wall_s", wallSeconds)
         .add("sim_ms", sandbox::summarise(sim))
         .add("render_ms", sandbox::summarise(render))
+        .add("wait_ms", sandbox::summarise(wait))
         .add("frame_ms", frameSummary)
         .add("fps_mean", frameSummary.mean > 0 ? 1e3 / frameSummary.mean : 0.0);
     std::ofstream out(o.statsPath);
@@ -733,9 +757,11 @@ int run(const Options& o) {
         frontend = std::make_unique<WindowFrontend>(o);
     }
     const std::string glRenderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-    std::fprintf(stderr, "[sandbox] corebox %s, World on %s (%s), %lld balls; drawing with %s%s\n", corebox::version(),
-                 game.world().backendName().c_str(), precisionName(o.precision), (long long)game.ballsAtStart,
-                 glRenderer.c_str(), o.headless ? " (headless)" : "");
+    std::fprintf(stderr,
+                 "[sandbox] corebox %s, World on %s (%s), %lld balls; drawing with %s%s, %d samples a pixel; %s frames\n",
+                 corebox::version(), game.world().backendName().c_str(), precisionName(o.precision),
+                 (long long)game.ballsAtStart, glRenderer.c_str(), o.headless ? " (headless)" : "",
+                 std::max(frontend->samples(), 1), o.pipelined ? "pipelined" : "sequential");
     if (!contextDescription.empty())
         std::fprintf(stderr, "[sandbox] headless context: %s\n", contextDescription.c_str());
 
@@ -751,6 +777,28 @@ int run(const Options& o) {
     sandbox::Window second;
     sandbox::Window shown;  // the last second's figures, on the HUD and in the title
     StepTotals steps;
+    // Pipelined frames: the step of frame k + 1 runs on the worker while frame k is drawn (the renderer
+    // reads its own copy of the state, the instances). The world is touched by one thread at a time:
+    // the main thread waits for the step before it applies the next frame's input, so the world sees
+    // the same calls in the same order as when it steps and then draws (the same state hash), and
+    // input still acts on the next step. What is drawn is the state before that step.
+    struct Posted {
+        corebox::StepInfo info;
+        double ms = 0;
+    } posted;
+    sandbox::FrameWorker worker;  // after what its job uses: destroyed first, so a running step ends first
+    bool stepping = false;
+    auto finishStep = [&](sandbox::FrameSample& sample) {
+        Clock::time_point t = Clock::now();
+        worker.wait();
+        sample.waitMs = msSince(t);
+        stepping = false;
+        game.noteImpacts();
+        steps.add(posted.info);
+        sample.simMs = posted.ms;
+        return posted.info;
+    };
+
     const Clock::time_point start = Clock::now();
     Clock::time_point lastReport = start;
     for (int64_t frame = 0;; ++frame) {
@@ -767,6 +815,9 @@ int run(const Options& o) {
             continue;
         }
         const float aspect = float(width) / float(height);
+        sandbox::FrameSample sample;
+        corebox::StepInfo info;
+        if (stepping) info = finishStep(sample);
 
         // Input: the user's and the script's, through the same calls.
         bool quit = closed || g_interrupted;
@@ -818,19 +869,20 @@ int run(const Options& o) {
             }
         }
 
-        // Simulation: one fixed frame period, then the state the renderer reads (a download on CUDA).
+        // Simulation, sequential frames: one fixed frame period, then the state the renderer reads (a
+        // download on CUDA).
         Clock::time_point t = Clock::now();
-        const corebox::StepInfo info = game.advanceFrame();
-        game.world().positions();
-        sandbox::FrameSample sample;
-        sample.simMs = msSince(t);
-        steps.add(info);
+        if (!o.pipelined) {
+            info = game.advanceFrame();
+            game.world().positions();
+            sample.simMs = msSince(t);
+            game.noteImpacts();
+            steps.add(info);
+        }
 
         // Drawing: the particle view from the World's spans, the box, the legend and the HUD lines.
         t = Clock::now();
         game.buildInstances(map, instances);
-        renderer.upload(instances.data(), instances.size());
-        frontend->bindTarget();
         const std::vector<std::string> hud{
             shown.frames == 0
                 ? std::string("measuring...")
@@ -841,7 +893,20 @@ int run(const Options& o) {
             format("spawned %.0f (%.0f refused)   removed %.0f   fired %.0f", double(game.spawned),
                    double(game.spawnRefused), double(game.removed), double(game.fired)),
             "left click: spawn   right click: remove   space: fire   arrows: orbit"};
-        renderer.render(camera, renderBox, game.style(hud), width, height);
+        const corebox::RenderStyle style = game.style(hud);
+        // Pipelined: the next frame's step, now that everything drawn is copied out of the world.
+        if (o.pipelined) {
+            worker.post([&] {
+                const Clock::time_point t0 = Clock::now();
+                posted.info = game.advanceFrame();
+                game.world().positions();
+                posted.ms = msSince(t0);
+            });
+            stepping = true;
+        }
+        renderer.upload(instances.data(), instances.size());
+        frontend->bindTarget();
+        renderer.render(camera, renderBox, style, width, height);
         glFinish();  // the frame's GL work is in its render time, not in the next frame's
         sample.renderMs = msSince(t);
 
@@ -879,6 +944,10 @@ int run(const Options& o) {
         }
         if (last) break;
     }
+    if (stepping) {  // the step posted with the last frame: part of the session, not of a frame's time
+        sandbox::FrameSample unused;
+        finishStep(unused);
+    }
     const double wallSeconds = 1e-3 * msSince(start);
 
     std::vector<double> sim, frameTimes;
@@ -894,7 +963,7 @@ int run(const Options& o) {
                  samples.size(), game.world().particleCount(), kSkippedFrames, s.mean, s.median, s.p95, s.max, f.mean,
                  f.median, f.p95, f.max);
     if (!o.statsPath.empty()) {
-        writeStats(o, game, samples, steps, wallSeconds, glRenderer);
+        writeStats(o, game, samples, steps, wallSeconds, glRenderer, frontend->samples());
         std::fprintf(stderr, "[sandbox] statistics written to %s\n", o.statsPath.c_str());
     }
     return g_interrupted ? 130 : 0;

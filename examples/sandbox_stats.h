@@ -10,8 +10,10 @@
 namespace sandbox {
 
 struct FrameSample {
-    double simMs = 0;     // world.advance() and the read of the state it leaves
+    double simMs = 0;     // world.advance() and the read of the state it leaves (pipelined: the step that
+                          // ran on the worker while the frame before was drawn)
     double renderMs = 0;  // instances built and uploaded, the frame drawn and finished (glFinish)
+    double waitMs = 0;    // pipelined: how long the frame waited for that step to end
     double frameMs = 0;   // the whole frame: input, simulation, drawing, buffer swap
 };
 

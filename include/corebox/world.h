@@ -22,6 +22,9 @@
 // - contacts(): the impacts of the last step() or advance(), each a particle pair or a wall hit with
 //   its normal, impulse and time, as games need for sounds and effects. Resting contacts held by the
 //   contact solver (a pile pressing on the floor) are not impacts and are not listed.
+// - Threads: a World is not synchronised. Call it from one thread at a time, but from any thread: each
+//   call that reaches a GPU first makes the world's device current on the calling thread. The sandbox
+//   example steps its world on a worker thread while its main thread draws the frame before.
 // - Errors are exceptions (errors.h: InputError for bad input or unknown ids, InstabilityError for a
 //   blow-up, DeviceError for GPUs), because each carries a message a user can act on and C++ callers
 //   should not have to check every call. corebox_c.h maps them to error codes plus a message for

@@ -269,6 +269,7 @@ Span<int32_t> World::speciesIndices() { return Span<int32_t>{m_impl->speciesInde
 
 DeviceState World::deviceState() {
     m_impl->flushEdits();
+    m_impl->bindThread();
     return m_impl->sim ? m_impl->sim->backend().deviceState() : DeviceState{};
 }
 
@@ -299,6 +300,7 @@ std::vector<ParticleId> World::queryRadius(Vec3d centre, double radius) {
 EnergyBalance World::energy() {
     Impl& w = *m_impl;
     w.flushEdits();
+    w.bindThread();
     EnergyBalance e;
     if (w.sim) {
         const EnergySums sums = w.sim->backend().energies();

@@ -25,8 +25,14 @@ World::Impl::Impl(const WorldDef& definition, Scene worldScene) : def(definition
     idleBackend = makeBackend(choice);  // a missing GPU is a DeviceError now, not at the first step
 }
 
+void World::Impl::bindThread() {
+    if (sim) sim->backend().bindCallingThread();
+    else if (idleBackend) idleBackend->bindCallingThread();
+}
+
 void World::Impl::ensureMirror() {
     if (mirrorFresh) return;
+    bindThread();
     const ParticleState state = sim->state();
     for (size_t i = 0; i < state.size(); ++i) {
         positions[i] = Vec3d{state.position[i].x, state.position[i].y, state.position[i].z};
@@ -121,6 +127,7 @@ void World::Impl::removeSlot(uint32_t slot) {
 void World::Impl::flushEdits() {
     if (!edited) return;
     edited = false;
+    bindThread();
     if (ids.empty()) {
         dropSimulation();
         return;
@@ -146,6 +153,7 @@ void World::Impl::flushEdits() {
         idleBackend.reset();
         backend = makeBackend(backendChoiceOf(def, first));
     }
+    backend->bindCallingThread();
     sim = std::make_unique<Simulation>(first, std::move(backend), state);
     sim->backend().setContactLog(def.recordContacts);
     const EnergySums e = sim->backend().energies();
@@ -154,6 +162,7 @@ void World::Impl::flushEdits() {
 
 void World::Impl::dropSimulation() {
     if (!sim) return;
+    bindThread();
     // Emptying the world takes out the energy the particles had: work of -(E_kin + E_pot).
     const EnergySums e = sim->backend().energies();
     pastExternal = externalWork() - (e.kinetic + e.potential);
@@ -162,7 +171,9 @@ void World::Impl::dropSimulation() {
 }
 
 void World::Impl::applyLiveParameters() {
-    if (sim) sim->setStepParameters(stepParametersOf(scene));
+    if (!sim) return;
+    bindThread();
+    sim->setStepParameters(stepParametersOf(scene));
 }
 
 double World::Impl::externalWork() const {
@@ -174,6 +185,7 @@ double World::Impl::dissipated() const { return pastDissipated + (sim ? sim->dis
 StepInfo World::Impl::stepOnce(double dt, double timeOffset, StepInfo info) {
     if (!(dt > 0) || !std::isfinite(dt)) throw InputError("step: dt must be positive and finite, not " + std::to_string(dt));
     flushEdits();
+    bindThread();
     if (dt != scene.integrator.dt) {
         scene.integrator.dt = dt;
         applyLiveParameters();

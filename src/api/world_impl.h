@@ -34,6 +34,10 @@ struct World::Impl {
     Impl(const WorldDef& def, Scene scene);
 
     // ---- mirror ----
+    // Makes the calling thread ready for the backend (its GPU current on CUDA): a World may be driven
+    // from one thread and then another (the sandbox steps on a worker), so every path that reaches
+    // the backend starts here.
+    void bindThread();
     void ensureMirror();     // download the state when a step made the mirror stale
     void ensureGrid();       // the overlap grid over the current mirror
     uint32_t slotOf(ParticleId id) const;  // throws InputError for an unknown id

@@ -137,6 +137,10 @@ public:
     virtual int interopDevice() const { return -1; }
     // The state on the GPU after the last step (with several GPUs: the home GPU's gathered copy).
     virtual DeviceState deviceState() { return DeviceState{}; }
+    // Makes the calling thread ready to drive this backend: a CUDA backend makes its home GPU the
+    // thread's current device (CUDA keeps the current device per thread, and a new thread starts on
+    // device 0). Callers that may change threads between calls (the library's World) call it first.
+    virtual void bindCallingThread() {}
 
     // ---- model and state ----
     virtual void setModel(const DeviceModel& model) = 0;         // per-species tables, box, gravity, restitution

@@ -66,6 +66,7 @@ public:
     Precision precision() const override { return std::is_same<Real, float>::value ? Precision::Fp32 : Precision::Fp64; }
     int interopDevice() const override { return home().device; }
     DeviceState deviceState() override;  // cuda_replicas.cpp
+    void bindCallingThread() override { cudaCheck(cudaSetDevice(home().device), "cudaSetDevice"); }
 
     // ---- model and state (cuda_backend.cpp) ----
     void setModel(const DeviceModel& model) override;

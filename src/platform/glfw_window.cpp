@@ -18,14 +18,47 @@ bool GlfwWindow::displayAvailable() {
     return (x && *x) || (wayland && *wayland);
 }
 
-GlfwWindow::GlfwWindow(int width, int height, const std::string& title) {
-    glfwSetErrorCallback(onError);
-    if (!glfwInit()) throw PlatformError("cannot open a window: " + g_lastError);
+bool GlfwWindow::isSoftwareRenderer(const std::string& glRenderer) {
+    for (const char* name : {"llvmpipe", "softpipe", "swrast", "Software Rasterizer"})
+        if (glRenderer.find(name) != std::string::npos) return true;
+    return false;
+}
+
+namespace {
+// The display's GL_RENDERER, from an invisible 1x1 window ("" when none can be made: the real window
+// then reports why).
+std::string probeRenderer() {
+    glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+    glfwWindowHint(GLFW_SAMPLES, 0);
+    GLFWwindow* probe = glfwCreateWindow(1, 1, "", nullptr, nullptr);
+    glfwDefaultWindowHints();
+    if (!probe) return "";
+    glfwMakeContextCurrent(probe);
+    const GLubyte* name = glGetString(GL_RENDERER);
+    const std::string renderer = name ? reinterpret_cast<const char*>(name) : "";
+    glfwMakeContextCurrent(nullptr);
+    glfwDestroyWindow(probe);
+    return renderer;
+}
+
+void contextHints() {
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-    glfwWindowHint(GLFW_SAMPLES, 4);
+}
+}  // namespace
+
+GlfwWindow::GlfwWindow(int width, int height, const std::string& title, int samples) {
+    glfwSetErrorCallback(onError);
+    if (!glfwInit()) throw PlatformError("cannot open a window: " + g_lastError);
+    if (samples == kAutoSamples) {
+        contextHints();
+        samples = isSoftwareRenderer(probeRenderer()) ? 0 : 4;
+    }
+    m_samples = samples > 1 ? samples : 0;
+    contextHints();
+    glfwWindowHint(GLFW_SAMPLES, m_samples);
     m_window = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
     if (!m_window) {
         glfwTerminate();

@@ -22,7 +22,7 @@ void checkComplete(GLuint fbo, const char* what) {
 OffscreenTarget::OffscreenTarget(int width, int height, int samples) : m_width(width), m_height(height) {
     GLint maxSamples = 1;
     glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
-    samples = std::max(1, std::min(samples, int(maxSamples)));
+    samples = samples > 1 ? std::min(samples, int(maxSamples)) : 0;  // 0: storage without multisampling
     glCreateRenderbuffers(1, &m_msColor);
     glNamedRenderbufferStorageMultisample(m_msColor, samples, GL_RGBA8, width, height);
     glCreateRenderbuffers(1, &m_msDepth);

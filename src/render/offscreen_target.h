@@ -11,7 +11,8 @@ namespace corebox {
 
 class OffscreenTarget {
 public:
-    OffscreenTarget(int width, int height, int samples = 4);  // throws RenderError when incomplete
+    // samples: a pixel's samples; 0 or 1: a single-sample buffer. Throws RenderError when incomplete.
+    OffscreenTarget(int width, int height, int samples = 4);
     ~OffscreenTarget();
     OffscreenTarget(const OffscreenTarget&) = delete;
     OffscreenTarget& operator=(const OffscreenTarget&) = delete;

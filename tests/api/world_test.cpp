@@ -5,9 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <random>
 #include <set>
 #include <string>
+#include <thread>
 
 #include "corebox/corebox.h"
 
@@ -243,6 +245,50 @@ TEST_P(WorldTest, SameCallsGiveTheSameHash) {
     EXPECT_EQ(h1, h2);
     second->step();
     EXPECT_NE(second->stateHash(), h1);
+}
+
+// The sandbox steps its world on a worker thread and edits and reads it on the main one. A world
+// driven from a new thread for every frame gives the bits of one driven from one thread; on CUDA the
+// world sits on device 1 where there is one, so that the new threads (which start on device 0) step
+// it only if the world makes its own device current.
+TEST_P(WorldTest, AnyThreadMayDriveTheWorldOneCallAtATime) {
+    WorldDef d = def();
+    if (GetParam().backend == corebox::BackendKind::Cuda && GetParam().gpus == 1) {
+        d.device = 1;
+        if (!make(d)) d.device = 0;
+    }
+    auto run = [&](World& w, bool threaded) {
+        addAll(w, lattice(300, 6, 5.0));
+        for (int f = 0; f < 30; ++f) {
+            auto frame = [&] {
+                w.advance(1.0 / 60.0);
+                (void)w.positions();
+            };
+            if (threaded) {
+                std::exception_ptr error;
+                std::thread([&] {
+                    try {
+                        frame();
+                    } catch (...) {
+                        error = std::current_exception();
+                    }
+                }).join();
+                if (error) std::rethrow_exception(error);
+            } else {
+                frame();
+            }
+            if (f == 10) w.applyImpulse(3, {0, 40, 0});
+            if (f == 15) w.removeParticle(17);
+            if (f == 20) (void)w.addParticle({0, {15, 55, 15}, {0, -3, 0}});
+        }
+        return w.stateHash();
+    };
+    MAKE_OR_SKIP(one, d);
+    MAKE_OR_SKIP(many, d);
+    const uint64_t h1 = run(*one, false);
+    const uint64_t h2 = run(*many, true);
+    EXPECT_EQ(h1, h2) << "device " << d.device;
+    EXPECT_GT(many->energy().kinetic, 0.0);
 }
 
 TEST_P(WorldTest, OverlappingPlacementsAreRejectedAndReported) {

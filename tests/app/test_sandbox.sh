@@ -1,27 +1,31 @@
 #!/usr/bin/env bash
 # The sandbox example (examples/sandbox.cpp) under Xvfb with its built-in scripted session: exit 0, a
 # screenshot with balls and the HUD text, a --stats JSON with every field and bookkeeping that adds up
-# (balls at the end = start + spawned + fired - removed). Then the same session headless (EGL on
-# Mesa's software renderer, a smaller frame of the same aspect, so the clicks pick the same points):
-# the same state hash, as a fixed-step loop must give whatever the frame rate. Then bad options and scripts: exit 2 and a message naming the culprit. Needs SANDBOX and SRC.
+# (balls at the end = start + spawned + fired - removed), multisampling off on the software renderer
+# (--samples auto) and frames pipelined (the step on a worker thread while the frame before is drawn).
+# Then the same session headless and --sequential (EGL on Mesa's software renderer, a smaller frame of
+# the same aspect, so the clicks pick the same points): the same state hash, as a fixed-step loop must
+# give whatever the frame rate and whichever thread steps the world. Then bad options and scripts: exit 2 and a message naming the culprit. Needs SANDBOX and SRC.
 set -u
 : "${SANDBOX:?}" "${SRC:?}"
 if ! command -v xvfb-run >/dev/null; then echo "xvfb-run not installed: sandbox test skipped"; exit 77; fi
 source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
 
-# check_json FILE FRAMES HEADLESS: every field, summaries that make sense, bookkeeping that adds up.
+# check_json FILE FRAMES HEADLESS PIPELINED: every field, summaries that make sense, bookkeeping that
+# adds up, no multisampling (llvmpipe, --samples auto).
 check_json() {
     python3 - "$@" <<'PY'
 import json, math, sys
-path, frames, headless = sys.argv[1], int(sys.argv[2]), sys.argv[3] == "true"
+path, frames, headless, pipelined = sys.argv[1], int(sys.argv[2]), sys.argv[3] == "true", sys.argv[4] == "true"
 d = json.load(open(path))
 problems = []
 for key in ["command_line", "backend", "backend_name", "precision", "cpu", "gpu", "gl_renderer", "headless", "frames",
             "frames_measured", "n_start", "n_end", "spawned", "spawn_refused", "removed", "fired", "flashes",
-            "substeps", "simulated_time", "state_hash", "sim_ms", "render_ms", "frame_ms", "fps_mean"]:
+            "substeps", "simulated_time", "state_hash", "sim_ms", "render_ms", "wait_ms", "frame_ms", "fps_mean",
+            "samples", "pipelined"]:
     if key not in d:
         problems.append("no field " + key)
-for key in ["sim_ms", "render_ms", "frame_ms"]:
+for key in ["sim_ms", "render_ms", "wait_ms", "frame_ms"]:
     s = d.get(key, {})
     values = [s.get(k) for k in ("mean", "median", "p95", "max")]
     if not all(isinstance(v, (int, float)) and math.isfinite(v) and v >= 0 for v in values):
@@ -32,6 +36,10 @@ if d.get("frames") != frames or d.get("frames_measured") != frames - 10:
     problems.append(f"frames {d.get('frames')}, measured {d.get('frames_measured')}")
 if d.get("backend") != "cpu" or d.get("precision") != "fp64" or d.get("headless") != headless:
     problems.append(f"setup: {d.get('backend')} {d.get('precision')} headless {d.get('headless')}")
+if d.get("pipelined") != pipelined or d.get("samples") != 0:
+    problems.append(f"pipelined {d.get('pipelined')} (expected {pipelined}), samples {d.get('samples')} (expected 0 on llvmpipe)")
+if not pipelined and d.get("wait_ms", {}).get("max") != 0:
+    problems.append(f"sequential frames waited for a worker: {d.get('wait_ms')}")
 if "--scripted" not in d.get("command_line", ""):
     problems.append("command line: " + d.get("command_line", ""))
 if d.get("n_start") != 500 or d.get("spawned", 0) <= 0 or d.get("removed", 0) <= 0 or d.get("fired") != 2:
@@ -64,16 +72,17 @@ else
     fail "no screenshot written"
 fi
 if [ -s "$work/s.json" ]; then
-    out=$(check_json "$work/s.json" 120 false) && pass || fail "stats JSON: $out"
+    out=$(check_json "$work/s.json" 120 false true) && pass || fail "stats JSON: $out"
 else
     fail "no stats JSON written"
 fi
 grep -q "^\[sandbox\] frame [0-9]*, t [0-9.]*: [0-9]* frames, [0-9.]* fps; sim [0-9.]* ms" "$work/err" && pass ||
     fail "no per-second summary on stderr: $(head -3 "$work/err")"
 grep -q "frame 30 (built-in): fire -> heavy ball from" "$work/err" && pass || fail "no shot at frame 30: $(grep fire "$work/err")"
+grep -q "1 samples a pixel; pipelined frames" "$work/err" && pass || fail "no setup line: $(grep 'drawing with' "$work/err")"
 
-# ---- the same session headless: the same state --------------------------------------------------------
-env -u DISPLAY -u WAYLAND_DISPLAY timeout 300 "$SANDBOX" --headless --software-gl --scripted --frames 120 --balls 500 --size 640x360 \
+# ---- the same session headless and sequential: the same state ------------------------------------------
+env -u DISPLAY -u WAYLAND_DISPLAY timeout 300 "$SANDBOX" --headless --software-gl --sequential --scripted --frames 120 --balls 500 --size 640x360 \
     --screenshot "$work/h.png" --stats "$work/h.json" >"$work/hout" 2>"$work/herr"
 rc=$?
 [ $rc -eq 0 ] && pass || fail "headless run exit $rc: $(tail -5 "$work/herr")"
@@ -83,8 +92,8 @@ else
     fail "no headless screenshot written"
 fi
 if [ -s "$work/h.json" ]; then
-    out=$(check_json "$work/h.json" 120 true) && pass || fail "headless stats JSON: $out"
-    python3 - "$work/s.json" "$work/h.json" <<'PY' && pass || fail "window and headless sessions differ (fixed step, same inputs)"
+    out=$(check_json "$work/h.json" 120 true false) && pass || fail "headless stats JSON: $out"
+    python3 - "$work/s.json" "$work/h.json" <<'PY' && pass || fail "window and headless sessions differ (fixed step, same inputs; pipelined and sequential)"
 import json, sys
 a, b = (json.load(open(p)) for p in sys.argv[1:])
 sys.exit(0 if a["state_hash"] == b["state_hash"] and a["n_end"] == b["n_end"] else 1)
@@ -106,6 +115,8 @@ bad "negative balls" "--balls" --balls -3
 bad "zero frames" "--frames" --frames 0
 bad "unknown option" "--bogus" --bogus
 bad "too many balls" "at most" --headless --balls 10000000
+bad "too many samples" "--samples: at most 16" --headless --samples 32
+bad "samples not a number" "--samples" --headless --samples many
 bad "missing script" "cannot open" --headless --script "$work/none.script"
 printf '10 click 0.5 0.5\n20 jump\n' >"$work/bad.script"
 bad "bad script command" "bad.script:2: unknown command 'jump'" --headless --script "$work/bad.script"
