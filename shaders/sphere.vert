@@ -1,6 +1,6 @@
 #version 450 core
-// Sphere impostor: one camera-facing quad per particle instance (4 vertices, triangle strip from
-// gl_VertexID), large enough to cover the sphere's perspective silhouette; the fragment shader
+// Sphere impostor: one eye-facing quad per particle instance (4 vertices, triangle strip from
+// gl_VertexID), just large enough to cover the sphere's perspective silhouette; the fragment shader
 // ray-traces the sphere inside it.
 layout(location = 0) in vec4 inPositionRadius;  // per instance: centre (world) and hard-core radius
 layout(location = 1) in float inColorKey;       // per instance: species index or speed
@@ -18,9 +18,16 @@ void main() {
     vec3 centre = (uView * vec4(inPositionRadius.xyz, 1.0)).xyz;
     float radius = inPositionRadius.w;
     float dist2 = dot(centre, centre);
-    // Half-width of the tangent cone at the centre's distance, with margin for off-axis stretch.
-    float halfWidth = 1.3 * radius * sqrt(dist2 / max(dist2 - radius * radius, 1e-8));
-    vec3 quadPoint = centre + vec3(corner * halfWidth, 0.0);
+    // The quad faces the eye (normal along the ray to the centre), so the cone of rays tangent to the
+    // sphere cuts its plane in a circle of radius r d / sqrt(d^2 - r^2): the quad is that circle's
+    // square and no wider (a quad facing the view plane needs a margin for off-axis stretch, and every
+    // fragment of the margin is shaded only to be discarded).
+    vec3 toCentre = centre * inversesqrt(max(dist2, 1e-12));
+    vec3 side = cross(toCentre, vec3(0.0, 1.0, 0.0));
+    side = dot(side, side) > 1e-6 ? normalize(side) : vec3(1.0, 0.0, 0.0);
+    vec3 up = cross(side, toCentre);
+    float halfWidth = radius * sqrt(dist2 / max(dist2 - radius * radius, 1e-8));
+    vec3 quadPoint = centre + halfWidth * (corner.x * side + corner.y * up);
     vRayPoint = quadPoint;
     vCentre = centre;
     vRadius = radius;
