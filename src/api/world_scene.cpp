@@ -39,6 +39,8 @@ Scene sceneOfWorldDef(const WorldDef& def) {
     scene.interaction.restitution = def.restitution;
     scene.interaction.gravity = {def.gravity.x, def.gravity.y, def.gravity.z};
     scene.interaction.cutoff = def.cutoff;
+    if (!(def.contactSweeps >= 0)) throw InputError("WorldDef: contactSweeps: must be >= 0 (0: corebox's own cap, 16)");
+    scene.interaction.contactSweeps = def.contactSweeps;
     if (!parseMethod(def.method, &scene.integrator.method)) throw InputError("WorldDef: method: " + methodTable().unknown(def.method));
     scene.integrator.dt = def.substep;
     scene.integrator.precision = def.precision;
