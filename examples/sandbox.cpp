@@ -9,7 +9,8 @@
 // - a World from WorldDef's defaults, a second species added with addSpecies (mass 20, radius 1),
 //   balls added with addParticles and each PlacementResult checked (overlaps are refused, never
 //   shifted), removeParticle after queryRadius, applyImpulse;
-// - the game loop: world.advance(1/60) once per rendered frame, spent in substeps of 1/240;
+// - the game loop: world.advance(1/60) once per rendered frame, spent in substeps of 1/240, on a worker
+//   thread while the main thread draws the frame before (pipelined frames; --sequential: step, then draw);
 // - drawing from the public spans positions(), speciesIndices(), ids(): nothing of the backend;
 // - contacts(): impacts above an impulse threshold flash the balls they touch.
 // Simulation code sees <corebox/corebox.h> only; the rest is the renderer (src/render) and the
