@@ -267,6 +267,10 @@ int main(int argc, char** argv) {
                         "The scene's [interaction] contact_sweeps: cap on contact sweeps per listing (0: the backend's own)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
+    pileCmd->add_option("--max-rounds", pile.maxRounds,
+                        "The scene's [interaction] max_collision_rounds: cap on impact rounds per step (0: the scene's own, 64)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     pileCmd->add_option("--threads", pile.threads, "CPU threads (0: all cores)")->capture_default_str();
     pileCmd->add_option("--bullet", pile.bulletPath,
                         "The Bullet driver (default: corebox_bullet_pile beside corebox when built; none: no Bullet)");

@@ -161,6 +161,7 @@ PileRunResult runCorebox(const PileBenchmarkOptions& o, const std::string& backe
     Scene scene = pileScene(n, precision);
     scene.integrator.dt = kFrameSeconds / o.substeps;
     scene.interaction.contactSweeps = o.contactSweeps;
+    if (o.maxRounds > 0) scene.interaction.maxCollisionRounds = o.maxRounds;
     PileRunResult r = recordFor(o, scene, n);
     r.engine = "corebox";
     r.contactSweepCap = o.contactSweeps;

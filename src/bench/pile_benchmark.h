@@ -35,6 +35,7 @@ struct PileBenchmarkOptions {
     double seconds = 5.0;
     int substeps = 4;          // steps per 1/60 s frame: dt = 1 / (60 substeps)
     int contactSweeps = 0;     // [interaction] contact_sweeps of the scene (0: the backend's own cap)
+    int maxRounds = 0;         // [interaction] max_collision_rounds of the scene (0: the scene's own, 64)
     std::string bulletPath;    // the Bullet driver; "": corebox_bullet_pile beside this program if built; "none": skip
     std::string outputPrefix;  // writes PREFIX.csv and PREFIX.json; "": CSV on stdout only
     // Writes TRACE_<backend>_<precision>_<n>.csv for each corebox run: a row per frame with the

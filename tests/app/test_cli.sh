@@ -371,6 +371,7 @@ fi
 expect "bench pile: missing Bullet driver" 2 "--bullet: no program at '$work/none'" -- \
     bench pile --n 200 --seconds 0.1 --bullet "$work/none"
 expect "bench pile: zero balls" 2 "--n" -- bench pile --n 0 --seconds 0.1
+expect "bench pile: negative round cap" 2 "--max-rounds" -- bench pile --n 200 --seconds 0.1 --max-rounds -1
 
 # Numbers that do not fit, thread counts above the cores, options that a batch run cannot honour,
 # --headless without --frames, and --quiet.
