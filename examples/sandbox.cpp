@@ -104,6 +104,7 @@ struct Options {
     std::string scriptPath, screenshotPath, statsPath;
     int width = 1280, height = 720;
     double flashImpulse = 5.0;
+    bool flashes = true;  // false: the world records no impacts (WorldDef::recordContacts), nothing flashes
     std::string commandLine;
 };
 
@@ -127,6 +128,7 @@ const char* const kUsage =
     "  --screenshot FILE.png  save the last frame\n"
     "  --stats FILE.json      frame-time statistics (after the first 10 frames) and the run's setup\n"
     "  --flash-impulse J      impacts above this impulse flash their balls (default 5)\n"
+    "  --no-flashes           the world records no impacts (WorldDef::recordContacts = false): nothing flashes\n"
     "  --help                 this text\n"
     "mouse: left click or hold spawns balls, right click removes balls; SPACE fires a heavy ball;\n"
     "arrows orbit the camera, PageUp/PageDown zoom; ESC quits.\n";
@@ -222,6 +224,8 @@ Options parseOptions(int argc, char** argv) {
             o.screenshotPath = value();
         } else if (flag == "--stats") {
             o.statsPath = value();
+        } else if (flag == "--no-flashes") {
+            o.flashes = false;
         } else if (flag == "--flash-impulse") {
             const std::string v = value();
             char* end = nullptr;
@@ -458,6 +462,8 @@ private:
         def.precision = o.precision;
         def.threads = worldThreads(o);
         def.contactSweeps = o.contactSweeps;
+        def.recordContacts = o.flashes;
+        def.contactMinImpulse = o.flashImpulse;  // only the impacts that flash
         return def;
     }
 
@@ -725,6 +731,7 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         .add("headless", o.headless)
         .add("samples", int64_t(frameSamples))
         .add("pipelined", o.pipelined)
+        .add("record_contacts", o.flashes)
         .add("width", int64_t(o.width))
         .add("height", int64_t(o.height))
         .add("frames", int64_t(samples.size()))

@@ -154,7 +154,8 @@ __global__ void resolveKernel(CollisionArgs<Real> a) {
         kind = resolveWallOf(a, i, e, a.contactAcceleration[i], &loss, &impulse, &impulseRow, &atCentre, logged);
     }
     recordImpact(a, i, kind, loss, impulse, impulseRow, atCentre);
-    if (kind != kNoCollision && logged) a.log[atomicAdd(a.logCount, 1u)] = ImpactRecord<Real>{i, e.partner, a.logRound, detail};
+    if (kind != kNoCollision && logged && !(abs(detail.impulse) < a.logMinImpulse))
+        a.log[atomicAdd(a.logCount, 1u)] = ImpactRecord<Real>{i, e.partner, a.logRound, detail};
 }
 
 // Walls only: particle i's wall impacts in turn (launchResolveWallImpacts).

@@ -155,7 +155,7 @@ void World::Impl::flushEdits() {
     }
     backend->bindCallingThread();
     sim = std::make_unique<Simulation>(first, std::move(backend), state);
-    sim->backend().setContactLog(def.recordContacts);
+    sim->backend().setContactLog(def.recordContacts, def.contactMinImpulse);
     const EnergySums e = sim->backend().energies();
     simulationBase = e.kinetic + e.potential;
 }

@@ -238,8 +238,10 @@ public:
     virtual CollisionTally collisionTally() = 0;  // since beginCollisions
     // The contact log: when on, applyEvents records every impact it resolves and beginCollisions
     // clears the record; contactLog() returns the step's records ordered by (round, a), the same on
-    // every backend. Off by default (it costs a record per impact).
-    virtual void setContactLog(bool on) = 0;
+    // every backend. Off by default (it costs a record per impact). `minImpulse`: only impacts whose
+    // impulse magnitude is at least this are recorded [m sigma / tau]; the others cost no record, no
+    // copy and no sort (a game that flashes or plays sounds only above a threshold).
+    virtual void setContactLog(bool on, double minImpulse = 0.0) = 0;
     virtual std::vector<ContactRecord> contactLog() const = 0;
 
     // ---- collision stage, 2: contact relaxation (contact_relaxation.h) ----

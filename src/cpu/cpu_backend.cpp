@@ -477,7 +477,10 @@ public:
         return true;
     }
 
-    void setContactLog(bool on) override { m_logContacts = on; }
+    void setContactLog(bool on, double minImpulse) override {
+        m_logContacts = on;
+        m_logMinImpulse = minImpulse;
+    }
     std::vector<ContactRecord> contactLog() const override { return m_log; }
 
     void applyEvents() override {
@@ -508,7 +511,8 @@ public:
             // half the margin since they were listed.
             if (m_candidatesValid && m_active[size_t(i)] && norm2(m_x[size_t(i)] - m_xCandidates[size_t(i)]) > m_candidateSlack2)
                 m_candidatesValid = false;
-            if (m_logContacts && m_kind[size_t(i)] != kNoCollision) m_log.push_back(contactRecordOf(i));
+            if (m_logContacts && m_kind[size_t(i)] != kNoCollision && !(std::abs(m_detail[size_t(i)].impulse) < Real(m_logMinImpulse)))
+                m_log.push_back(contactRecordOf(i));
         }
         ++m_logRound;
     }
@@ -1141,6 +1145,7 @@ private:
 
     std::vector<CollisionEvent> m_events;
     bool m_logContacts = false;
+    double m_logMinImpulse = 0;  // setContactLog: impacts below this impulse are not recorded
     std::vector<ContactRecord> m_log;           // this step's impacts, by (round, a)
     std::vector<ImpactDetail<Real>> m_detail;   // per particle, of this round's impact
     int32_t m_logRound = 0;                     // applyEvents calls this step

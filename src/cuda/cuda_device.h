@@ -102,7 +102,10 @@ public:
     void applyEvents() override;
     ImpactRounds runImpactRounds(int maxRounds) override;
     CollisionTally collisionTally() override;
-    void setContactLog(bool on) override { m_logContacts = on; }
+    void setContactLog(bool on, double minImpulse) override {
+        m_logContacts = on;
+        m_logMinImpulse = minImpulse;
+    }
     std::vector<ContactRecord> contactLog() const override;
     int64_t listContacts(const RestingContact<double>& resting) override;
     bool relaxesGaussSeidel() const override { return m_gaussSeidel; }
@@ -536,6 +539,7 @@ private:
     // sorted by (round, particle) when read: no read-back per round. Growing the buffer keeps what is
     // written, which the host bounds by counters[2] as findEvents reads it plus the events since.
     bool m_logContacts = false;  // asked for (setContactLog); m_logging: for this step, from beginCollisions
+    double m_logMinImpulse = 0;  // setContactLog: impacts below this impulse are not recorded
     bool m_logging = false;
     DeviceBuffer<gpu::ImpactRecord<Real>> m_log;
     size_t m_logBound = 0;       // records written this step, at most

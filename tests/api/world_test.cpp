@@ -177,6 +177,41 @@ TEST_P(WorldTest, ContactsMatchTheCollisionsCounted) {
     EXPECT_GT(walls, 100);
 }
 
+// WorldDef::contactMinImpulse: the same world with a threshold lists exactly the impacts of the world
+// without one whose impulse reaches it, in the same order, and steps to the same state.
+TEST_P(WorldTest, ContactMinImpulseListsTheStrongImpactsOnly) {
+    WorldDef all = def(), strong = def();
+    strong.contactMinImpulse = 3.0;
+    MAKE_OR_SKIP(a, all);
+    MAKE_OR_SKIP(b, strong);
+    addAll(*a, lattice(400, 3, 6.0));
+    addAll(*b, lattice(400, 3, 6.0));
+    int64_t kept = 0, dropped = 0;
+    for (int s = 0; s < 300; ++s) {
+        a->step();
+        b->step();
+        std::vector<corebox::Contact> expected;
+        for (const corebox::Contact& c : a->contacts()) {
+            if (std::abs(c.impulse) >= strong.contactMinImpulse) expected.push_back(c);
+            else ++dropped;
+        }
+        const std::vector<corebox::Contact>& got = b->contacts();
+        ASSERT_EQ(got.size(), expected.size()) << "step " << s;
+        for (size_t k = 0; k < got.size(); ++k) {
+            EXPECT_EQ(got[k].a, expected[k].a);
+            EXPECT_EQ(got[k].b, expected[k].b);
+            EXPECT_EQ(got[k].impulse, expected[k].impulse);
+        }
+        kept += int64_t(got.size());
+    }
+    EXPECT_EQ(a->stateHash(), b->stateHash());
+    EXPECT_GT(kept, 50);
+    EXPECT_GT(dropped, 50);
+    WorldDef bad = def();
+    bad.contactMinImpulse = -1;
+    EXPECT_THROW(World{bad}, corebox::InputError);
+}
+
 TEST_P(WorldTest, HeadOnImpactIsReportedExactly) {
     WorldDef d = def();
     d.gravity = {0, 0, 0};
