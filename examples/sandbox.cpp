@@ -104,6 +104,7 @@ struct Options {
     std::string scriptPath, screenshotPath, statsPath;
     int width = 1280, height = 720;
     double flashImpulse = 5.0;
+    double heavyRadius = 1.0;  // the heavy ball's radius [sigma]
     bool flashes = true;  // false: the world records no impacts (WorldDef::recordContacts), nothing flashes
     std::string commandLine;
 };
@@ -128,6 +129,7 @@ const char* const kUsage =
     "  --screenshot FILE.png  save the last frame\n"
     "  --stats FILE.json      frame-time statistics (after the first 10 frames) and the run's setup\n"
     "  --flash-impulse J      impacts above this impulse flash their balls (default 5)\n"
+    "  --heavy-radius R       the heavy ball's radius (default 1; the balls' is 0.5)\n"
     "  --no-flashes           the world records no impacts (WorldDef::recordContacts = false): nothing flashes\n"
     "  --help                 this text\n"
     "mouse: left click or hold spawns balls, right click removes balls; SPACE fires a heavy ball;\n"
@@ -224,6 +226,12 @@ Options parseOptions(int argc, char** argv) {
             o.screenshotPath = value();
         } else if (flag == "--stats") {
             o.statsPath = value();
+        } else if (flag == "--heavy-radius") {
+            const std::string v = value();
+            char* end = nullptr;
+            o.heavyRadius = std::strtod(v.c_str(), &end);
+            if (end == v.c_str() || *end != '\0' || !(o.heavyRadius >= 0.1 && o.heavyRadius <= 5))
+                throw UsageError("--heavy-radius: '" + v + "' is not a radius from 0.1 to 5");
         } else if (flag == "--no-flashes") {
             o.flashes = false;
         } else if (flag == "--flash-impulse") {
@@ -282,7 +290,7 @@ public:
         corebox::ParticleSpecies heavy;
         heavy.name = "heavy";
         heavy.mass = 20.0;
-        heavy.radius = 1.0;
+        heavy.radius = options.heavyRadius;
         heavy.color = {0.25f, 0.5f, 0.95f};
         m_heavy = m_world.addSpecies(heavy);
         for (int s = 0; s < m_world.speciesCount(); ++s) m_radius.push_back(m_world.species(s).radius);

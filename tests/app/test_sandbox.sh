@@ -117,6 +117,7 @@ bad "unknown option" "--bogus" --bogus
 bad "too many balls" "at most" --headless --balls 10000000
 bad "too many samples" "--samples: at most 16" --headless --samples 32
 bad "negative contact sweeps" "--contact-sweeps" --headless --contact-sweeps -2
+bad "heavy ball too large" "--heavy-radius" --headless --heavy-radius 9
 bad "samples not a number" "--samples" --headless --samples many
 bad "missing script" "cannot open" --headless --script "$work/none.script"
 printf '10 click 0.5 0.5\n20 jump\n' >"$work/bad.script"
