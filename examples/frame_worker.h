@@ -7,6 +7,7 @@
 // reaches the same handlers as when it ran there.
 #pragma once
 
+#include <cassert>
 #include <condition_variable>
 #include <exception>
 #include <functional>
@@ -33,6 +34,7 @@ public:
     void post(std::function<void()> job) {
         {
             std::lock_guard<std::mutex> lock(m_mutex);
+            assert(!m_busy && "FrameWorker::post while a job runs");
             m_job = std::move(job);
             m_busy = true;
         }

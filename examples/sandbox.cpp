@@ -452,8 +452,7 @@ private:
     // rasteriser threads run) while the world steps: the world leaves it a core. A settled pile's step is
     // mostly its sequential contact sweeps, so a second world thread would mostly spin in OpenMP's barriers
     // on the core the renderer needs: on a 2-core machine, 2,000 balls on llvmpipe, 1 thread gave 72
-    // frames a second and 2 gave 58, with the same state (the CPU backend's results do not depend on
-    // its thread count).
+    // frames a second and 2 gave 58 (the same state hash with either).
     static int worldThreads(const Options& o) {
         if (o.threads > 0 || !o.pipelined) return o.threads;
         return std::max(1, int(std::thread::hardware_concurrency()) - 1);
@@ -654,7 +653,7 @@ public:
                     : corebox::GlfwWindow::isSoftwareRenderer(reinterpret_cast<const char*>(glGetString(GL_RENDERER))) ? 0
                                                                                                                     : 4),
           m_target(o.width, o.height, m_samples) {}
-    int samples() const override { return m_samples > 1 ? m_samples : 0; }
+    int samples() const override { return m_target.samples(); }
 
     void drawableSize(int* width, int* height) override {
         *width = m_target.width();
@@ -674,7 +673,7 @@ public:
 
 private:
     corebox::EglHeadlessContext m_context;  // first: the target's GL objects need it
-    int m_samples;                          // the target's samples a pixel (0 or 1: none)
+    int m_samples;                          // asked of the target: a pixel's samples (0 or 1: none)
     corebox::OffscreenTarget m_target;
 };
 
@@ -792,11 +791,12 @@ int run(const Options& o) {
         frontend = std::make_unique<WindowFrontend>(o);
     }
     const std::string glRenderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-    std::fprintf(stderr,
-                 "[sandbox] corebox %s, World on %s (%s), %lld balls; drawing with %s%s, %d samples a pixel; %s frames\n",
+    const std::string multisampling =
+        frontend->samples() > 1 ? std::to_string(frontend->samples()) + " samples a pixel" : "no multisampling";
+    std::fprintf(stderr, "[sandbox] corebox %s, World on %s (%s), %lld balls; drawing with %s%s, %s; %s frames\n",
                  corebox::version(), game.world().backendName().c_str(), precisionName(o.precision),
-                 (long long)game.ballsAtStart, glRenderer.c_str(), o.headless ? " (headless)" : "",
-                 std::max(frontend->samples(), 1), o.pipelined ? "pipelined" : "sequential");
+                 (long long)game.ballsAtStart, glRenderer.c_str(), o.headless ? " (headless)" : "", multisampling.c_str(),
+                 o.pipelined ? "pipelined" : "sequential");
     if (!contextDescription.empty())
         std::fprintf(stderr, "[sandbox] headless context: %s\n", contextDescription.c_str());
 
@@ -821,11 +821,12 @@ int run(const Options& o) {
         corebox::StepInfo info;
         double ms = 0;
     } posted;
-    sandbox::FrameWorker worker;  // after what its job uses: destroyed first, so a running step ends first
+    std::optional<sandbox::FrameWorker> worker;  // after what its job uses: destroyed first, so a running step ends first
+    if (o.pipelined) worker.emplace();
     bool stepping = false;
     auto finishStep = [&](sandbox::FrameSample& sample) {
         Clock::time_point t = Clock::now();
-        worker.wait();
+        worker->wait();
         sample.waitMs = msSince(t);
         stepping = false;
         game.noteImpacts();
@@ -915,23 +916,26 @@ int run(const Options& o) {
             steps.add(info);
         }
 
-        // Drawing: the particle view from the World's spans, the box, the legend and the HUD lines.
+        // Drawing: the particle view from the World's spans, the box, the legend and the HUD lines; what
+        // the frame reports of the world is read here too, before a pipelined step takes the world.
         t = Clock::now();
         game.buildInstances(map, instances);
+        const double worldTime = game.world().time();
+        const size_t balls = game.world().particleCount();
         const std::vector<std::string> hud{
             shown.frames == 0
                 ? std::string("measuring...")
                 : format("sim %.2f ms   render %.2f ms   frame %.2f ms   %.1f fps", shown.mean(shown.simMs),
                          shown.mean(shown.renderMs), shown.mean(shown.frameMs), shown.fps()),
             std::string(backendName(o.backend)) + " " + precisionName(o.precision) + "   " +
-                format("t %.2f   %.0f substeps of 1/240 this frame", game.world().time(), double(info.substeps)),
+                format("t %.2f   %.0f substeps of 1/240 this frame", worldTime, double(info.substeps)),
             format("spawned %.0f (%.0f refused)   removed %.0f   fired %.0f", double(game.spawned),
                    double(game.spawnRefused), double(game.removed), double(game.fired)),
             "left click: spawn   right click: remove   space: fire   arrows: orbit"};
         const corebox::RenderStyle style = game.style(hud);
         // Pipelined: the next frame's step, now that everything drawn is copied out of the world.
-        if (o.pipelined) {
-            worker.post([&] {
+        if (worker) {
+            worker->post([&] {
                 const Clock::time_point t0 = Clock::now();
                 posted.info = game.advanceFrame();
                 game.world().positions();
@@ -966,13 +970,13 @@ int run(const Options& o) {
         if (msSince(lastReport) >= 1000.0 || last) {
             const double simMs = second.mean(second.simMs), renderMs = second.mean(second.renderMs);
             const double frameMs = second.mean(second.frameMs);
-            frontend->setTitle("corebox sandbox - " + std::to_string(game.world().particleCount()) + " balls - " +
+            frontend->setTitle("corebox sandbox - " + std::to_string(balls) + " balls - " +
                                format("sim %.2f ms, render %.2f ms, %.1f fps", simMs, renderMs, second.fps()));
             std::fprintf(stderr,
                          "[sandbox] frame %lld, t %.2f: %d frames, %.1f fps; sim %.2f ms (max %.2f), render %.2f ms, "
                          "frame %.2f ms; %zu balls\n",
-                         (long long)frame, game.world().time(), second.frames, second.fps(), simMs, second.simMaxMs,
-                         renderMs, frameMs, game.world().particleCount());
+                         (long long)frame, worldTime, second.frames, second.fps(), simMs, second.simMaxMs, renderMs,
+                         frameMs, balls);
             shown = second;
             second = sandbox::Window{};
             lastReport = Clock::now();

@@ -357,7 +357,7 @@ struct CollisionArgs {
     ImpactRecord<Real>* log;
     unsigned int* logCount;
     int32_t logRound;  // this step's rounds with events before this one
-    Real logMinImpulse;  // impacts whose impulse magnitude is below this are not logged
+    double logMinImpulse;  // impacts whose impulse magnitude is below this are not logged (compared in double)
     // When set, the search, the resolution and the active flags do nothing where *gate == 0: a round
     // queued behind one that found no event (CudaDevice::runImpactRounds).
     const unsigned int* gate;

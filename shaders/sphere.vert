@@ -23,8 +23,8 @@ void main() {
     // square and no wider (a quad facing the view plane needs a margin for off-axis stretch, and every
     // fragment of the margin is shaded only to be discarded).
     vec3 toCentre = centre * inversesqrt(max(dist2, 1e-12));
-    vec3 side = cross(toCentre, vec3(0.0, 1.0, 0.0));
-    side = dot(side, side) > 1e-6 ? normalize(side) : vec3(1.0, 0.0, 0.0);
+    vec3 helper = abs(toCentre.y) < 0.99 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
+    vec3 side = normalize(cross(toCentre, helper));
     vec3 up = cross(side, toCentre);
     float halfWidth = radius * sqrt(dist2 / max(dist2 - radius * radius, 1e-8));
     vec3 quadPoint = centre + halfWidth * (corner.x * side + corner.y * up);

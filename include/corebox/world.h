@@ -23,8 +23,9 @@
 //   its normal, impulse and time, as games need for sounds and effects. Resting contacts held by the
 //   contact solver (a pile pressing on the floor) are not impacts and are not listed.
 // - Threads: a World is not synchronised. Call it from one thread at a time, but from any thread: each
-//   call that reaches a GPU first makes the world's device current on the calling thread. The sandbox
-//   example steps its world on a worker thread while its main thread draws the frame before.
+//   call that reaches a GPU first makes the world's device current on the calling thread, and leaves it
+//   current there. The sandbox example steps its world on a worker thread while its main thread draws
+//   the frame before.
 // - Errors are exceptions (errors.h: InputError for bad input or unknown ids, InstabilityError for a
 //   blow-up, DeviceError for GPUs), because each carries a message a user can act on and C++ callers
 //   should not have to check every call. corebox_c.h maps them to error codes plus a message for
@@ -108,12 +109,16 @@ struct WorldDef {
     // contacts() lists only impacts whose impulse magnitude is at least this [m sigma / tau]; 0: every
     // impact. The others cost no record: a game that flashes or plays sounds only above a threshold
     // sets it. A landing pile resolves millions of soft impacts a second, and recording, copying and
-    // ordering them all is work the simulation never needed. The sandbox at 10^5 balls on an H200 (420
-    // frames, fp32): 42.2 and 40.7 ms a frame on average with every impact recorded, 22.2 and 23.4 with
-    // none, 24.3 with those of impulse >= 5 (2% of them, the ones that flash); the same state in all.
+    // ordering them all is work the simulation never needed. The sandbox at 10^5 balls on one H200 (420
+    // scripted frames, fp32, pipelined): 42.2 and 40.7 ms a frame on average with every impact recorded,
+    // 22.2 and 23.4 with none (docs/results/sandbox_impact_records/, one call), 24.3 with those of
+    // impulse >= 5, the ones that flash, 2% of them (docs/results/sandbox_h200_fp32_100000.json, a later
+    // call); the same state in all. The threshold is compared in double; backends agree on impulses to
+    // rounding, so an impact within rounding of it may be listed by one backend and not another.
     double contactMinImpulse = 0.0;
-    // Cap on the contact solver's sweeps per listing, a game engine's solver iterations (DESIGN.md
-    // sec. 2: resting contacts are relaxed by sweeps after the impacts); 0: corebox's own, 16. A shallow
+    // Cap on the contact solver's sweeps per listing, a game engine's solver iterations (resting contacts
+    // are relaxed by sweeps after the impacts: kernels/contact_relaxation.h); 0: corebox's own, 16
+    // Gauss-Seidel sweeps (128 where the GPU falls back to Jacobi sweeps for a listing). A shallow
     // pile rests as well with fewer: 2,000 balls two to three layers deep (CPU, fp64, 8 s, `corebox bench
     // pile --contact-sweeps 4|8|16`) came to rest at the same time, overlaps within 5e-5 of a diameter and
     // the energy balance exact, at 8.0 / 10.3 / 14.9 ms a frame once settled. A pile 40 layers deep needs
@@ -184,8 +189,9 @@ public:
     // outside [0, 1], an unknown method), DeviceError when the backend cannot be had.
     explicit World(const WorldDef& def);
     // A world from a scene file (DESIGN.md sec. 3: box, species, interaction, integrator, the initial
-    // particles with ids 0 .. N-1, its thermostat if it has one), on `def`'s backend, threads, device
-    // and recordContacts; the scene's precision, [devices] and dt (as substep) apply.
+    // particles with ids 0 .. N-1, its thermostat if it has one), on `def`'s backend, threads, device,
+    // recordContacts and contactMinImpulse; the scene's precision, [devices], dt (as substep) and
+    // [interaction] (its contact_sweeps too) apply.
     static World fromSceneFile(const std::string& path, const WorldDef& def = WorldDef{});
     ~World();
     World(World&&) noexcept;

@@ -17,6 +17,9 @@ std::string idText(ParticleId id) { return "particle " + std::to_string(id); }
 }  // namespace
 
 World::Impl::Impl(const WorldDef& definition, Scene worldScene) : def(definition), scene(std::move(worldScene)) {
+    // Checked here, where a definition and a scene file's world both pass.
+    if (!(def.contactMinImpulse >= 0) || !std::isfinite(def.contactMinImpulse))
+        throw InputError("WorldDef: contactMinImpulse: must be >= 0 and finite (0: every impact)");
     for (const SpeciesDef& s : scene.species) {
         species.push_back(particleSpeciesOf(s));
         maxRadius = std::max(maxRadius, s.radius);

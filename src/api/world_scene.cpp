@@ -1,7 +1,5 @@
 #include "world_scene.h"
 
-#include <cmath>
-
 #include "scene_validation.h"
 #include "vocabulary.h"
 
@@ -41,8 +39,6 @@ Scene sceneOfWorldDef(const WorldDef& def) {
     scene.interaction.restitution = def.restitution;
     scene.interaction.gravity = {def.gravity.x, def.gravity.y, def.gravity.z};
     scene.interaction.cutoff = def.cutoff;
-    if (!(def.contactMinImpulse >= 0) || !std::isfinite(def.contactMinImpulse))
-        throw InputError("WorldDef: contactMinImpulse: must be >= 0 and finite (0: every impact)");
     if (!(def.contactSweeps >= 0)) throw InputError("WorldDef: contactSweeps: must be >= 0 (0: corebox's own cap, 16)");
     scene.interaction.contactSweeps = def.contactSweeps;
     if (!parseMethod(def.method, &scene.integrator.method)) throw InputError("WorldDef: method: " + methodTable().unknown(def.method));

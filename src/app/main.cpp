@@ -267,7 +267,7 @@ int main(int argc, char** argv) {
                         "The scene's [interaction] contact_sweeps: cap on contact sweeps per listing (0: the backend's own)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
-    pileCmd->add_option("--max-rounds", pile.maxRounds,
+    pileCmd->add_option("--max-rounds", pile.roundCap,
                         "The scene's [interaction] max_collision_rounds: cap on impact rounds per step (0: the scene's own, 64)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();

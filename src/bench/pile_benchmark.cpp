@@ -161,10 +161,11 @@ PileRunResult runCorebox(const PileBenchmarkOptions& o, const std::string& backe
     Scene scene = pileScene(n, precision);
     scene.integrator.dt = kFrameSeconds / o.substeps;
     scene.interaction.contactSweeps = o.contactSweeps;
-    if (o.maxRounds > 0) scene.interaction.maxCollisionRounds = o.maxRounds;
+    if (o.roundCap > 0) scene.interaction.maxCollisionRounds = o.roundCap;
     PileRunResult r = recordFor(o, scene, n);
     r.engine = "corebox";
     r.contactSweepCap = o.contactSweeps;
+    r.roundCap = scene.interaction.maxCollisionRounds;
     r.backend = backend;
     r.precision = precisionName(precision);
     r.threads = o.threads > 0 ? o.threads : hostHardware().hardwareThreads;
@@ -356,6 +357,7 @@ nlohmann::json resultJson(const PileRunResult& r) {
             {"mean_contact_sweeps", r.meanContactSweeps >= 0 ? nlohmann::json(r.meanContactSweeps) : nlohmann::json(nullptr)},
             {"mean_listings", r.meanListings >= 0 ? nlohmann::json(r.meanListings) : nlohmann::json(nullptr)},
             {"contact_sweeps_cap", r.contactSweepCap >= 0 ? nlohmann::json(r.contactSweepCap) : nlohmann::json(nullptr)},
+            {"round_cap", r.roundCap >= 0 ? nlohmann::json(r.roundCap) : nlohmann::json(nullptr)},
             {"capped_speed_per_step", r.cappedSpeedPerStep >= 0 ? nlohmann::json(r.cappedSpeedPerStep) : nlohmann::json(nullptr)},
             {"capped_overlap_per_step", r.cappedOverlapPerStep >= 0 ? nlohmann::json(r.cappedOverlapPerStep) : nlohmann::json(nullptr)},
             {"jacobi_listings_per_step", r.jacobiListingsPerStep >= 0 ? nlohmann::json(r.jacobiListingsPerStep) : nlohmann::json(nullptr)},

@@ -35,7 +35,7 @@ struct PileBenchmarkOptions {
     double seconds = 5.0;
     int substeps = 4;          // steps per 1/60 s frame: dt = 1 / (60 substeps)
     int contactSweeps = 0;     // [interaction] contact_sweeps of the scene (0: the backend's own cap)
-    int maxRounds = 0;         // [interaction] max_collision_rounds of the scene (0: the scene's own, 64)
+    int roundCap = 0;          // [interaction] max_collision_rounds of the scene (0: the scene's own, 64)
     std::string bulletPath;    // the Bullet driver; "": corebox_bullet_pile beside this program if built; "none": skip
     std::string outputPrefix;  // writes PREFIX.csv and PREFIX.json; "": CSV on stdout only
     // Writes TRACE_<backend>_<precision>_<n>.csv for each corebox run: a row per frame with the
@@ -77,6 +77,7 @@ struct PileRunResult {
     double meanContactSweeps = -1;     // contact sweeps per step, mean (-1: not applicable)
     double meanListings = -1;          // contact lists made per step, mean (-1: not applicable)
     int contactSweepCap = -1;          // the scene's contact_sweeps (0: the backend's own; -1: not applicable)
+    int roundCap = -1;                 // the scene's max_collision_rounds (-1: not applicable)
     // Listings whose sweeps hit the cap with the approach speed / the overlap above tolerance, per step
     double cappedSpeedPerStep = -1, cappedOverlapPerStep = -1;
     double jacobiListingsPerStep = -1;  // listings relaxed with Jacobi sweeps, per step

@@ -239,9 +239,11 @@ public:
     // The contact log: when on, applyEvents records every impact it resolves and beginCollisions
     // clears the record; contactLog() returns the step's records ordered by (round, a), the same on
     // every backend. Off by default (it costs a record per impact). `minImpulse`: only impacts whose
-    // impulse magnitude is at least this are recorded [m sigma / tau]; the others cost no record, no
-    // copy and no sort (a game that flashes or plays sounds only above a threshold).
-    virtual void setContactLog(bool on, double minImpulse = 0.0) = 0;
+    // impulse magnitude is at least this are recorded [m sigma / tau], compared in double; the others
+    // cost no record, no copy and no sort (a game that flashes or plays sounds only above a threshold).
+    // Backends agree on the impulses to rounding, so an impact within rounding of the threshold may be
+    // recorded by one and not another.
+    virtual void setContactLog(bool on, double minImpulse) = 0;
     virtual std::vector<ContactRecord> contactLog() const = 0;
 
     // ---- collision stage, 2: contact relaxation (contact_relaxation.h) ----

@@ -52,7 +52,7 @@ gpu::CollisionArgs<Real> CudaDevice<Real>::collisionArgs() {
     a.log = m_logging ? m_log.data() : nullptr;
     a.logCount = m_counters.data() + 2;
     a.logRound = m_logRound;
-    a.logMinImpulse = Real(m_logMinImpulse);
+    a.logMinImpulse = m_logMinImpulse;
     a.activeOut = nullptr;
     a.walker = nullptr;
     a.activeIn = nullptr;

@@ -56,9 +56,8 @@ GlfwWindow::GlfwWindow(int width, int height, const std::string& title, int samp
         contextHints();
         samples = isSoftwareRenderer(probeRenderer()) ? 0 : 4;
     }
-    m_samples = samples > 1 ? samples : 0;
     contextHints();
-    glfwWindowHint(GLFW_SAMPLES, m_samples);
+    glfwWindowHint(GLFW_SAMPLES, samples > 1 ? samples : 0);
     m_window = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
     if (!m_window) {
         glfwTerminate();
@@ -70,6 +69,10 @@ GlfwWindow::GlfwWindow(int width, int height, const std::string& title, int samp
         glfwTerminate();
         throw PlatformError("the display's OpenGL is " + std::to_string(epoxy_gl_version()) + ", below the 4.5 needed");
     }
+    // GLFW_SAMPLES is a hint: what the default framebuffer got.
+    GLint got = 0;
+    glGetIntegerv(GL_SAMPLES, &got);
+    m_samples = got > 1 ? int(got) : 0;
     setVsync(true);
 }
 

@@ -33,7 +33,7 @@ public:
     bool shouldClose() const;
     void framebufferSize(int* width, int* height) const;
     std::string glDescription() const;
-    int samples() const { return m_samples; }  // what the window was made with
+    int samples() const { return m_samples; }  // what the default framebuffer got (0: none)
 
     // Whether a GL_RENDERER string names a software rasteriser (llvmpipe, softpipe, swrast).
     static bool isSoftwareRenderer(const std::string& glRenderer);

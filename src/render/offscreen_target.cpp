@@ -23,6 +23,7 @@ OffscreenTarget::OffscreenTarget(int width, int height, int samples) : m_width(w
     GLint maxSamples = 1;
     glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
     samples = samples > 1 ? std::min(samples, int(maxSamples)) : 0;  // 0: storage without multisampling
+    m_samples = samples > 1 ? samples : 0;
     glCreateRenderbuffers(1, &m_msColor);
     glNamedRenderbufferStorageMultisample(m_msColor, samples, GL_RGBA8, width, height);
     glCreateRenderbuffers(1, &m_msDepth);
@@ -30,7 +31,7 @@ OffscreenTarget::OffscreenTarget(int width, int height, int samples) : m_width(w
     glCreateFramebuffers(1, &m_msFbo);
     glNamedFramebufferRenderbuffer(m_msFbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_msColor);
     glNamedFramebufferRenderbuffer(m_msFbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, m_msDepth);
-    checkComplete(m_msFbo, "multisampled");
+    checkComplete(m_msFbo, "drawing");
 
     glCreateRenderbuffers(1, &m_resolveColor);
     glNamedRenderbufferStorage(m_resolveColor, GL_RGBA8, width, height);

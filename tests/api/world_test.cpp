@@ -181,7 +181,7 @@ TEST_P(WorldTest, ContactsMatchTheCollisionsCounted) {
 // without one whose impulse reaches it, in the same order, and steps to the same state.
 TEST_P(WorldTest, ContactMinImpulseListsTheStrongImpactsOnly) {
     WorldDef all = def(), strong = def();
-    strong.contactMinImpulse = 3.0;
+    strong.contactMinImpulse = 2.7;  // not a float: the threshold is compared in double on every backend
     MAKE_OR_SKIP(a, all);
     MAKE_OR_SKIP(b, strong);
     addAll(*a, lattice(400, 3, 6.0));

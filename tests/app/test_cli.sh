@@ -361,6 +361,7 @@ for r in data["results"]:
 corebox = [r for r in data["results"] if r["engine"] == "corebox"]
 assert sorted(r["precision"] for r in corebox) == ["fp32", "fp64"], "corebox runs"
 assert all(r["n"] == 200 for r in corebox), "corebox sizes"
+assert all(r["round_cap"] == 64 for r in corebox), "round cap: the scene's own"
 assert len([r for r in data["results"] if r["engine"] == "bullet"]) == int(sys.argv[2]), "bullet runs"
 assert len(data["targets"]) >= 2, "targets"
 PY

@@ -233,7 +233,7 @@ TEST(CudaContacts, SearchesNarrowedToTheActiveParticlesGiveTheBitsOfFullOnes) {
         options.fusedSteps = fused;
         options.narrowedSearchFrom = narrowed ? 0 : INT64_MAX;
         Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
-        sim.backend().setContactLog(log);
+        sim.backend().setContactLog(log, 0.0);
         Outcome o{0, 0, 0, 0, 0, 0.0, 1469598103934665603ull};
         for (int k = 0; k < 360; ++k) {
             const StepReport r = sim.step();
