@@ -11,7 +11,11 @@ namespace {
 // check reads a residual back from the device.
 constexpr int kSweepBatch = 8;
 // A relaxation that started from overlaps deeper than this fraction of a diameter lists again, up to
-// kMaxListings times.
+// kMaxListings times. Those listings are not wasted: in the landing of the 40,000-ball pile (CPU, fp32,
+// the first 2.6 s, 615 steps, 421 of them listing again, 938 listings after the first) every later
+// listing held pairs the one before did not, 195 / 1139 / 3685 of them at the 10th / 50th / 90th
+// percentile: the sweeps' position moves bring neighbours within the resting gap. So listing again only
+// when an unlisted pair touches would save no listing.
 constexpr double kDeepOverlap = 0.005;
 constexpr int kMaxListings = 32;
 // Contacts closing slower than what kRestingSteps steps of gravity add (kRestingSteps g dt) rest
