@@ -649,9 +649,9 @@ class HeadlessFrontend : public Frontend {
 public:
     explicit HeadlessFrontend(const Options& o)
         : m_context(corebox::HeadlessContextOptions{-1, o.softwareGl}),
-          m_samples(o.samples != corebox::GlfwWindow::kAutoSamples ? o.samples
-                    : corebox::GlfwWindow::isSoftwareRenderer(reinterpret_cast<const char*>(glGetString(GL_RENDERER))) ? 0
-                                                                                                                    : 4),
+          m_samples(o.samples != corebox::GlfwWindow::kAutoSamples
+                        ? o.samples
+                        : corebox::GlfwWindow::autoSamples(reinterpret_cast<const char*>(glGetString(GL_RENDERER)))),
           m_target(o.width, o.height, m_samples) {}
     int samples() const override { return m_target.samples(); }
 
@@ -717,11 +717,11 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         frame.push_back(samples[k].frameMs);
     }
     const sandbox::Summary frameSummary = sandbox::summarise(frame);
-    // A GPU: the World's CUDA device, or the GL renderer when it is hardware (not Mesa's llvmpipe).
+    // A GPU: the World's CUDA device, or the GL renderer when it is hardware (not a software rasteriser).
     std::string gpu;
     if (o.backend == corebox::BackendKind::Cuda)
         gpu = game.world().backendName();
-    else if (glRenderer.find("llvmpipe") == std::string::npos && glRenderer.find("softpipe") == std::string::npos)
+    else if (!corebox::GlfwWindow::isSoftwareRenderer(glRenderer))
         gpu = glRenderer;
     sandbox::JsonObject json;
     json.add("program", "sandbox")

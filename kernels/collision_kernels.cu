@@ -154,7 +154,7 @@ __global__ void resolveKernel(CollisionArgs<Real> a) {
         kind = resolveWallOf(a, i, e, a.contactAcceleration[i], &loss, &impulse, &impulseRow, &atCentre, logged);
     }
     recordImpact(a, i, kind, loss, impulse, impulseRow, atCentre);
-    if (kind != kNoCollision && logged && !(double(realAbs(detail.impulse)) < a.logMinImpulse))
+    if (kind != kNoCollision && logged && loggedImpact(detail, a.logMinImpulse))
         a.log[atomicAdd(a.logCount, 1u)] = ImpactRecord<Real>{i, e.partner, a.logRound, detail};
 }
 

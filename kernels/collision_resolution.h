@@ -54,6 +54,13 @@ struct ImpactDetail {
     Real speed;
 };
 
+// Whether the contact log keeps an impact (Backend::setContactLog): its impulse magnitude, compared in
+// double, at least minImpulse.
+template <class Real>
+COREBOX_HD inline bool loggedImpact(const ImpactDetail<Real>& d, double minImpulse) {
+    return !(double(d.impulse < Real(0) ? -d.impulse : d.impulse) < minImpulse);
+}
+
 COREBOX_HD inline CollisionEvent noEvent() { return CollisionEvent{-DBL_MAX, kNoPartner}; }
 COREBOX_HD inline bool isValid(const CollisionEvent& e) { return e.partner != kNoPartner; }
 // Deterministic order: earlier event first, then the lower partner code.

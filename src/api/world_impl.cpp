@@ -156,7 +156,6 @@ void World::Impl::flushEdits() {
         idleBackend.reset();
         backend = makeBackend(backendChoiceOf(def, first));
     }
-    backend->bindCallingThread();
     sim = std::make_unique<Simulation>(first, std::move(backend), state);
     sim->backend().setContactLog(def.recordContacts, def.contactMinImpulse);
     const EnergySums e = sim->backend().energies();

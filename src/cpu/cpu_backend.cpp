@@ -511,7 +511,7 @@ public:
             // half the margin since they were listed.
             if (m_candidatesValid && m_active[size_t(i)] && norm2(m_x[size_t(i)] - m_xCandidates[size_t(i)]) > m_candidateSlack2)
                 m_candidatesValid = false;
-            if (m_logContacts && m_kind[size_t(i)] != kNoCollision && !(double(std::abs(m_detail[size_t(i)].impulse)) < m_logMinImpulse))
+            if (m_logContacts && m_kind[size_t(i)] != kNoCollision && loggedImpact(m_detail[size_t(i)], m_logMinImpulse))
                 m_log.push_back(contactRecordOf(i));
         }
         ++m_logRound;

@@ -54,7 +54,7 @@ GlfwWindow::GlfwWindow(int width, int height, const std::string& title, int samp
     if (!glfwInit()) throw PlatformError("cannot open a window: " + g_lastError);
     if (samples == kAutoSamples) {
         contextHints();
-        samples = isSoftwareRenderer(probeRenderer()) ? 0 : 4;
+        samples = autoSamples(probeRenderer());
     }
     contextHints();
     glfwWindowHint(GLFW_SAMPLES, samples > 1 ? samples : 0);

@@ -37,6 +37,8 @@ public:
 
     // Whether a GL_RENDERER string names a software rasteriser (llvmpipe, softpipe, swrast).
     static bool isSoftwareRenderer(const std::string& glRenderer);
+    // kAutoSamples' choice for a renderer: 0 on a software rasteriser, 4 otherwise.
+    static int autoSamples(const std::string& glRenderer) { return isSoftwareRenderer(glRenderer) ? 0 : 4; }
 
     static bool displayAvailable();
 
