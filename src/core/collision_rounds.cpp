@@ -26,7 +26,16 @@ constexpr int kMaxListings = 32;
 // pile hit the 64-round cap in 298 of its 1200 steps (CPU fp64, 105 ms a frame); with 6 g dt in 9
 // (89 ms a frame), and an H200's 10^5-ball pile (fp32) in 313 steps instead of 1048. The piles came to
 // rest as before, with smaller overlaps (10,000 balls: 2.4e-4 of a diameter before, 4.8e-5 after).
-constexpr double kRestingSteps = 6.0;
+// 12 g dt (a lost bounce from it would rise 72 g dt^2, 1.2% of a diameter at dt = 1/240, e^2 of that
+// with restitution e): the settled pile still jittered at about 4 g dt (kinetic energy 0.017 a ball),
+// and those slow approaches kept the impact rounds at 8 a step. An H200, fp32, `corebox bench pile`,
+// 5 s, the same call with 6 / 12 / 24 g dt: 10^5 balls 24.7 / 21.1 / 17.0 ms a frame (the last second
+// 10.9 / 9.5 / 9.3), 25.8 / 16.3 / 9.4 impact rounds a step, 186 / 4 / 0 steps at the round cap, the
+// kinetic energy at 5 s 1618 / 741 / 522, the largest overlap 5e-4 / 2e-4 / 2e-4 of a diameter, rest
+// at 2.25 / 2.20 / 2.18 s; 10^6 balls 96.7 / 79.6 / 70.1 ms a frame (53.2 / 48.4 / 49.9), 242 / 27 / 0
+// capped steps; the sandbox example at 10^5 balls 19.2 / 17.1 / 17.9 ms of simulation a frame. Not
+// 24: a bounce lost from 24 g dt rises 5% of a diameter, which a dropped ball shows.
+constexpr double kRestingSteps = 12.0;
 
 }  // namespace
 

@@ -64,8 +64,8 @@ struct CollisionSettings {
     double overlapTolerance = 1e-3;  // ... and no overlap deeper than this fraction of a contact distance
 };
 
-// Settings for a step of length dt under gravity g: the resting speed is 6 |g| dt, what gravity adds
-// to an approach in six steps (0 without gravity: every approach is then an impact); the reasons are
+// Settings for a step of length dt under gravity g: the resting speed is 12 |g| dt, what gravity adds
+// to an approach in twelve steps (0 without gravity: every approach is then an impact); the reasons are
 // with kRestingSteps in collision_rounds.cpp.
 // `smallestContact`: the smallest contact distance a_i + a_j of the scene (the overlap tolerance is
 // relative to it).
