@@ -709,9 +709,12 @@ struct StepTotals {
 
 void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::FrameSample>& samples,
                 const StepTotals& steps, double wallSeconds, const std::string& glRenderer, int frameSamples) {
-    std::vector<double> sim, render, wait, frame;
+    std::vector<double> sim, render, wait, frame, impacts, contacts, listings;
     for (size_t k = kSkippedFrames; k < samples.size(); ++k) {
         sim.push_back(samples[k].simMs);
+        impacts.push_back(samples[k].impactsMs);
+        contacts.push_back(samples[k].contactsMs);
+        listings.push_back(samples[k].listingsMs);
         render.push_back(samples[k].renderMs);
         wait.push_back(samples[k].waitMs);
         frame.push_back(samples[k].frameMs);
@@ -762,6 +765,9 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         .add("dropped_time", steps.droppedTime)
         .add("wall_s", wallSeconds)
         .add("sim_ms", sandbox::summarise(sim))
+        .add("impacts_ms", sandbox::summarise(impacts))
+        .add("contacts_ms", sandbox::summarise(contacts))
+        .add("listings_ms", sandbox::summarise(listings))
         .add("render_ms", sandbox::summarise(render))
         .add("wait_ms", sandbox::summarise(wait))
         .add("frame_ms", frameSummary)
@@ -963,6 +969,9 @@ int run(const Options& o) {
         }
         frontend->present();
         sample.frameMs = msSince(frameStart) - screenshotMs;
+        sample.impactsMs = 1e3 * info.secondsImpacts;
+        sample.contactsMs = 1e3 * info.secondsContacts;
+        sample.listingsMs = 1e3 * info.secondsListings;
         samples.push_back(sample);
         second.add(sample);
 
@@ -973,10 +982,10 @@ int run(const Options& o) {
             frontend->setTitle("corebox sandbox - " + std::to_string(balls) + " balls - " +
                                format("sim %.2f ms, render %.2f ms, %.1f fps", simMs, renderMs, second.fps()));
             std::fprintf(stderr,
-                         "[sandbox] frame %lld, t %.2f: %d frames, %.1f fps; sim %.2f ms (max %.2f), render %.2f ms, "
-                         "frame %.2f ms; %zu balls\n",
-                         (long long)frame, worldTime, second.frames, second.fps(), simMs, second.simMaxMs, renderMs,
-                         frameMs, balls);
+                         "[sandbox] frame %lld, t %.2f: %d frames, %.1f fps; sim %.2f ms (max %.2f; impacts %.2f, "
+                         "contacts %.2f), render %.2f ms, frame %.2f ms; %zu balls\n",
+                         (long long)frame, worldTime, second.frames, second.fps(), simMs, second.simMaxMs,
+                         second.mean(second.impactsMs), second.mean(second.contactsMs), renderMs, frameMs, balls);
             shown = second;
             second = sandbox::Window{};
             lastReport = Clock::now();

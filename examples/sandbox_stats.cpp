@@ -24,6 +24,8 @@ Summary summarise(std::vector<double> values) {
 
 void Window::add(const FrameSample& s) {
     simMs += s.simMs;
+    impactsMs += s.impactsMs;
+    contactsMs += s.contactsMs;
     renderMs += s.renderMs;
     frameMs += s.frameMs;
     simMaxMs = std::max(simMaxMs, s.simMs);

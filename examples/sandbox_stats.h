@@ -15,6 +15,9 @@ struct FrameSample {
     double renderMs = 0;  // instances built and uploaded, the frame drawn and finished (glFinish)
     double waitMs = 0;    // pipelined: how long the frame waited for that step to end
     double frameMs = 0;   // the whole frame: input, simulation, drawing, buffer swap
+    // Of simMs, the collision stage (corebox::StepInfo): impact rounds, the contact phase, and of it
+    // the contact lists.
+    double impactsMs = 0, contactsMs = 0, listingsMs = 0;
 };
 
 struct Summary {
@@ -27,7 +30,7 @@ Summary summarise(std::vector<double> values);
 
 // Averages over the frames since the last reset (the HUD's and stderr's once-a-second figures).
 struct Window {
-    double simMs = 0, renderMs = 0, frameMs = 0, simMaxMs = 0;
+    double simMs = 0, impactsMs = 0, contactsMs = 0, renderMs = 0, frameMs = 0, simMaxMs = 0;
     int frames = 0;
     void add(const FrameSample& s);
     double fps() const { return frameMs > 0 ? 1e3 * frames / frameMs : 0.0; }

@@ -72,6 +72,8 @@ typedef struct corebox_step_info {
     int64_t pair_collisions, wall_collisions;
     double dissipated;
     double seconds;                              /* wall time of the call [s] */
+    /* of seconds: the impact rounds, the contact phase, and of it the contact lists [s] */
+    double seconds_impacts, seconds_contacts, seconds_listings;
 } corebox_step_info;
 
 typedef struct corebox_contact {

@@ -85,6 +85,9 @@ void putInfo(const StepInfo& s, corebox_step_info* info) {
     info->wall_collisions = s.wallCollisions;
     info->dissipated = s.dissipated;
     info->seconds = s.seconds;
+    info->seconds_impacts = s.secondsImpacts;
+    info->seconds_contacts = s.secondsContacts;
+    info->seconds_listings = s.secondsListings;
 }
 
 void keepContacts(corebox_world* w) {

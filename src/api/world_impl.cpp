@@ -198,6 +198,9 @@ StepInfo World::Impl::stepOnce(double dt, double timeOffset, StepInfo info) {
         info.wallCollisions += r.wallCollisions;
         info.dissipated += r.dissipated;
         if (r.roundCapHit) ++info.roundCapHits;
+        info.secondsImpacts += r.secondsImpacts;
+        info.secondsContacts += r.secondsContacts;
+        info.secondsListings += r.secondsListings;
         if (def.recordContacts) {
             for (const ContactRecord& c : sim->backend().contactLog()) {
                 Contact out;

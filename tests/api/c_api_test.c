@@ -40,6 +40,8 @@ int main(void) {
     corebox_step_info info;
     CHECK(corebox_world_advance(world, 1.0 / 60.0, &info) == COREBOX_OK);
     CHECK(info.substeps == 4);
+    CHECK(info.seconds_impacts >= 0 && info.seconds_listings >= 0 && info.seconds_listings <= info.seconds_contacts);
+    CHECK(info.seconds_impacts + info.seconds_contacts <= info.seconds);
     const double* xyz = NULL;
     size_t n = 0;
     CHECK(corebox_world_positions(world, &xyz, &n) == COREBOX_OK);

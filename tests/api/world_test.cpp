@@ -496,6 +496,26 @@ TEST_P(WorldTest, ContactSweepsCapTheSolver) {
     }
 }
 
+TEST_P(WorldTest, StepInfoSplitsTheCollisionStagesTime) {
+    MAKE_OR_SKIP(w, def());
+    std::vector<ParticleDef> heap;
+    for (int k = 0; k < 200; ++k)
+        heap.push_back(ParticleDef{0, Vec3d{10 + 1.05 * (k % 10), 0.6 + 1.05 * (k / 100), 10 + 1.05 * ((k / 10) % 10)}, Vec3d{0, 0, 0}});
+    addAll(*w, heap);
+    double contacts = 0, listings = 0;
+    for (int f = 0; f < 20; ++f) {
+        const corebox::StepInfo info = w->advance(1.0 / 60.0);
+        EXPECT_GE(info.secondsImpacts, 0.0);
+        EXPECT_GE(info.secondsListings, 0.0);
+        EXPECT_LE(info.secondsListings, info.secondsContacts);
+        EXPECT_LE(info.secondsImpacts + info.secondsContacts, info.seconds);
+        contacts += info.secondsContacts;
+        listings += info.secondsListings;
+    }
+    EXPECT_GT(listings, 0.0) << "a heap on the floor is listed every step";
+    EXPECT_GT(contacts, listings) << "and relaxed";
+}
+
 TEST(WorldScene, ASceneFileBecomesAWorld) {
     World w = World::fromSceneFile(std::string(COREBOX_SOURCE_DIR) + "/assets/pile.toml");
     EXPECT_EQ(w.particleCount(), 10000u);

@@ -23,16 +23,23 @@ problems = []
 for key in ["command_line", "backend", "backend_name", "precision", "cpu", "gpu", "gl_renderer", "headless", "frames",
             "frames_measured", "n_start", "n_end", "spawned", "spawn_refused", "removed", "fired", "flashes",
             "substeps", "simulated_time", "state_hash", "sim_ms", "render_ms", "wait_ms", "frame_ms", "fps_mean",
-            "samples", "pipelined"]:
+            "samples", "pipelined", "impacts_ms", "contacts_ms", "listings_ms"]:
     if key not in d:
         problems.append("no field " + key)
-for key in ["sim_ms", "render_ms", "wait_ms", "frame_ms"]:
+for key in ["sim_ms", "render_ms", "wait_ms", "frame_ms", "impacts_ms", "contacts_ms", "listings_ms"]:
     s = d.get(key, {})
     values = [s.get(k) for k in ("mean", "median", "p95", "max")]
     if not all(isinstance(v, (int, float)) and math.isfinite(v) and v >= 0 for v in values):
         problems.append(f"{key}: {s}")
     elif not s["median"] <= s["p95"] <= s["max"]:
         problems.append(f"{key}: median <= p95 <= max fails: {s}")
+# The collision stage is part of the step, the contact lists part of the contact phase (means: the
+# sums over the same frames); a pile on the floor lists contacts.
+if all(isinstance(d.get(k), dict) for k in ["sim_ms", "impacts_ms", "contacts_ms", "listings_ms"]):
+    if not d["impacts_ms"]["mean"] + d["contacts_ms"]["mean"] <= d["sim_ms"]["mean"]:
+        problems.append(f"impacts + contacts above the step: {d['impacts_ms']} {d['contacts_ms']} {d['sim_ms']}")
+    if not 0 < d["listings_ms"]["mean"] <= d["contacts_ms"]["mean"]:
+        problems.append(f"contact lists: {d['listings_ms']} of {d['contacts_ms']}")
 if d.get("frames") != frames or d.get("frames_measured") != frames - 10:
     problems.append(f"frames {d.get('frames')}, measured {d.get('frames_measured')}")
 if d.get("backend") != "cpu" or d.get("precision") != "fp64" or d.get("headless") != headless:
