@@ -152,6 +152,7 @@ PlacementResult World::setPosition(ParticleId id, Vec3d position) {
     p.id = id;
     if (!p.placed) return p;
     w.positions[slot] = position;
+    w.simIndex[slot] = -1;  // its contacts stay behind
     w.gridFresh = false;
     w.edited = true;
     return p;

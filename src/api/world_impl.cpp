@@ -104,6 +104,7 @@ void World::Impl::appendSlot(ParticleId id, const ParticleDef& p) {
     positions.push_back(p.position);
     velocities.push_back(p.velocity);
     speciesIndex.push_back(p.species);
+    simIndex.push_back(-1);
     slots[id] = slot;
     if (gridFresh) grid.insert(slot, p.position);
     edited = true;
@@ -117,12 +118,14 @@ void World::Impl::removeSlot(uint32_t slot) {
         positions[slot] = positions[last];
         velocities[slot] = velocities[last];
         speciesIndex[slot] = speciesIndex[last];
+        simIndex[slot] = simIndex[last];
         slots[ids[slot]] = slot;
     }
     ids.pop_back();
     positions.pop_back();
     velocities.pop_back();
     speciesIndex.pop_back();
+    simIndex.pop_back();
     gridFresh = false;
     edited = true;
 }
@@ -143,7 +146,10 @@ void World::Impl::flushEdits() {
         state.species[i] = speciesIndex[i];
     }
     if (sim) {
+        const std::vector<ContactWarmStart> impulses = carriedImpulses(sim->backend().contactWarmStart(), sim->particleCount());
         sim->replaceParticles(scene.species, state);
+        sim->backend().restoreContactWarmStart(impulses);
+        markSimulationInSync();
         return;
     }
     Scene first = scene;
@@ -157,9 +163,39 @@ void World::Impl::flushEdits() {
         backend = makeBackend(backendChoiceOf(def, first));
     }
     sim = std::make_unique<Simulation>(first, std::move(backend), state);
+    markSimulationInSync();
     sim->backend().setContactLog(def.recordContacts, def.contactMinImpulse);
     const EnergySums e = sim->backend().energies();
     simulationBase = e.kinetic + e.potential;
+}
+
+void World::Impl::markSimulationInSync() {
+    simIndex.resize(ids.size());
+    for (size_t slot = 0; slot < simIndex.size(); ++slot) simIndex[slot] = int64_t(slot);
+}
+
+std::vector<ContactWarmStart> World::Impl::carriedImpulses(const std::vector<ContactWarmStart>& impulses, int64_t simCount) const {
+    std::vector<int64_t> slotOfIndex(size_t(std::max<int64_t>(simCount, 0)), -1);
+    for (size_t slot = 0; slot < simIndex.size(); ++slot) {
+        const int64_t i = simIndex[slot];
+        if (i >= 0 && i < simCount) slotOfIndex[size_t(i)] = int64_t(slot);
+    }
+    auto slotOf = [&](int64_t i) { return i >= 0 && i < simCount ? slotOfIndex[size_t(i)] : int64_t(-1); };
+    std::vector<ContactWarmStart> carried;
+    carried.reserve(impulses.size());
+    for (const ContactWarmStart& w : impulses) {
+        const int64_t a = slotOf(w.i);
+        if (a < 0) continue;
+        if (w.partner < 0) {  // a wall
+            carried.push_back(ContactWarmStart{a, w.partner, w.lambda});
+            continue;
+        }
+        const int64_t b = slotOf(w.partner);
+        if (b < 0) continue;
+        // A pair once, from its lower index (isUsableWarmStart).
+        carried.push_back(ContactWarmStart{std::min(a, b), std::max(a, b), w.lambda});
+    }
+    return carried;
 }
 
 void World::Impl::dropSimulation() {

@@ -14,6 +14,12 @@
 //   replacement's difference (Simulation::replaceParticles), live edits of fields (parameterWork) and
 //   what a thermostat of a scene file gave. conserved() = K + U + D - external then stays at 0 up to
 //   integration error.
+// - Edits keep a resting pile's contact impulses. Uploading a state makes a backend forget the last
+//   step's impulses (its indices may mean other particles), which warm-start the next step's contact
+//   phase; a pile that lost them starts its relaxation from nothing and sinks into itself for a step
+//   or more. `simIndex` remembers which index each slot had in the simulation, so flushEdits carries
+//   the impulses of the contacts whose particles are still there over to their new slots. New and
+//   teleported particles carry none.
 // - The overlap checks of adds and teleports and the radius query use a hash grid over the mirror
 //   (slot_grid.h), rebuilt lazily after steps and removals.
 #pragma once
@@ -49,6 +55,10 @@ struct World::Impl {
 
     // ---- simulation ----
     void flushEdits();  // uploads the edited mirror (and species) to the simulation
+    void markSimulationInSync();  // slot k is the simulation's particle k
+    // The simulation's contact impulses (indices of its state, `simCount` particles) for the slots
+    // about to replace that state: contacts whose particles were both kept, at their slots.
+    std::vector<ContactWarmStart> carriedImpulses(const std::vector<ContactWarmStart>& impulses, int64_t simCount) const;
     void dropSimulation();
     // Applies the live parameters of m_scene (fields, restitution, dt) to the running simulation.
     void applyLiveParameters();
@@ -66,6 +76,7 @@ struct World::Impl {
     std::vector<ParticleId> ids;
     std::vector<Vec3d> positions, velocities;
     std::vector<int32_t> speciesIndex;
+    std::vector<int64_t> simIndex;  // per slot: its index in the simulation's state; -1: added or teleported since
     std::unordered_map<ParticleId, uint32_t> slots;
     ParticleId nextId = 0;
     bool mirrorFresh = true;
