@@ -36,7 +36,8 @@ void World::Impl::bindThread() {
 void World::Impl::ensureMirror() {
     if (mirrorFresh) return;
     bindThread();
-    const ParticleState state = sim->state();
+    sim->readState(readBuffer);
+    const ParticleState& state = readBuffer;
     for (size_t i = 0; i < state.size(); ++i) {
         positions[i] = Vec3d{state.position[i].x, state.position[i].y, state.position[i].z};
         velocities[i] = Vec3d{state.velocity[i].x, state.velocity[i].y, state.velocity[i].z};

@@ -147,6 +147,10 @@ public:
     virtual void setTableau(const ButcherTableau& tableau) = 0;  // weights for rkStage / rkSolution / rkErrorNorm
     virtual void setState(const ParticleState& state) = 0;
     virtual ParticleState state() const = 0;
+    // state() into `out`, reusing its memory: for readers that take the state every frame (the
+    // library's host mirror), where fresh vectors cost their page faults and a pageable download its
+    // staging.
+    virtual void readState(ParticleState& out) const { out = state(); }
     virtual void keepSnapshot() = 0;  // snapshot = (X, V), on the device
     virtual ParticleState snapshot() const = 0;
 

@@ -73,6 +73,7 @@ public:
     void setTableau(const ButcherTableau& tableau) override;
     void setState(const ParticleState& state) override;
     ParticleState state() const override;
+    void readState(ParticleState& out) const override;
     void keepSnapshot() override;
     ParticleState snapshot() const override;
 
@@ -396,6 +397,7 @@ private:
     Vec3<Real> m_box{1, 1, 1};
     int64_t m_n = 0;
     std::vector<int32_t> m_hostSpecies;
+    mutable PinnedBuffer<Vec3<Real>> m_hostStateX, m_hostStateV;  // readState's staging
 
     // A step's timing marks: Integrate, Collide, Done, and a pair around each force pass. Two sets, a
     // step's in one while the last step's may still be unread (phaseSeconds: read without a wait).

@@ -42,6 +42,26 @@ ParticleState CudaDevice<Real>::state() const {
     return download(home().x, home().v);
 }
 
+// Both arrays in one wait, through page-locked staging (a pageable copy is staged by the driver).
+template <class Real>
+void CudaDevice<Real>::readState(ParticleState& out) const {
+    gatherToHome();
+    const size_t n = size_t(m_n);
+    Vec3<Real>* x = m_hostStateX.resize(n);
+    Vec3<Real>* v = m_hostStateV.resize(n);
+    if (n > 0) {
+        cudaCheck(cudaMemcpyAsync(x, home().x.data(), n * sizeof(Vec3<Real>), cudaMemcpyDeviceToHost, stream()), "state");
+        cudaCheck(cudaMemcpyAsync(v, home().v.data(), n * sizeof(Vec3<Real>), cudaMemcpyDeviceToHost, stream()), "state");
+    }
+    sync();
+    out.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        out.position[i] = vec3Cast<double>(x[i]);
+        out.velocity[i] = vec3Cast<double>(v[i]);
+        out.species[i] = m_hostSpecies[i];
+    }
+}
+
 template <class Real>
 DeviceState CudaDevice<Real>::deviceState() {
     gatherToHome();  // the home GPU's full-length arrays then hold every slice
