@@ -772,6 +772,20 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         .add("wait_ms", sandbox::summarise(wait))
         .add("frame_ms", frameSummary)
         .add("fps_mean", frameSummary.mean > 0 ? 1e3 / frameSummary.mean : 0.0);
+    // Every frame, the skipped ones too (scripts/plot_sandbox_frames.py draws them against time).
+    std::vector<double> allFrame, allSim, allImpacts, allContacts, allRender;
+    for (const sandbox::FrameSample& f : samples) {
+        allFrame.push_back(f.frameMs);
+        allSim.push_back(f.simMs);
+        allImpacts.push_back(f.impactsMs);
+        allContacts.push_back(f.contactsMs);
+        allRender.push_back(f.renderMs);
+    }
+    json.add("per_frame_frame_ms", allFrame)
+        .add("per_frame_sim_ms", allSim)
+        .add("per_frame_impacts_ms", allImpacts)
+        .add("per_frame_contacts_ms", allContacts)
+        .add("per_frame_render_ms", allRender);
     std::ofstream out(o.statsPath);
     out << json.text(true) << "\n";
     out.close();

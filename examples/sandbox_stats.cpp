@@ -119,6 +119,17 @@ JsonObject& JsonObject::add(const std::string& key, const Summary& s) {
     return *this;
 }
 
+JsonObject& JsonObject::add(const std::string& key, const std::vector<double>& values) {
+    std::string text = "[";
+    char number[32];
+    for (size_t k = 0; k < values.size(); ++k) {
+        std::snprintf(number, sizeof number, "%s%.3f", k == 0 ? "" : ",", std::isfinite(values[k]) ? values[k] : 0.0);
+        text += number;
+    }
+    m_fields.emplace_back(key, text + "]");
+    return *this;
+}
+
 std::string JsonObject::text(bool multiline) const {
     std::string out = "{";
     for (size_t k = 0; k < m_fields.size(); ++k) {

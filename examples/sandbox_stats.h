@@ -50,6 +50,7 @@ public:
     JsonObject& add(const std::string& key, bool value);
     JsonObject& addNull(const std::string& key);
     JsonObject& add(const std::string& key, const Summary& s);
+    JsonObject& add(const std::string& key, const std::vector<double>& values);  // an array, 3 decimals
     std::string text(bool multiline = false) const;  // multiline: a field a line (nested objects stay on one)
 
 private:

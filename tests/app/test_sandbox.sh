@@ -40,6 +40,14 @@ if all(isinstance(d.get(k), dict) for k in ["sim_ms", "impacts_ms", "contacts_ms
         problems.append(f"impacts + contacts above the step: {d['impacts_ms']} {d['contacts_ms']} {d['sim_ms']}")
     if not 0 < d["listings_ms"]["mean"] <= d["contacts_ms"]["mean"]:
         problems.append(f"contact lists: {d['listings_ms']} of {d['contacts_ms']}")
+# Every frame's figures, the skipped first ones too, each within what the summaries say of the rest.
+for key in ["frame", "sim", "impacts", "contacts", "render"]:
+    values = d.get(f"per_frame_{key}_ms")
+    if not isinstance(values, list) or len(values) != frames:
+        problems.append(f"per_frame_{key}_ms: {len(values) if isinstance(values, list) else values} values for {frames} frames")
+    elif isinstance(d.get(f"{key}_ms"), dict) and d[f"{key}_ms"].get("max") is not None and \
+            max(values[10:]) > d[f"{key}_ms"]["max"] + 1e-3:
+        problems.append(f"per_frame_{key}_ms: {max(values[10:])} above the summary's max {d[f'{key}_ms']['max']}")
 if d.get("frames") != frames or d.get("frames_measured") != frames - 10:
     problems.append(f"frames {d.get('frames')}, measured {d.get('frames_measured')}")
 if d.get("backend") != "cpu" or d.get("precision") != "fp64" or d.get("headless") != headless:
