@@ -379,6 +379,38 @@ public:
         return out;
     }
 
+    // How still and how sound the balls are (for the --stats file, at the end of a run): the kinetic
+    // energy per ball, and the deepest overlap of two cores or of a core and a wall, as a fraction of
+    // the contact distance (the ball's diameter at a wall), through the public queries only.
+    struct Soundness {
+        double kineticPerBall = 0, maxOverlap = 0;
+    };
+    Soundness soundness() {
+        Soundness out;
+        const corebox::Span<Vec3d> x = m_world.positions();
+        const corebox::Span<ParticleId> ids = m_world.ids();
+        const corebox::Span<int32_t> species = m_world.speciesIndices();
+        if (x.size == 0) return out;
+        out.kineticPerBall = m_world.energy().kinetic / double(x.size);
+        const double largest = *std::max_element(m_radius.begin(), m_radius.end());
+        const double box[3] = {m_box.x, m_box.y, m_box.z};
+        for (size_t k = 0; k < x.size; ++k) {
+            const double r = m_radius[size_t(species[k])];
+            const double at[3] = {x[k].x, x[k].y, x[k].z};
+            for (int a = 0; a < 3; ++a)
+                out.maxOverlap = std::max({out.maxOverlap, (r - at[a]) / (2 * r), (at[a] + r - box[a]) / (2 * r)});
+            for (const ParticleId other : m_world.queryRadius(x[k], r + largest)) {
+                if (other <= ids[k]) continue;  // each pair once
+                const Vec3d y = m_world.position(other);
+                const double d = r + m_radius[size_t(m_world.speciesOf(other))];
+                const double gap = std::sqrt((x[k].x - y.x) * (x[k].x - y.x) + (x[k].y - y.y) * (x[k].y - y.y) +
+                                             (x[k].z - y.z) * (x[k].z - y.z));
+                out.maxOverlap = std::max(out.maxOverlap, (d - gap) / d);
+            }
+        }
+        return out;
+    }
+
     // One rendered frame of simulation (on the frame worker when frames are pipelined).
     corebox::StepInfo advanceFrame() { return m_world.advance(kFramePeriod); }
 
@@ -772,6 +804,8 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         .add("wait_ms", sandbox::summarise(wait))
         .add("frame_ms", frameSummary)
         .add("fps_mean", frameSummary.mean > 0 ? 1e3 / frameSummary.mean : 0.0);
+    const Sandbox::Soundness end = game.soundness();
+    json.add("kinetic_per_ball_end", end.kineticPerBall).add("max_overlap_end", end.maxOverlap);
     // Every frame, the skipped ones too (scripts/plot_sandbox_frames.py draws them against time).
     std::vector<double> allFrame, allSim, allImpacts, allContacts, allRender;
     for (const sandbox::FrameSample& f : samples) {

@@ -23,7 +23,8 @@ problems = []
 for key in ["command_line", "backend", "backend_name", "precision", "cpu", "gpu", "gl_renderer", "headless", "frames",
             "frames_measured", "n_start", "n_end", "spawned", "spawn_refused", "removed", "fired", "flashes",
             "substeps", "simulated_time", "state_hash", "sim_ms", "render_ms", "wait_ms", "frame_ms", "fps_mean",
-            "samples", "pipelined", "impacts_ms", "contacts_ms", "listings_ms"]:
+            "samples", "pipelined", "impacts_ms", "contacts_ms", "listings_ms", "kinetic_per_ball_end",
+            "max_overlap_end"]:
     if key not in d:
         problems.append("no field " + key)
 for key in ["sim_ms", "render_ms", "wait_ms", "frame_ms", "impacts_ms", "contacts_ms", "listings_ms"]:
@@ -48,6 +49,12 @@ for key in ["frame", "sim", "impacts", "contacts", "render"]:
     elif isinstance(d.get(f"{key}_ms"), dict) and d[f"{key}_ms"].get("max") is not None and \
             max(values[10:]) > d[f"{key}_ms"]["max"] + 1e-3:
         problems.append(f"per_frame_{key}_ms: {max(values[10:])} above the summary's max {d[f'{key}_ms']['max']}")
+# The balls at the end: overlaps (cores and walls) within 1% of a contact distance, as issue 9's piles.
+overlap, kinetic = d.get("max_overlap_end"), d.get("kinetic_per_ball_end")
+if not (isinstance(overlap, (int, float)) and -1 < overlap < 0.01):
+    problems.append(f"max_overlap_end {overlap}: not within 1% of a contact distance")
+if not (isinstance(kinetic, (int, float)) and math.isfinite(kinetic) and kinetic >= 0):
+    problems.append(f"kinetic_per_ball_end {kinetic}")
 if d.get("frames") != frames or d.get("frames_measured") != frames - 10:
     problems.append(f"frames {d.get('frames')}, measured {d.get('frames_measured')}")
 if d.get("backend") != "cpu" or d.get("precision") != "fp64" or d.get("headless") != headless:
