@@ -1,6 +1,7 @@
 #include "world_impl.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -50,8 +51,8 @@ void World::Impl::ensureGrid() {
     ensureMirror();
     if (gridFresh) return;
     // Two of the largest radii: an overlap check then reaches one cell around the point.
-    grid.reset(std::max(2.0 * maxRadius, 1e-9));
-    for (uint32_t slot = 0; slot < uint32_t(positions.size()); ++slot) grid.insert(slot, positions[slot]);
+    const std::array<double, 3>& box = scene.box.size;
+    grid.build(positions, 2.0 * maxRadius, Vec3d{box[0], box[1], box[2]});
     gridFresh = true;
 }
 

@@ -244,7 +244,8 @@ TEST_P(WorldTest, RadiusQueryEqualsBruteForce) {
     MAKE_OR_SKIP(w, def());
     addAll(*w, lattice(600, 4, 4.0));
     std::mt19937_64 rng(5);
-    std::uniform_real_distribution<double> ux(0, 30), uy(0, 20), ur(0, 6);
+    // Centres up to 5 outside the box too: a query there still finds the balls near the walls.
+    std::uniform_real_distribution<double> ux(-5, 35), uy(-5, 20), ur(0, 6);
     for (int round = 0; round < 3; ++round) {
         for (int q = 0; q < 50; ++q) {
             const Vec3d c{ux(rng), uy(rng), ux(rng)};
@@ -261,6 +262,16 @@ TEST_P(WorldTest, RadiusQueryEqualsBruteForce) {
         for (int s = 0; s < 50; ++s) w->step();
         w->removeParticle(w->ids()[round]);
     }
+    // A box of 10^12 of the balls' cells holding three balls: the grid's cells grow instead of its memory.
+    WorldDef wide = def();
+    wide.boxSize = Vec3d{1e4, 1e4, 1e4};
+    MAKE_OR_SKIP(v, wide);
+    addAll(*v, {ParticleDef{0, Vec3d{1, 1, 1}, Vec3d{0, 0, 0}}, ParticleDef{0, Vec3d{5000, 2, 5000}, Vec3d{0, 0, 0}},
+                ParticleDef{0, Vec3d{9999, 9999, 9999}, Vec3d{0, 0, 0}}});
+    EXPECT_FALSE(v->addParticle({0, {1.5, 1.2, 1.1}, {0, 0, 0}}).placed) << "overlaps the first ball";
+    EXPECT_EQ(v->queryRadius({5000, 2, 5000}, 0.1), (std::vector<ParticleId>{1}));
+    EXPECT_EQ(v->queryRadius({1e4 + 3, 1e4, 1e4}, 5), (std::vector<ParticleId>{2}));
+    EXPECT_EQ(v->queryRadius({0, 0, 0}, 2e4).size(), 3u);
 }
 
 TEST_P(WorldTest, SameCallsGiveTheSameHash) {
