@@ -22,17 +22,19 @@ def row(path):
     hz = 1000.0 / frame["mean"]
     # Files from before pipelined frames and the samples choice: sequential frames, 4 samples a pixel.
     frames = "pipelined" if d.get("pipelined", False) else "sequential"
+    sweeps = re.search(r"--contact-sweeps (\d+)", d["command_line"])
+    solver = f", {sweeps.group(1)} sweeps" if sweeps else ""
     samples = d.get("samples", 4)
-    return (d["n_start"], d["backend"], frames != "pipelined",
+    return (d["n_start"], d["backend"], frames != "pipelined", solver,
             f"| {d['n_start']:,} | {d['backend']} {d['precision']} | {where} | {d['gl_renderer'].split(' (')[0]}, {samples or 1} sample{'s' if samples > 1 else ''} "
-            f"| {frames} | {sim['mean']:.1f} / {sim['median']:.1f} / {sim['p95']:.1f} | {render['mean']:.1f} "
+            f"| {frames}{solver} | {sim['mean']:.1f} / {sim['median']:.1f} / {sim['p95']:.1f} | {render['mean']:.1f} "
             f"| {frame['mean']:.1f} / {frame['median']:.1f} / {frame['p95']:.1f} "
             f"| {hz:.0f} | {d['pair_collisions']:,} | `{os.path.basename(path)}` |")
 
 
 rows = sorted(row(p) for p in glob.glob(os.path.join(root, "docs", "results", "sandbox_*.json")))
 table = ["| balls | backend | hardware | GL | frames | simulation ms mean / median / p95 | render ms | frame ms mean / median / p95 | frames/s | ball impacts | file |",
-         "|---|---|---|---|---|---|---|---|---|---|---|"] + [r[3] for r in rows]
+         "|---|---|---|---|---|---|---|---|---|---|---|"] + [r[-1] for r in rows]
 text = open(doc).read()
 block = "<!-- sandbox-table:begin -->\n" + "\n".join(table) + "\n<!-- sandbox-table:end -->"
 text, n = re.subn(r"<!-- sandbox-table:begin -->.*?<!-- sandbox-table:end -->", block, text, flags=re.S)
