@@ -14,8 +14,9 @@
 // bits every time; each round looks only at the rows the round before left (a list), not at every
 // particle. In a listing of many rows, round 0 spreads the candidates over 8 colours by the row's
 // hash instead: from colour 0 only one row in twenty-odd wins a round (the highest priority among the
-// rows it shares a particle with), so most rows waited a round per colour; spread, about half win at
-// once. Then a stable radix sort of the own rows by colour gives each colour's rows in row order, and
+// rows it shares a particle with), so most rows waited a round per colour; spread over 16, about half
+// won at once (with 8, fewer: the spread now serves the colouring's speed less than the sweeps' fewer
+// colours, below). Then a stable radix sort of the own rows by colour gives each colour's rows in row order, and
 // the rows are packed in that order (what a sweep reads of a row, in one coalesced read each). A pile
 // of monodisperse balls takes 11 to 13 colours from colour 0 (a host emulation of the greedy colouring
 // on a settled 10,000-ball pile: 11 to 12), a particle at most 15 contacts (12 neighbours and 3 walls).

@@ -169,9 +169,11 @@ struct StepInfo {
     double dissipated = 0;            // kinetic energy lost in inelastic impacts and contacts [m sigma^2 / tau^2]
     int roundCapHits = 0;             // steps whose impact rounds hit their cap (dense piles)
     double seconds = 0;               // wall time of the call [s]
-    // Of `seconds`, what the collision stage took (host clock) [s]: the impact rounds, and the contact
-    // phase (resting contacts and piles), of which building its contact lists. The rest is the
-    // integration, edits flushed to the backend and the contact records.
+    // Of `seconds`, what the collision stage took [s]: the impact rounds, and the contact phase
+    // (resting contacts and piles), of which building its contact lists. Host clock: on a GPU a part
+    // also holds the device work queued before it that its first wait waits for (the integration's
+    // kernels end inside the impact rounds' time). The rest is the integration as the host saw it,
+    // edits flushed to the backend and the contact records.
     double secondsImpacts = 0, secondsContacts = 0, secondsListings = 0;
 };
 

@@ -290,9 +290,7 @@ std::vector<ParticleId> World::queryRadius(Vec3d centre, double radius) {
         const double dx = x.x - centre.x, dy = x.y - centre.y, dz = x.z - centre.z;
         if (dx * dx + dy * dy + dz * dz <= r2) found.push_back(w.ids[slot]);
     });
-    // A hashed grid may visit a bucket twice when distant cells share it.
-    std::sort(found.begin(), found.end());
-    found.erase(std::unique(found.begin(), found.end()), found.end());
+    std::sort(found.begin(), found.end());  // by ascending id; the grid visits each slot once
     return found;
 }
 

@@ -1,7 +1,6 @@
 #include "world_impl.h"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -51,8 +50,7 @@ void World::Impl::ensureGrid() {
     ensureMirror();
     if (gridFresh) return;
     // Two of the largest radii: an overlap check then reaches one cell around the point.
-    const std::array<double, 3>& box = scene.box.size;
-    grid.build(positions, 2.0 * maxRadius, Vec3d{box[0], box[1], box[2]});
+    grid.build(positions, 2.0 * maxRadius);
     gridFresh = true;
 }
 
@@ -108,6 +106,7 @@ void World::Impl::appendSlot(ParticleId id, const ParticleDef& p) {
     speciesIndex.push_back(p.species);
     simIndex.push_back(-1);
     slots[id] = slot;
+    if (gridFresh && grid.outgrown(ids.size())) gridFresh = false;  // the next query builds it for them all
     if (gridFresh) grid.insert(slot, p.position);
     edited = true;
 }

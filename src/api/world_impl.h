@@ -20,8 +20,8 @@
 //   or more. `simIndex` remembers which index each slot had in the simulation, so flushEdits carries
 //   the impulses of the contacts whose particles are still there over to their new slots. New and
 //   teleported particles carry none.
-// - The overlap checks of adds and teleports and the radius query use a hash grid over the mirror
-//   (slot_grid.h), rebuilt lazily after steps and removals.
+// - The overlap checks of adds and teleports and the radius query use a grid over the mirror
+//   (slot_grid.h), rebuilt lazily after steps, removals and adds that outgrew it.
 #pragma once
 
 #include <memory>

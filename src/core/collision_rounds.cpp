@@ -20,7 +20,7 @@ constexpr double kDeepOverlap = 0.005;
 constexpr int kMaxListings = 32;
 // Contacts closing slower than what kRestingSteps steps of gravity add (kRestingSteps g dt) rest
 // (restitution 0, the contact phase) instead of bouncing as impacts. A bounce from that speed would
-// rise (kRestingSteps g dt)^2 / (2 g) = 18 g dt^2: 0.3% of a diameter at dt = 1/240. With 2 g dt, a
+// rise (kRestingSteps g dt)^2 / (2 g): at 6 g dt 18 g dt^2, 0.3% of a diameter at dt = 1/240. With 2 g dt, a
 // settled pile of frictionless balls, which goes on compacting slowly, kept up about a thousand such
 // slow impacts a step, resolved one matching a round (`corebox bench pile`, 5 s): the 10,000-ball
 // pile hit the 64-round cap in 298 of its 1200 steps (CPU fp64, 105 ms a frame); with 6 g dt in 9

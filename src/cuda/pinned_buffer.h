@@ -22,15 +22,17 @@ public:
     PinnedBuffer(const PinnedBuffer&) = delete;
     PinnedBuffer& operator=(const PinnedBuffer&) = delete;
 
-    // At least `count` elements; contents are not kept across a growth.
+    // At least `count` elements; contents are not kept across a growth. Growth is by half again at
+    // least: cudaFreeHost waits for the device, and a state read (readState) grows with every add.
     T* resize(size_t count) {
         if (count > m_capacity || !m_data) {
             if (m_data) cudaFreeHost(m_data);
             m_data = nullptr;
+            const size_t capacity = std::max<size_t>({count, 16, m_capacity + m_capacity / 2});
             void* p = nullptr;
-            cudaCheck(cudaMallocHost(&p, std::max<size_t>(count, 16) * sizeof(T)), "cudaMallocHost");
+            cudaCheck(cudaMallocHost(&p, capacity * sizeof(T)), "cudaMallocHost");
             m_data = static_cast<T*>(p);
-            m_capacity = std::max<size_t>(count, 16);
+            m_capacity = capacity;
         }
         return m_data;
     }
