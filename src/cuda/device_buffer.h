@@ -31,17 +31,21 @@ public:
         return *this;
     }
 
-    // At least `count` elements.
+    // At least `count` elements. A first allocation is exact; growing one takes a quarter more at
+    // least, so that a count rising a few at a time (a game adding balls: every per-particle buffer
+    // of the backend) does not free and allocate again each time (cudaFree waits for the device).
     void resize(size_t count) {
         if (count <= m_capacity && m_data) {
             m_count = count;
             return;
         }
+        const size_t capacity = m_data ? std::max(count, m_capacity + m_capacity / 4) : count;
         release();
         void* p = nullptr;
-        cudaCheck(cudaMalloc(&p, std::max<size_t>(count, 1) * sizeof(T)), "cudaMalloc");
+        cudaCheck(cudaMalloc(&p, std::max<size_t>(capacity, 1) * sizeof(T)), "cudaMalloc");
         m_data = static_cast<T*>(p);
-        m_count = m_capacity = count;
+        m_count = count;
+        m_capacity = capacity;
     }
     // Complete when it returns: a copy from pageable memory may still be in flight on the legacy default
     // stream, which the backends' non-blocking streams do not wait for.
