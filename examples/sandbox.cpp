@@ -741,17 +741,9 @@ struct StepTotals {
 
 void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::FrameSample>& samples,
                 const StepTotals& steps, double wallSeconds, const std::string& glRenderer, int frameSamples) {
-    std::vector<double> sim, render, wait, frame, impacts, contacts, listings;
-    for (size_t k = kSkippedFrames; k < samples.size(); ++k) {
-        sim.push_back(samples[k].simMs);
-        impacts.push_back(samples[k].impactsMs);
-        contacts.push_back(samples[k].contactsMs);
-        listings.push_back(samples[k].listingsMs);
-        render.push_back(samples[k].renderMs);
-        wait.push_back(samples[k].waitMs);
-        frame.push_back(samples[k].frameMs);
-    }
-    const sandbox::Summary frameSummary = sandbox::summarise(frame);
+    using sandbox::FrameSample;
+    auto summary = [&](double FrameSample::*field) { return sandbox::summarise(sandbox::column(samples, kSkippedFrames, field)); };
+    const sandbox::Summary frameSummary = summary(&FrameSample::frameMs);
     // A GPU: the World's CUDA device, or the GL renderer when it is hardware (not a software rasteriser).
     std::string gpu;
     if (o.backend == corebox::BackendKind::Cuda)
@@ -778,7 +770,7 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         .add("height", int64_t(o.height))
         .add("frames", int64_t(samples.size()))
         .add("skipped_frames", int64_t(std::min<size_t>(kSkippedFrames, samples.size())))
-        .add("frames_measured", int64_t(frame.size()))
+        .add("frames_measured", int64_t(frameSummary.count))
         .add("n_start", game.ballsAtStart)
         .add("n_end", int64_t(game.world().particleCount()))
         .add("spawned", game.spawned)
@@ -796,30 +788,22 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         .add("state_hash", hex(game.world().stateHash()))  // same inputs, backend and threads: same hash
         .add("dropped_time", steps.droppedTime)
         .add("wall_s", wallSeconds)
-        .add("sim_ms", sandbox::summarise(sim))
-        .add("impacts_ms", sandbox::summarise(impacts))
-        .add("contacts_ms", sandbox::summarise(contacts))
-        .add("listings_ms", sandbox::summarise(listings))
-        .add("render_ms", sandbox::summarise(render))
-        .add("wait_ms", sandbox::summarise(wait))
+        .add("sim_ms", summary(&FrameSample::simMs))
+        .add("impacts_ms", summary(&FrameSample::impactsMs))
+        .add("contacts_ms", summary(&FrameSample::contactsMs))
+        .add("listings_ms", summary(&FrameSample::listingsMs))
+        .add("render_ms", summary(&FrameSample::renderMs))
+        .add("wait_ms", summary(&FrameSample::waitMs))
         .add("frame_ms", frameSummary)
         .add("fps_mean", frameSummary.mean > 0 ? 1e3 / frameSummary.mean : 0.0);
     const Sandbox::Soundness end = game.soundness();
     json.add("kinetic_per_ball_end", end.kineticPerBall).add("max_overlap_end", end.maxOverlap);
     // Every frame, the skipped ones too (scripts/plot_sandbox_frames.py draws them against time).
-    std::vector<double> allFrame, allSim, allImpacts, allContacts, allRender;
-    for (const sandbox::FrameSample& f : samples) {
-        allFrame.push_back(f.frameMs);
-        allSim.push_back(f.simMs);
-        allImpacts.push_back(f.impactsMs);
-        allContacts.push_back(f.contactsMs);
-        allRender.push_back(f.renderMs);
-    }
-    json.add("per_frame_frame_ms", allFrame)
-        .add("per_frame_sim_ms", allSim)
-        .add("per_frame_impacts_ms", allImpacts)
-        .add("per_frame_contacts_ms", allContacts)
-        .add("per_frame_render_ms", allRender);
+    json.add("per_frame_frame_ms", sandbox::column(samples, 0, &FrameSample::frameMs))
+        .add("per_frame_sim_ms", sandbox::column(samples, 0, &FrameSample::simMs))
+        .add("per_frame_impacts_ms", sandbox::column(samples, 0, &FrameSample::impactsMs))
+        .add("per_frame_contacts_ms", sandbox::column(samples, 0, &FrameSample::contactsMs))
+        .add("per_frame_render_ms", sandbox::column(samples, 0, &FrameSample::renderMs));
     std::ofstream out(o.statsPath);
     out << json.text(true) << "\n";
     out.close();
@@ -1046,12 +1030,8 @@ int run(const Options& o) {
     }
     const double wallSeconds = 1e-3 * msSince(start);
 
-    std::vector<double> sim, frameTimes;
-    for (size_t k = kSkippedFrames; k < samples.size(); ++k) {
-        sim.push_back(samples[k].simMs);
-        frameTimes.push_back(samples[k].frameMs);
-    }
-    const sandbox::Summary s = sandbox::summarise(sim), f = sandbox::summarise(frameTimes);
+    const sandbox::Summary s = sandbox::summarise(sandbox::column(samples, kSkippedFrames, &sandbox::FrameSample::simMs));
+    const sandbox::Summary f = sandbox::summarise(sandbox::column(samples, kSkippedFrames, &sandbox::FrameSample::frameMs));
     std::fprintf(stderr,
                  "[sandbox] %zu frames, %zu balls at the end; after the first %d frames: sim mean %.2f median %.2f p95 "
                  "%.2f max %.2f ms, "

@@ -22,6 +22,12 @@ Summary summarise(std::vector<double> values) {
     return s;
 }
 
+std::vector<double> column(const std::vector<FrameSample>& samples, size_t first, double FrameSample::*field) {
+    std::vector<double> out;
+    for (size_t k = first; k < samples.size(); ++k) out.push_back(samples[k].*field);
+    return out;
+}
+
 void Window::add(const FrameSample& s) {
     simMs += s.simMs;
     impactsMs += s.impactsMs;

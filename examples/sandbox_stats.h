@@ -28,6 +28,9 @@ struct Summary {
 // p95 and the median by nearest rank on the sorted samples.
 Summary summarise(std::vector<double> values);
 
+// One field of the samples from `first` on (the summaries leave the first frames out).
+std::vector<double> column(const std::vector<FrameSample>& samples, size_t first, double FrameSample::*field);
+
 // Averages over the frames since the last reset (the HUD's and stderr's once-a-second figures).
 struct Window {
     double simMs = 0, impactsMs = 0, contactsMs = 0, renderMs = 0, frameMs = 0, simMaxMs = 0;
