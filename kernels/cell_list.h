@@ -12,6 +12,15 @@
 //   counting sort, the GPU by a stable radix sort of (key, index) pairs; both give the same arrays.
 // - Order (forEachNeighbour): the 27 cells around a position in ascending key, then ascending particle
 //   index, so any order-dependent sum or tie-break over neighbours is reproducible bit for bit.
+// - Large particles (CellSplit): a few particles much larger than the rest would set minCell for all
+//   (a heavy ball of radius 1 among 10^5 of radius 0.5 made the cells twice as wide, eight times the
+//   neighbours to look at). So the particles of radius above `largeAbove` are kept out of the cells,
+//   after them in the order (key = cells, so sorted[cellStart[cells] .. n)), and minCell is set by the
+//   largest radius left in the cells. Every walk visits that tail; a large particle walks the cells
+//   within its radius plus `largeReach` (the cell width less the largest radius in the cells: the
+//   farthest a partner in the cells can be) instead of the 27 around it. Every pair is still visited
+//   from both sides, and once. Which particles are large is a property of the species
+//   (chooseCellSplit), so the build and the walks classify a particle alike.
 // - Robustness: a position outside the box, or not finite at all, maps to a clamped valid cell (no
 //   out-of-range float-to-int conversion), and the cell count stays bounded and within int32 whatever
 //   the box, n and minCell are (a flat box, one huge axis, a non-finite input).
@@ -152,12 +161,55 @@ COREBOX_HD inline bool neighbourCellRun(const CellGeometry& g, CellCoords c, int
     return true;
 }
 
+// No particle is kept out of the cells (CellSplit::largeAbove).
+constexpr double kNoLargeParticles = 1e300;
+
+// Which particles a build keeps out of the cells (design note): those whose species' radius is above
+// largeAbove, which lies between two species' radii (chooseCellSplit), so a float radius and its
+// double agree on it. No species: none.
+template <class Real>
+struct CellSplit {
+    const int32_t* species = nullptr;  // n species indices
+    const Real* radius = nullptr;      // per species [sigma]
+    double largeAbove = kNoLargeParticles;
+};
+
+// The cell key of particle i at x: its cell, or cells for a particle kept out of them.
+template <class Real>
+COREBOX_HD inline int cellKeyOfParticle(const CellGeometry& g, const CellSplit<Real>& split, int64_t i, const Vec3<Real>& x) {
+    if (split.species && double(split.radius[split.species[i]]) > split.largeAbove) return g.cellCount();
+    return cellKeyOf(g, x);
+}
+
+// The narrowest cell width of a grid [sigma].
+COREBOX_HD inline double narrowestCell(const CellGeometry& g) {
+    double w = 1.0 / g.inverseCell[0];
+    for (int a = 1; a < 3; ++a) w = 1.0 / g.inverseCell[a] < w ? 1.0 / g.inverseCell[a] : w;
+    return w;
+}
+
 // A built cell list, owned elsewhere (host vectors or device buffers).
 struct CellListView {
     CellGeometry geometry;
     const int32_t* cellStart;  // cells + 1: cell k holds sorted[cellStart[k] .. cellStart[k + 1])
     const int32_t* sorted;     // n particle indices by ascending (cell key, index)
+    // Particles of radius above this are not in the cells but at sorted[cellStart[cells] .. count), and
+    // their partners in the cells lie within their radius plus largeReach [sigma].
+    double largeAbove = kNoLargeParticles;
+    double largeReach = 0;
+    int32_t count = 0;  // n, where a split is made
 };
+
+// The view of a build over n particles with `split`: largeReach from the cells' width and the largest
+// radius left in them (chooseCellSplit's gridRadius).
+inline CellListView splitView(CellListView view, double largeAbove, double gridRadius, int64_t n) {
+    view.largeAbove = largeAbove;
+    view.largeReach = largeAbove < kNoLargeParticles ? narrowestCell(view.geometry) - gridRadius : 0.0;
+    view.count = int32_t(n);
+    return view;
+}
+
+COREBOX_HD inline bool isLargeIn(const CellListView& view, double radius) { return radius > view.largeAbove; }
 
 // fn(j) for every particle j in the 27 cells around `position` (the particle itself included when it
 // is in the list), in ascending cell key and, within a cell, ascending index. Every particle closer to
@@ -165,12 +217,50 @@ struct CellListView {
 // x * inverseCell: a pair across a cell face closer than minCell by less than ~1e-16 of its cell
 // coordinate may be missed, which the contact and overlap tests ignore anyway (their relative slack
 // is 1e-12 or more).
+// With a split, `radius` is that of the particle at `position`: a large one walks the cells within its
+// reach, every one then the large particles (the tail, in ascending index). The cells are walked as
+// rows of consecutive keys (x is fastest), each one contiguous range of the order, and the tail as one
+// more range: one loop, so that `fn` is inlined once (two walks, each with its own copy of a search's
+// body, made the CPU's impact search 40% slower).
+template <class Real, class Fn>
+COREBOX_HD inline void forEachNeighbour(const CellListView& view, const Vec3<Real>& position, Real radius, Fn&& fn) {
+    const CellGeometry& g = view.geometry;
+    int lo[3], hi[3];
+    if (isLargeIn(view, double(radius))) {
+        const double reach = double(radius) + view.largeReach;
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = cellCoord(double(position[a]) - reach, g.inverseCell[a], g.dims[a]);
+            hi[a] = cellCoord(double(position[a]) + reach, g.inverseCell[a], g.dims[a]);
+        }
+    } else {
+        const CellCoords c = cellCoords(g, position);
+        const int at[3] = {c.x, c.y, c.z};
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = at[a] > 0 ? at[a] - 1 : 0;
+            hi[a] = at[a] + 1 < g.dims[a] ? at[a] + 1 : g.dims[a] - 1;
+        }
+    }
+    const int rowsY = hi[1] - lo[1] + 1;
+    const int rows = (hi[2] - lo[2] + 1) * rowsY;
+    const bool tail = view.largeAbove < kNoLargeParticles;
+    for (int r = 0; r <= rows; ++r) {
+        int32_t begin = 0, end = 0;
+        if (r < rows) {
+            const int z = lo[2] + r / rowsY, y = lo[1] + r % rowsY;
+            begin = view.cellStart[cellKey(g, CellCoords{lo[0], y, z})];
+            end = view.cellStart[cellKey(g, CellCoords{hi[0], y, z}) + 1];
+        } else if (tail) {
+            begin = view.cellStart[g.cellCount()];
+            end = view.count;
+        }
+        for (int32_t k = begin; k < end; ++k) fn(int64_t(view.sorted[k]));
+    }
+}
+
+// The walk of a particle in the cells (not a large one).
 template <class Real, class Fn>
 COREBOX_HD inline void forEachNeighbour(const CellListView& view, const Vec3<Real>& position, Fn&& fn) {
-    forEachNeighbourCell(view.geometry, cellCoords(view.geometry, position), [&](int cell) {
-        const int32_t end = view.cellStart[cell + 1];
-        for (int32_t k = view.cellStart[cell]; k < end; ++k) fn(int64_t(view.sorted[k]));
-    });
+    forEachNeighbour(view, position, Real(0), fn);
 }
 
 }  // namespace corebox

@@ -30,7 +30,7 @@ template <class Real>
 __global__ void assignCellKeysKernel(CellListArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.n) return;
-    a.keys[i] = uint32_t(cellKeyOf(a.geometry, a.x[i]));
+    a.keys[i] = uint32_t(cellKeyOfParticle(a.geometry, a.split, i, a.x[i]));
     a.indices[i] = int32_t(i);
 }
 
@@ -62,7 +62,7 @@ __global__ void __launch_bounds__(Threads) oneBlockCellListKernel(CellListArgs<R
     int32_t values[Items];
     for (int k = 0; k < Items; ++k) {
         const int32_t i = int32_t(threadIdx.x) * Items + k;
-        keys[k] = i < a.n ? uint32_t(cellKeyOf(a.geometry, a.x[i])) : 0xffffffffu;
+        keys[k] = i < a.n ? uint32_t(cellKeyOfParticle(a.geometry, a.split, i, a.x[i])) : 0xffffffffu;
         values[k] = i;
     }
     Sort(shared.sort).Sort(keys, values, 0, bits);
@@ -91,7 +91,7 @@ __global__ void __launch_bounds__(Threads) oneBlockCellListKernel(CellListArgs<R
 // cell: the host's arrays. Half the one-block radix sort's time at N = 1024 (its three passes of
 // block-wide ranking).
 constexpr int kSmallThreads = 1024, kSmallPerThread = 3;
-constexpr int kSmallSlots = kSmallThreads * kSmallPerThread;  // cells + 1 at most (maxCellCount(1024) + 1 = 2113)
+constexpr int kSmallSlots = kSmallThreads * kSmallPerThread;  // cells + 2 at most (maxCellCount(1024) + 2 = 2114)
 
 template <class Real>
 __global__ void __launch_bounds__(kSmallThreads) smallCellListKernel(CellListArgs<Real> a, int cells) {
@@ -101,7 +101,7 @@ __global__ void __launch_bounds__(kSmallThreads) smallCellListKernel(CellListArg
     const int t = int(threadIdx.x);
     for (int c = t; c < kSmallSlots; c += kSmallThreads) start[c] = 0;
     __syncthreads();
-    const int key = t < a.n ? cellKeyOf(a.geometry, a.x[t]) : 0;
+    const int key = t < a.n ? cellKeyOfParticle(a.geometry, a.split, t, a.x[t]) : 0;
     if (t < a.n) atomicAdd(&start[key], 1);
     __syncthreads();
     int32_t counts[kSmallPerThread];
@@ -111,7 +111,7 @@ __global__ void __launch_bounds__(kSmallThreads) smallCellListKernel(CellListArg
     __syncthreads();
     if (t < a.n) order[atomicAdd(&cursor[key], 1)] = t;
     __syncthreads();
-    for (int c = t; c < cells; c += kSmallThreads) {  // insertion sort of the cell's entries by index
+    for (int c = t; c <= cells; c += kSmallThreads) {  // insertion sort of the cell's entries by index (and the large ones')
         const int32_t b = start[c], e = start[c + 1];
         for (int32_t x = b + 1; x < e; ++x) {
             const int32_t v = order[x];
@@ -150,8 +150,8 @@ void launchBuildCellList(const CellListArgs<Real>& a, cudaStream_t stream) {
         checkLaunch("cell list reset");
         return;
     }
-    const int bits = keyBits(cells);
-    if (a.n <= kSmallThreads && cells + 1 <= kSmallSlots) {
+    const int bits = keyBits(cells + 1);  // keys 0 .. cells: cells for the particles kept out of them
+    if (a.n <= kSmallThreads && cells + 2 <= kSmallSlots) {
         smallCellListKernel<Real><<<1, kSmallThreads, 0, stream>>>(a, cells);
         checkLaunch("small cell list kernel");
         return;

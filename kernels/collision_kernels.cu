@@ -57,9 +57,9 @@ __global__ void findEventsKernel(CollisionArgs<Real> a) {
         considerPair(xi, vi, ri, a.p.x[j], a.p.v[j], a.table.radius[a.p.species[j]], j, a.window, best);
     };
     if (G == 1) {
-        forEachNeighbour(a.grid, xi, consider);
+        forEachNeighbour(a.grid, xi, ri, consider);
     } else {
-        forEachNeighbourShared<G>(a.grid, xi, rank, consider);
+        forEachNeighbourShared<G>(a.grid, xi, ri, rank, consider);
         const unsigned mask = groupMask<G>();
         for (int offset = G / 2; offset > 0; offset /= 2) {
             const CollisionEvent other{__shfl_xor_sync(mask, best.key, offset),
@@ -89,7 +89,7 @@ __global__ void markSearchersKernel(CollisionArgs<Real> a) {
     const int64_t t = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if ((a.gate && *a.gate == 0u) || !narrowed(a) || t >= int64_t(*a.activeInCount)) return;
     const int64_t i = a.activeIn[t];
-    forEachNeighbour(a.grid, a.p.x[i], [&](int64_t j) { a.walker[j] = 1; });
+    forEachNeighbour(a.grid, a.p.x[i], a.table.radius[a.p.species[i]], [&](int64_t j) { a.walker[j] = 1; });
 }
 
 // The wall event e of particle i (its partner a wall code), resolved with the particle's acceleration

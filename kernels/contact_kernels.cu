@@ -50,7 +50,7 @@ __device__ int forEachContact(const ContactArgs<Real>& a, int64_t i, Fn&& fn) {
     const PackedBody<Real> bxi = a.bodyX[i];
     const Vec3<Real> xi = vec3Of(bxi), vi = vec3Of(a.bodyV[i]);
     const Real ai = bxi.w;
-    forEachNeighbour(a.cells, xi, [&](int64_t j) {
+    forEachNeighbour(a.cells, xi, ai, [&](int64_t j) {
         if (!isPairContact(a, i, xi, vi, ai, j)) return;
         fn(j);
         ++count;
@@ -80,7 +80,7 @@ __global__ void countContactsKernel(ContactArgs<Real> a, unsigned long long* tot
         const Vec3<Real> xi = vec3Of(bxi), vi = vec3Of(a.bodyV[i]);
         const Real ai = bxi.w;
         int pairs = 0;
-        forEachNeighbourShared<G>(a.cells, xi, rank, [&](int64_t j) { pairs += isPairContact(a, i, xi, vi, ai, j) ? 1 : 0; });
+        forEachNeighbourShared<G>(a.cells, xi, ai, rank, [&](int64_t j) { pairs += isPairContact(a, i, xi, vi, ai, j) ? 1 : 0; });
         for (int offset = G / 2; offset > 0; offset /= 2) pairs += __shfl_xor_sync(groupMask<G>(), pairs, offset);
         if (rank != 0) return;
         count = pairs + forEachWallContact(a, xi, vi, ai, [](int64_t) {});

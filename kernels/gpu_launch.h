@@ -314,8 +314,12 @@ struct CellListArgs {
     int32_t* indices;       // scratch: n (0 .. n-1, the values the sort carries)
     void* scratch;          // radix sort scratch, cellListScratchBytes(n) large
     size_t scratchBytes;
+    CellSplit<Real> split;  // particles kept out of the cells (cell_list.h), none by default
+    double gridRadius;      // the largest radius left in the cells, where split names species
 
-    CellListView view() const { return CellListView{geometry, cellStart, sorted}; }
+    CellListView view() const {
+        return splitView(CellListView{geometry, cellStart, sorted}, split.species ? split.largeAbove : kNoLargeParticles, gridRadius, n);
+    }
 };
 // Bytes of radix-sort scratch a cell list of n particles needs.
 size_t cellListScratchBytes(int64_t n);

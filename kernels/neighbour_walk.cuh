@@ -32,8 +32,18 @@ __device__ inline unsigned groupMask() {
 // runs (cell_list.h neighbourCellRun: 9 rows of up to 3 cells, each one contiguous range of the
 // list's order) is rank modulo G. The runs' bounds are loaded first, all at once (independent loads),
 // then each lane takes its places: a few dependent loads deep, whatever the number of cells.
+// With a split (cell_list.h), `radius` is the particle's: a large particle's wider walk is made by its
+// first lane alone (they are few), the large particles' tail is shared out like the runs.
 template <int G, class Real, class Fn>
-__device__ inline void forEachNeighbourShared(const CellListView& view, const Vec3<Real>& position, int rank, Fn&& fn) {
+__device__ inline void forEachNeighbourShared(const CellListView& view, const Vec3<Real>& position, Real radius, int rank, Fn&& fn) {
+    if (view.largeAbove < kNoLargeParticles) {
+        if (isLargeIn(view, double(radius))) {
+            if (rank == 0) forEachNeighbour(view, position, radius, fn);
+            return;
+        }
+        const int32_t tail = view.cellStart[view.geometry.cellCount()];
+        for (int32_t k = tail + rank; k < view.count; k += G) fn(int64_t(view.sorted[k]));
+    }
     const CellCoords c = cellCoords(view.geometry, position);
     int32_t begin[9], length[9];
 #pragma unroll

@@ -21,6 +21,23 @@
 
 namespace corebox {
 
+// Which particles a contact grid keeps out of its cells (cell_list.h: large particles), from each
+// species' radius and particle count: the smallest radius with at most kMaxLargeParticles particles
+// above it stays in the cells (gridRadius), the species above it are large; none when the largest
+// radius is less than kLargeRatio times that (the cells would narrow by little). Every species of a
+// larger radius is large, present or not, so a particle added later is never in cells too narrow for
+// it; the counts only decide what is fast.
+struct CellSplitChoice {
+    double gridRadius = 0;                   // the largest radius in the cells [sigma]: minCell = 2 gridRadius (+ gaps)
+    double largeAbove = kNoLargeParticles;   // radii above it are kept out of the cells
+};
+constexpr int64_t kMaxLargeParticles = 64;  // each walk visits them all
+constexpr double kLargeRatio = 1.25;
+CellSplitChoice chooseCellSplit(const std::vector<double>& radius, const std::vector<int64_t>& count);
+
+// Particles per species (species indices outside [0, species) are not counted).
+std::vector<int64_t> speciesCounts(const std::vector<int32_t>& species, int speciesCount);
+
 class CellList {
 public:
     // Builds over x with the one rule: cells at least minCell wide (contacts: the largest a_i + a_j).
@@ -31,15 +48,32 @@ public:
     }
     // Builds over x[0 .. n) with a given geometry. Throws std::length_error when n exceeds int32.
     template <class Real>
-    void build(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry);
+    void build(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry) {
+        build(x, n, geometry, CellSplit<Real>{}, 0.0);
+    }
+    // The same, keeping the particles `split` names out of the cells (after them in the order);
+    // gridRadius: the largest radius left in the cells (chooseCellSplit).
+    template <class Real>
+    void build(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry, const CellSplit<Real>& split, double gridRadius);
 
-    // fn(j) for every particle in the 27 cells around `position` (see forEachNeighbour).
+    // fn(j) for every particle in the 27 cells around `position` and the large particles, or for a
+    // large particle of this radius the cells within its reach (see forEachNeighbour).
+    template <class Real, class Fn>
+    void forNeighbours(const Vec3<Real>& position, Real radius, Fn&& fn) const {
+        forEachNeighbour(view(), position, radius, fn);
+    }
     template <class Real, class Fn>
     void forNeighbours(const Vec3<Real>& position, Fn&& fn) const {
         forEachNeighbour(view(), position, fn);
     }
 
-    CellListView view() const { return CellListView{m_geometry, m_cellStart.data(), m_sorted.data()}; }
+    CellListView view() const {
+        CellListView v{m_geometry, m_cellStart.data(), m_sorted.data()};
+        v.largeAbove = m_largeAbove;  // what splitView gave at the build: a walk a particle asks for the view
+        v.largeReach = m_largeReach;
+        v.count = int32_t(m_sorted.size());
+        return v;
+    }
     const CellGeometry& geometry() const { return m_geometry; }
     // cells + 1 offsets into sorted(); n particle indices by ascending (cell key, index).
     const std::vector<int32_t>& cellStart() const { return m_cellStart; }
@@ -51,6 +85,7 @@ private:
     std::vector<int32_t> m_cellStart{0, 0};
     std::vector<int32_t> m_sorted;
     std::vector<int32_t> m_cellOf;  // scratch of build: each particle's cell key
+    double m_largeAbove = kNoLargeParticles, m_largeReach = 0;
 };
 
 class IncrementalCellList {

@@ -56,6 +56,7 @@ public:
         forgetForces();
         m_contacts.clear();  // no warm start across a change of masses or radii
         m_candidatesValid = false;
+        chooseContactCellSplit();
     }
 
     void setTableau(const ButcherTableau& tableau) override { m_tableau = tableau; }
@@ -73,6 +74,7 @@ public:
         forgetForces();
         m_contacts.clear();  // indices may now mean other particles: no warm start
         m_candidatesValid = false;
+        chooseContactCellSplit();
     }
 
     ParticleState state() const override { return toHost(m_x, m_v); }
@@ -365,7 +367,7 @@ public:
         // read per-particle candidate lists instead of walking 27 cells (buildCandidates).
         if (++m_round >= 3 || m_candidatesValid) return findEventsAmongCandidates();
         // Cells also wide enough for the pairs within the resting gap bound (earliestEvent's `near`).
-        m_grid.build(m_x, m_boxLength, 2.0 * m_model.maxRadius() + double(m_nearGap));
+        buildContactGrid(double(m_nearGap));
         // After the first round few particles are active. An inactive particle had no event in the
         // previous round and has not changed since, so it can only have one with an active particle in
         // its 27 cells: only the active particles and their grid neighbours look (the same events as
@@ -383,7 +385,7 @@ public:
             for (int64_t i = 0; i < n; ++i) {
                 if (!m_active[size_t(i)]) continue;
                 m_lookers[size_t(i)] = 1;
-                m_grid.forNeighbours(m_x[size_t(i)], [&](int64_t j) { m_lookers[size_t(j)] = 1; });
+                m_grid.forNeighbours(m_x[size_t(i)], radiusOf(i), [&](int64_t j) { m_lookers[size_t(j)] = 1; });
             }
             parallelForDynamic(m_threads, n, [&](int64_t i) {
                 m_events[size_t(i)] = m_lookers[size_t(i)] ? earliestEvent(i, m_near[size_t(i)]) : noEvent();
@@ -425,7 +427,7 @@ public:
     void buildCandidates() {
         const int64_t n = size();
         const double margin = kCandidateMargin * 2.0 * m_model.maxRadius();
-        m_grid.build(m_x, m_boxLength, 2.0 * m_model.maxRadius() + double(m_nearGap) + margin);
+        buildContactGrid(double(m_nearGap) + margin);
         m_candidateOrder = m_grid.sorted();
         const Real gap = m_nearGap + Real(margin);
         auto within = [&](int64_t i, int64_t j) {
@@ -439,7 +441,7 @@ public:
         parallelFor(m_threads, n, [&](int64_t i) {
             int64_t count = 0;
             int32_t* row = m_candidateRows.data() + size_t(i) * size_t(kCandidateRow);
-            m_grid.forNeighbours(m_x[size_t(i)], [&](int64_t j) {
+            m_grid.forNeighbours(m_x[size_t(i)], radiusOf(i), [&](int64_t j) {
                 if (!within(i, j)) return;
                 if (count < kCandidateRow) row[count] = int32_t(j);
                 ++count;
@@ -456,7 +458,7 @@ public:
                 std::copy(row, row + count, m_candidates.begin() + slot);
                 return;
             }
-            m_grid.forNeighbours(m_x[size_t(i)], [&](int64_t j) {
+            m_grid.forNeighbours(m_x[size_t(i)], radiusOf(i), [&](int64_t j) {
                 if (within(i, j)) m_candidates[size_t(slot++)] = int32_t(j);
             });
         });
@@ -567,7 +569,7 @@ public:
         // hold (the sweeps of an earlier listing of this step moved particles: checked again); else
         // cells wide enough for resting pairs a resting gap apart.
         const bool fromCandidates = m_candidatesValid && rest.gap <= m_candidateNearGap && candidatesStillHold();
-        if (!fromCandidates) m_grid.build(m_x, m_boxLength, 2.0 * m_model.maxRadius() + resting.gap);
+        if (!fromCandidates) buildContactGrid(resting.gap);
         const Vec3<double> up = vec3Cast<double>(upOf(m_gravity));
         // Each pair once, from its lower index: counted, offsets, then filled in place (no allocation
         // per particle in this per-step path).
@@ -1007,7 +1009,7 @@ private:
     // (listContacts skips its walk when no particle is): set afresh by an active particle; an
     // inactive one only adds what its active neighbours bring (its other pairs have not moved).
     CollisionEvent earliestEvent(int64_t i, char& near) const {
-        return earliestEventAmong(i, near, [&](auto&& fn) { m_grid.forNeighbours(m_x[size_t(i)], fn); });
+        return earliestEventAmong(i, near, [&](auto&& fn) { m_grid.forNeighbours(m_x[size_t(i)], radiusOf(i), fn); });
     }
 
     CollisionEvent earliestEventAmongCandidates(int64_t i, char& near) const {
@@ -1069,7 +1071,7 @@ private:
         if (fromCandidates) {
             for (int64_t c = m_candidateStart[size_t(i)]; c < m_candidateStart[size_t(i) + 1]; ++c) visit(int64_t(m_candidates[size_t(c)]));
         } else {
-            m_grid.forNeighbours(xi, visit);
+            m_grid.forNeighbours(xi, ai, visit);
         }
         for (int axis = 0; axis < 3; ++axis) {
             for (int side = 0; side < 2; ++side) {
@@ -1182,6 +1184,21 @@ private:
     CollisionTally m_tally;
     ImpactWindow<Real> m_window{0, 0};
     CellList m_grid;
+    CellSplitChoice m_cellSplit;  // the contact grid's large particles (cell_list.h)
+
+    Real radiusOf(int64_t i) const { return m_radius[size_t(m_species[size_t(i)])]; }
+
+    void chooseContactCellSplit() { m_cellSplit = chooseCellSplit(m_model.radius, speciesCounts(m_species, int(m_radius.size()))); }
+
+    // The contact grid at the current positions: cells at least 2 gridRadius + extra wide, the large
+    // particles kept out of them.
+    void buildContactGrid(double extra) {
+        const int64_t n = size();
+        const CellGeometry geometry = cellGeometry(vec3Cast<double>(m_boxLength), n, 2.0 * m_cellSplit.gridRadius + extra);
+        CellSplit<Real> split;
+        if (m_cellSplit.largeAbove < kNoLargeParticles) split = CellSplit<Real>{m_species.data(), m_radius.data(), m_cellSplit.largeAbove};
+        m_grid.build(m_x.data(), n, geometry, split, m_cellSplit.gridRadius);
+    }
 
     // Forces: the neighbour list and its per-slot pair values, what still matches m_x, the counters.
     bool m_useList = false;

@@ -126,6 +126,7 @@ void CudaDevice<Real>::setModel(const DeviceModel& model) {
     const std::vector<PairCoefficients<Real>> pairs = convertPairTable<Real>(model.pairs);
     const size_t s = model.mass.size();
     m_speciesCount = int(s);
+    chooseContactCellSplit();
     std::vector<Real> mass(s), invMass(s), radius(s);
     std::vector<Vec3<Real>> field(s);
     for (size_t k = 0; k < s; ++k) {
@@ -181,6 +182,7 @@ void CudaDevice<Real>::setState(const ParticleState& state) {
         r.forceScratch.resize(gpu::forceScratchBytes<Real>(int64_t(rows), m_n, m_pairsOnce, m_pairsOnceAcross ? gpuCount() : 1));
     });
     m_hostSpecies = state.species;
+    chooseContactCellSplit();
     for (auto* b : {&m_contactAcceleration, &m_snapshotX, &m_snapshotV}) b->resize(size_t(m_n));
     m_homeForceScratch.resize(gpu::forceScratchBytes<Real>(m_n, m_n));
     sizeStepBuffers();

@@ -302,9 +302,16 @@ int CudaDevice<Real>::resolveWallImpacts() {
 // (cell_list.h: the one rule); none when the screen showed that no pair can meet in this stage
 // (screenStage).
 template <class Real>
+CellSplit<Real> CudaDevice<Real>::contactCellSplit() {
+    if (!(m_cellSplit.largeAbove < kNoLargeParticles)) return CellSplit<Real>{};
+    return CellSplit<Real>{home().species.data(), home().radius.data(), m_cellSplit.largeAbove};
+}
+
+template <class Real>
 CellListView CudaDevice<Real>::impactCells() {
     if (m_pairsClear) return emptyCells();
-    return m_contactCells.build(home().x.data(), m_n, cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_model.maxRadius()), stream());
+    return m_contactCells.build(home().x.data(), m_n, cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_cellSplit.gridRadius),
+                                contactCellSplit(), m_cellSplit.gridRadius, stream());
 }
 
 template <class Real>
@@ -668,7 +675,7 @@ bool CudaDevice<Real>::colourListing(int64_t rows) {
 // Cells for the contact listing: every listed pair in neighbouring cells.
 template <class Real>
 CellGeometry CudaDevice<Real>::listingGeometry(const RestingContact<double>& resting) const {
-    return cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_model.maxRadius() + resting.gap);
+    return cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_cellSplit.gridRadius + resting.gap);
 }
 
 // Each particle's contacts within m_resting through m_cellList into m_contactStart, their total into
@@ -726,7 +733,7 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
         // same (no resting gap, as without gravity): one build fewer per step.
         if (m_pairsClear) m_cellList = emptyCells();  // walls only (screenStage)
         else if (!(m_cellsMatchPositions && sameGeometry(geometry, m_cellList.geometry)))
-            m_cellList = m_contactCells.build(home().x.data(), m_n, geometry, s);
+            m_cellList = m_contactCells.build(home().x.data(), m_n, geometry, contactCellSplit(), m_cellSplit.gridRadius, s);
         countContacts(true);
         total = readBack(m_contactStart, size_t(m_n));
     }

@@ -30,6 +30,7 @@
 #include "device_buffer.h"
 #include "device_cell_list.h"
 #include "device_partition.h"
+#include "host_cell_list.h"
 #include "gpu_launch.h"
 #include "peer_exchange.h"
 #include "pinned_buffer.h"
@@ -397,6 +398,14 @@ private:
     Vec3<Real> m_box{1, 1, 1};
     int64_t m_n = 0;
     std::vector<int32_t> m_hostSpecies;
+    // The contact grids' large particles (cell_list.h), from the radii and the state's species counts.
+    std::vector<int64_t> m_speciesCounts;
+    CellSplitChoice m_cellSplit;
+    void chooseContactCellSplit() {
+        m_speciesCounts = speciesCounts(m_hostSpecies, m_speciesCount);
+        m_cellSplit = chooseCellSplit(m_model.radius, m_speciesCounts);
+    }
+    CellSplit<Real> contactCellSplit();
     mutable PinnedBuffer<Vec3<Real>> m_hostStateX, m_hostStateV;  // readState's staging
 
     // A step's timing marks: Integrate, Collide, Done, and a pair around each force pass. Two sets, a

@@ -16,6 +16,12 @@ public:
     // Enqueues the build of n positions x (device memory) with `geometry` on `stream`; the view's
     // arrays are valid once the stream reaches this point, until the next build.
     CellListView build(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry, cudaStream_t stream) {
+        return build(x, n, geometry, CellSplit<Real>{}, 0.0, stream);
+    }
+    // The same, keeping the particles `split` names (device pointers) out of the cells; gridRadius: the
+    // largest radius left in them (chooseCellSplit).
+    CellListView build(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry, const CellSplit<Real>& split, double gridRadius,
+                       cudaStream_t stream) {
         m_keys.resize(size_t(n));
         m_sortedKeys.resize(size_t(n));
         m_indices.resize(size_t(n));
@@ -33,6 +39,8 @@ public:
         a.scratchBytes = gpu::cellListScratchBytes(n);
         m_scratch.resize(a.scratchBytes);
         a.scratch = m_scratch.data();
+        a.split = split;
+        a.gridRadius = gridRadius;
         gpu::launchBuildCellList(a, stream);
         return a.view();
     }

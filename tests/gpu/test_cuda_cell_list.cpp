@@ -114,3 +114,49 @@ TEST(CudaCellList, EmptyBuildHasEmptyCells) {
     EXPECT_EQ(built.first, std::vector<int32_t>(size_t(g.cellCount()) + 1, 0));
     EXPECT_TRUE(built.second.empty());
 }
+
+// With large particles kept out of the cells (cell_list.h, CellSplit): the same arrays as the host's
+// build, in every build path (the shared-memory counting sort, the block radix sort, the device-wide
+// sort), the tail after the cells in ascending index.
+template <class Real>
+void expectSplitSameAsHost(int64_t n, const Vec3<double>& box, uint64_t seed) {
+    std::vector<Vec3<Real>> x = randomPositions<Real>(n, box, seed);
+    std::vector<int32_t> species(size_t(n), 0);
+    for (int64_t i = 3; i < n; i += 97) species[size_t(i)] = 1 + int32_t(i % 2);
+    const std::vector<Real> radius{Real(0.5), Real(1.0), Real(2.0)};
+    const CellSplitChoice choice = chooseCellSplit({0.5, 1.0, 2.0}, speciesCounts(species, 3));
+    const int64_t large = int64_t(std::count_if(species.begin(), species.end(), [](int32_t s) { return s > 0; }));
+    ASSERT_LE(large, kMaxLargeParticles);
+    ASSERT_EQ(choice.largeAbove, 0.75);
+    const CellGeometry g = cellGeometry(box, n, 2 * choice.gridRadius);
+    CellList host;
+    host.build(x.data(), n, g, CellSplit<Real>{species.data(), radius.data(), choice.largeAbove}, choice.gridRadius);
+    EXPECT_EQ(host.cellStart()[size_t(g.cellCount())], int32_t(n - large));
+    DeviceBuffer<Vec3<Real>> dx;
+    DeviceBuffer<int32_t> ds;
+    DeviceBuffer<Real> dr;
+    dx.upload(x.data(), x.size());
+    ds.upload(species.data(), species.size());
+    dr.upload(radius.data(), radius.size());
+    DeviceCellList<Real> cells;
+    const CellListView view = cells.build(dx.data(), n, g, CellSplit<Real>{ds.data(), dr.data(), choice.largeAbove}, choice.gridRadius, nullptr);
+    cudaCheck(cudaDeviceSynchronize(), "cell list build");
+    std::vector<int32_t> starts(size_t(g.cellCount()) + 1);
+    std::vector<int32_t> order(static_cast<size_t>(n));
+    cudaCheck(cudaMemcpy(starts.data(), view.cellStart, starts.size() * sizeof(int32_t), cudaMemcpyDeviceToHost), "download");
+    cudaCheck(cudaMemcpy(order.data(), view.sorted, order.size() * sizeof(int32_t), cudaMemcpyDeviceToHost), "download");
+    EXPECT_EQ(starts, host.cellStart());
+    EXPECT_EQ(order, host.sorted());
+    EXPECT_EQ(view.count, int32_t(n));
+    EXPECT_EQ(view.largeAbove, 0.75);
+    EXPECT_DOUBLE_EQ(view.largeReach, narrowestCell(g) - 0.5);
+}
+
+TEST(CudaCellList, KeepsLargeParticlesOutOfTheCellsAsTheHostDoes) {
+    COREBOX_REQUIRE_GPU();
+    for (const int64_t n : {int64_t(900), int64_t(3000), int64_t(6000)}) {
+        SCOPED_TRACE(::testing::Message() << "n " << n);
+        expectSplitSameAsHost<float>(n, {14, 12, 13}, uint64_t(n));
+        expectSplitSameAsHost<double>(n, {14, 12, 13}, uint64_t(n) + 1);
+    }
+}

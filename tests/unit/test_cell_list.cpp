@@ -327,3 +327,108 @@ TEST(IncrementalCellList, VisitsWhatASortedListOfTheInsertedParticlesVisits) {
         growing.insert(i, x[size_t(i)]);
     }
 }
+
+// ---- large particles kept out of the cells (cell_list.h: CellSplit, chooseCellSplit) ----
+
+TEST(CellSplit, ChoosesTheSmallestRadiusWithFewParticlesAbove) {
+    // Monodisperse: nothing to split.
+    CellSplitChoice c = chooseCellSplit({0.5}, {100000});
+    EXPECT_EQ(c.gridRadius, 0.5);
+    EXPECT_EQ(c.largeAbove, kNoLargeParticles);
+    // A few heavy balls twice as large: kept out, the cells sized for the small ones.
+    c = chooseCellSplit({0.5, 1.0}, {100000, 3});
+    EXPECT_EQ(c.gridRadius, 0.5);
+    EXPECT_EQ(c.largeAbove, 0.75);
+    // None of them yet: still large, so that a ball added later is never in cells too narrow for it.
+    c = chooseCellSplit({0.5, 1.0}, {100000, 0});
+    EXPECT_EQ(c.gridRadius, 0.5);
+    EXPECT_EQ(c.largeAbove, 0.75);
+    // Too many to visit from every walk: one grid for all.
+    c = chooseCellSplit({0.5, 1.0}, {100000, kMaxLargeParticles + 1});
+    EXPECT_EQ(c.gridRadius, 1.0);
+    EXPECT_EQ(c.largeAbove, kNoLargeParticles);
+    c = chooseCellSplit({0.5, 1.0}, {100000, kMaxLargeParticles});
+    EXPECT_EQ(c.gridRadius, 0.5);
+    // Little larger: the cells would narrow by little.
+    c = chooseCellSplit({0.5, 0.6}, {100000, 3});
+    EXPECT_EQ(c.gridRadius, 0.6);
+    EXPECT_EQ(c.largeAbove, kNoLargeParticles);
+    // Three sizes, in no order: the middle one too numerous to leave out; the threshold between it and
+    // the largest.
+    c = chooseCellSplit({2.0, 0.5, 0.8}, {5, 100000, 1000});
+    EXPECT_EQ(c.gridRadius, 0.8);
+    EXPECT_EQ(c.largeAbove, 1.4);
+    // A radius a hair above another is no place for a threshold (float rounding would put it on
+    // either side): the next place up, or none.
+    c = chooseCellSplit({0.5, 0.50001}, {100000, 3});
+    EXPECT_EQ(c.gridRadius, 0.50001);
+    EXPECT_EQ(c.largeAbove, kNoLargeParticles);
+    c = chooseCellSplit({0.5, 0.50001, 1.0}, {100000, 3, 3});
+    EXPECT_EQ(c.gridRadius, 0.50001);
+    EXPECT_EQ(c.largeAbove, 0.5 * (0.50001 + 1.0));
+    c = chooseCellSplit({0.5, 0.50001, 2.0}, {100000, 100000, 3});
+    EXPECT_EQ(c.gridRadius, 0.50001);
+    EXPECT_EQ(c.largeAbove, 0.5 * (0.50001 + 2.0));
+    // Point particles with a few hard spheres: the spheres are large.
+    c = chooseCellSplit({0.0, 0.5}, {1000, 2});
+    EXPECT_EQ(c.gridRadius, 0.0);
+    EXPECT_EQ(c.largeAbove, 0.25);
+    EXPECT_EQ(chooseCellSplit({}, {}).largeAbove, kNoLargeParticles);
+    EXPECT_EQ(speciesCounts({0, 1, 1, 0, 0, 3, -1}, 3), (std::vector<int64_t>{3, 2, 0}));
+}
+
+namespace {
+
+// Builds with the large particles split off and checks that every particle's walk (its radius passed)
+// visits each particle within r_i + r_j + gap exactly once, and the large ones last in ascending index.
+template <class Real>
+int64_t expectSplitWalksFindEveryPair(const std::vector<Vec3<Real>>& x, const std::vector<int32_t>& species,
+                                      const std::vector<Real>& radius, const Vec3<double>& box, double gap) {
+    std::vector<double> radii(radius.begin(), radius.end());
+    const CellSplitChoice choice = chooseCellSplit(radii, speciesCounts(species, int(radius.size())));
+    EXPECT_LT(choice.largeAbove, kNoLargeParticles);
+    const int64_t n = int64_t(x.size());
+    CellList list;
+    const CellGeometry g = cellGeometry(box, n, 2 * choice.gridRadius + gap);
+    list.build(x.data(), n, g, CellSplit<Real>{species.data(), radius.data(), choice.largeAbove}, choice.gridRadius);
+    const int32_t tail = list.cellStart()[size_t(g.cellCount())];
+    int64_t pairs = 0, large = 0;
+    for (int64_t i = 0; i < n; ++i) large += double(radius[size_t(species[size_t(i)])]) > choice.largeAbove ? 1 : 0;
+    EXPECT_EQ(n - tail, large);
+    for (int32_t k = tail; k + 1 < int32_t(n); ++k) EXPECT_LT(list.sorted()[size_t(k)], list.sorted()[size_t(k) + 1]);
+    for (int64_t i = 0; i < n; ++i) {
+        const Real ri = radius[size_t(species[size_t(i)])];
+        std::vector<int> seen(size_t(n), 0);
+        list.forNeighbours(x[size_t(i)], ri, [&](int64_t j) { ++seen[size_t(j)]; });
+        for (int64_t j = 0; j < n; ++j) {
+            EXPECT_LE(seen[size_t(j)], 1) << i << " visits " << j << " twice";
+            const double reach = double(ri) + double(radius[size_t(species[size_t(j)])]) + gap;
+            if (j != i && norm2(vec3Cast<double>(x[size_t(i)]) - vec3Cast<double>(x[size_t(j)])) < reach * reach) {
+                EXPECT_EQ(seen[size_t(j)], 1) << i << " misses " << j;
+                ++pairs;
+            }
+        }
+    }
+    return pairs;
+}
+
+}  // namespace
+
+TEST(CellSplit, EveryPairIsVisitedOnceFromBothSides) {
+    // 3000 balls of radius 0.5, a few of radius 1, 2.5 and 6 (one larger than a dozen cells), some just
+    // outside the box (being resolved): every pair within the contact distance plus a gap is walked.
+    for (const double gap : {0.0, 0.05}) {
+        const Vec3<double> box{18, 14, 16};
+        std::vector<Vec3<double>> x = randomPositions<double>(3000, box, 17, 0.02);
+        std::vector<int32_t> species(x.size(), 0);
+        for (size_t k : {3u, 500u, 501u, 1700u, 2999u}) species[k] = 1;
+        for (size_t k : {10u, 2000u}) species[k] = 2;
+        species[1234] = 3;
+        x[1234] = {9, 7, 8};
+        const std::vector<double> radius{0.5, 1.0, 2.5, 6.0};
+        EXPECT_GT(expectSplitWalksFindEveryPair(x, species, radius, box, gap), 1000);
+        std::vector<Vec3<float>> xf(x.size());
+        for (size_t i = 0; i < x.size(); ++i) xf[i] = vec3Cast<float>(x[i]);
+        EXPECT_GT(expectSplitWalksFindEveryPair(xf, species, std::vector<float>{0.5f, 1.0f, 2.5f, 6.0f}, box, gap), 1000);
+    }
+}
