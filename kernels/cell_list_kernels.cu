@@ -163,14 +163,14 @@ void launchBuildCellList(const CellListArgs<Real>& a, cudaStream_t stream) {
     }
     assignCellKeysKernel<Real><<<blocksFor(a.n), kBlock, 0, stream>>>(a);
     checkLaunch("cell key kernel");
-    size_t bytes = 0;
-    cub::DeviceRadixSort::SortPairs(nullptr, bytes, a.keys, a.sortedKeys, a.indices, a.sorted, int(a.n), 0, bits, stream);
-    if (bytes > a.scratchBytes) {
-        throw std::runtime_error("cell list sort: needs " + std::to_string(bytes) + " bytes of scratch, given " +
-                                 std::to_string(a.scratchBytes));
+    // No size query first: the scratch was sized for all 32 key bits (cellListScratchBytes), and CUB
+    // refuses scratch too small for what it sorts. A query is host time a collision round pays.
+    size_t bytes = a.scratchBytes;
+    const cudaError_t sorted =
+        cub::DeviceRadixSort::SortPairs(a.scratch, bytes, a.keys, a.sortedKeys, a.indices, a.sorted, int(a.n), 0, bits, stream);
+    if (sorted != cudaSuccess) {
+        throw std::runtime_error("cell list sort (" + std::to_string(a.scratchBytes) + " bytes of scratch): " + cudaGetErrorString(sorted));
     }
-    bytes = a.scratchBytes;
-    cub::DeviceRadixSort::SortPairs(a.scratch, bytes, a.keys, a.sortedKeys, a.indices, a.sorted, int(a.n), 0, bits, stream);
     checkLaunch("cell list sort");
     cellStartKernel<<<blocksFor(int64_t(cells) + 1), kBlock, 0, stream>>>(a.sortedKeys, int32_t(a.n), cells, a.cellStart);
     checkLaunch("cell start kernel");
