@@ -34,6 +34,16 @@
 // 141), 10^5 balls 34.2 and 31.3. Spread from round 0 (other colours, other bits), the colouring takes
 // 1.44 ms, and in one run beside the lists alone the pile 156.5 ms a frame against 160.7 (the last
 // second 124.9 and 132.6).
+// A later listing of a step (deep overlaps moved particles: collision_rounds.cpp) keeps the colours of
+// the pairs the listing before coloured (ContactArgs::prevColour, found by the fill's warm-start
+// lookup): they take them before round 0, and the rows left choose among the colours those leave
+// (round 0's spread too). An H200, fp32, `corebox bench pile`, one call: 10^6 balls 65.3 ms a frame
+// against 66.7, 10^5 15.5 against 15.6; the sandbox at 10^5 balls 14.9 and 14.8 against 16.1 (noisy).
+// Not across steps: kept from step to step (the first listing's colours too), the 10^6-ball pile took
+// 63.1 ms a frame against 68.1, but a settled pile of 400 balls sank onto its lower layers at 0.0152 a
+// ball against the 0.0102 the dense-contact tests allow (the same order of colours every step biases
+// the same chains, where a fresh colouring varies it), and a checkpoint or a World edit would have had
+// to carry the colours of every row for a bit-identical restart.
 // The sweeps read and write the particles as packed bodies (packed_body.cuh: X with the radius, V with
 // the mass, 16 bytes each in fp32), copied from X and V before a listing's sweeps and back after them:
 // a row's particles sit at random places, and as Vec3 arrays each coordinate was a load or store of
@@ -160,23 +170,47 @@ __global__ void __launch_bounds__(kBlock) colourRowsKernel(ContactArgs<Real> a, 
     cooperative_groups::grid_group grid = cooperative_groups::this_grid();
     const int64_t first = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     const int64_t stride = int64_t(gridDim.x) * blockDim.x;
+    // A later listing of a step: rows whose pair the step's listing before coloured keep that colour
+    // (ContactArgs::prevColour): no two of them at a particle share one, since they did not there; the
+    // rows left choose among the colours those leave.
+    bool kept = false;
+    if (a.prevColour) {
+        for (int64_t s = first; s < rows; s += stride) {
+            const uint8_t c = a.prevColour[s];
+            if (c == kUncoloured || a.mirror[s] != s) continue;
+            const int64_t i = a.rowParticle[s], p = a.partner[s];
+            a.colour[s] = c;
+            candidate[s] = c;
+            atomicMax(&words[0], unsigned(c) + 1);
+            atomicOr(&used[i], 1ull << c);
+            if (!isWallContact(p)) atomicOr(&used[p], 1ull << c);
+        }
+        kept = true;
+        grid.sync();
+    }
     for (int round = 0;; ++round) {
         const int32_t* list = lists + (round % 2) * rows;
         int32_t* next = lists + ((round + 1) % 2) * rows;
         const int64_t length = round == 0 ? rows : int64_t(__ldcg(&words[2 + round % 2]));
-        // The row at place k of this round: round 0's every own row, then the list's.
-        auto rowAt = [&](int64_t k) -> int64_t { return round == 0 ? (a.mirror[k] == k ? k : -1) : int64_t(list[k]); };
+        // The row at place k of this round: round 0's every own row not kept, then the list's.
+        auto rowAt = [&](int64_t k) -> int64_t {
+            if (round > 0) return int64_t(list[k]);
+            return a.mirror[k] == k && !(kept && a.colour[k] != kUncoloured) ? k : -1;
+        };
         // Candidates: the lowest colour neither particle has; in round 0, with a spread, a colour below
         // it from the row's hash (other bits than its priority's lowest).
         for (int64_t k = first; k < length; k += stride) {
             const int64_t s = rowAt(k);
             if (s < 0) continue;
-            if (round == 0 && spread > 1) {
-                candidate[s] = uint8_t((rowPriority(s) >> 16) % unsigned(spread));
-                continue;
-            }
             const int64_t i = a.rowParticle[s], p = a.partner[s];
             const unsigned long long taken = used[i] | (isWallContact(p) ? 0ull : used[p]);
+            if (round == 0 && spread > 1) {
+                const unsigned spreadColour = (rowPriority(s) >> 16) % unsigned(spread);
+                if (!((taken >> spreadColour) & 1ull)) {  // not a kept row's colour at either particle
+                    candidate[s] = uint8_t(spreadColour);
+                    continue;
+                }
+            }
             if (~taken == 0ull) {
                 candidate[s] = kUncoloured;
                 words[1] = 1;

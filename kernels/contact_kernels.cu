@@ -94,20 +94,20 @@ __global__ void countContactsKernel(ContactArgs<Real> a, unsigned long long* tot
 // the order they came the step before, unless the cells changed, so a particle's lookups take about
 // one read each instead of one per row.
 template <class Real>
-__device__ Real warmLambdaOf(const ContactArgs<Real>& a, int64_t i, int64_t partner, int64_t& from) {
+__device__ int64_t warmRowOf(const ContactArgs<Real>& a, int64_t i, int64_t partner, int64_t& from) {
     const int64_t begin = a.warmStart[i], end = a.warmStart[i + 1];
     if (from < begin || from >= end) from = begin;
     for (int64_t k = from; k < end; ++k) {
         if (a.warmPartner[k] != partner) continue;
         from = k + 1;
-        return a.warmLambda[k];
+        return k;
     }
     for (int64_t k = begin; k < from; ++k) {
         if (a.warmPartner[k] != partner) continue;
         from = k + 1;
-        return a.warmLambda[k];
+        return k;
     }
-    return Real(0);
+    return -1;
 }
 
 // The normal speed an isolated contact's Gauss-Seidel update aims at (isolatedContactTarget).
@@ -161,8 +161,13 @@ __global__ void fillContactsKernel(ContactArgs<Real> a) {
         const Real target = a.gaussSeidel && isolated ? contactTarget(a, i, partner) : Real(0);
         if (a.gaussSeidel) a.target[slot] = target;
         const bool warm = a.warm && (a.gaussSeidel ? !(target > Real(0)) : !isolated);
-        a.lambda[slot] = warm ? warmLambdaOf(a, i, partner, warmFrom) : Real(0);
+        // An own row (the pair's lower index, or a wall) keeps its pair's colour from the warm rows,
+        // where their own row was the same pair's.
+        const bool recolour = a.warm && a.prevColour && (isWallContact(partner) || partner > i);
+        const int64_t warmRow = warm || recolour ? warmRowOf(a, i, partner, warmFrom) : -1;
+        a.lambda[slot] = warm && warmRow >= 0 ? a.warmLambda[warmRow] : Real(0);
         a.applied[slot] = a.lambda[slot];
+        if (a.prevColour) a.prevColour[slot] = recolour && warmRow >= 0 ? a.warmColour[warmRow] : uint8_t(0xFF);
         ++slot;
     };
     if (a.partnerScratch && count <= kListedPartners) {  // the count's list: no second walk

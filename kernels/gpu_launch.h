@@ -444,6 +444,11 @@ struct ContactArgs {
     const int64_t* warmStart;
     const int64_t* warmPartner;
     const Real* warmLambda;
+    // A later listing of a step (the warm rows are the step's listing before, coloured): those rows'
+    // colours (kUncoloured for rows not their pair's own), and per row the colour the fill finds there
+    // for its pair, which the colouring keeps (contact_gauss_seidel.cu). Null otherwise.
+    const uint8_t* warmColour;
+    uint8_t* prevColour;
     // Per listed contact, as lambda: the extrapolated impulse the velocities hold (the accelerated
     // sweeps, contact_relaxation.h: acceleratedImpulse).
     Real* applied;

@@ -202,20 +202,23 @@ void CudaDevice<Real>::keepSnapshot() {
     cudaCheck(cudaMemcpyAsync(m_snapshotV.data(), home().v.data(), bytes, cudaMemcpyDeviceToDevice, stream()), "snapshot");
 }
 
+// Both arrays in one wait, through page-locked staging (a pageable copy is staged by the driver).
 template <class Real>
-ParticleState CudaDevice<Real>::download(const DeviceBuffer<Vec3<Real>>& xd, const DeviceBuffer<Vec3<Real>>& vd) const {
+void CudaDevice<Real>::download(const DeviceBuffer<Vec3<Real>>& xd, const DeviceBuffer<Vec3<Real>>& vd, ParticleState& out) const {
+    const size_t n = size_t(m_n);
+    Vec3<Real>* x = m_hostStateX.resize(n);
+    Vec3<Real>* v = m_hostStateV.resize(n);
+    if (n > 0) {
+        cudaCheck(cudaMemcpyAsync(x, xd.data(), n * sizeof(Vec3<Real>), cudaMemcpyDeviceToHost, stream()), "state");
+        cudaCheck(cudaMemcpyAsync(v, vd.data(), n * sizeof(Vec3<Real>), cudaMemcpyDeviceToHost, stream()), "state");
+    }
     sync();
-    std::vector<Vec3<Real>> x(static_cast<size_t>(m_n)), v(static_cast<size_t>(m_n));
-    xd.download(x.data(), x.size());
-    vd.download(v.data(), v.size());
-    ParticleState out;
-    out.resize(size_t(m_n));
-    for (size_t i = 0; i < size_t(m_n); ++i) {
+    out.resize(n);
+    for (size_t i = 0; i < n; ++i) {
         out.position[i] = vec3Cast<double>(x[i]);
         out.velocity[i] = vec3Cast<double>(v[i]);
         out.species[i] = m_hostSpecies[i];
     }
-    return out;
 }
 
 // ---- reductions ----

@@ -240,6 +240,8 @@ void CudaDevice<Real>::swapListingIntoWarmRows() {
     std::swap(m_contactStart, m_warmStart);
     std::swap(m_contactPartner, m_warmPartner);
     std::swap(m_contactLambda, m_warmLambda);
+    std::swap(m_rowColour, m_warmColour);
+    std::swap(m_listingColoured, m_warmColoured);
 }
 
 // The last listing's rows become the warm start of this step's first listing.
@@ -619,6 +621,8 @@ gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
     a.warmStart = m_warmStart.data();
     a.warmPartner = m_warmPartner.data();
     a.warmLambda = m_warmLambda.data();
+    a.warmColour = m_recolour ? m_warmColour.data() : nullptr;
+    a.prevColour = m_recolour ? m_prevColour.data() : nullptr;
     a.applied = m_contactApplied.data();
     a.gaussSeidel = m_gaussSeidelContacts;
     a.rowParticle = m_rowParticle.data();
@@ -723,6 +727,7 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
         if (m_gaussSeidel) gpu::launchDropBounceImpulses(m_contactLambda.data(), m_rowTarget.data(), int64_t(m_contactPartner.size()), s);
         swapListingIntoWarmRows();
     }
+    m_listingColoured = false;  // until this listing is
     int64_t total = 0;
     if (m_tailListing && resting.speed == m_tailResting.speed && resting.gap == m_tailResting.gap) {
         total = m_tailListed;  // counted behind the rounds (queueStageTail), nothing moved since
@@ -750,11 +755,18 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     m_contactImpulses.resize(size_t(kImpulseRows) * size_t(m_n));
     cudaCheck(cudaMemsetAsync(m_contactImpulses.data(), 0, size_t(kImpulseRows) * size_t(m_n) * sizeof(double), s), "memset");
     if (m_gaussSeidelContacts) m_rowTarget.resize(size_t(total));  // the fill sets the targets
+    // A later listing of a step keeps the colours of the pairs the listing before coloured (the
+    // colouring's first round over every row was most of its time; contact_gauss_seidel.cu says why
+    // not across steps).
+    m_recolour = carry && m_warmColoured && m_gaussSeidelContacts;
+    if (m_recolour) m_prevColour.resize(size_t(total));
     gpu::ContactArgs<Real> fill = contactArgs();
     fill.warm = warm || carry;
     gpu::launchFillContacts(fill, s);
     m_warmPending = warm;
     m_gaussSeidel = m_gaussSeidelContacts && colourListing(total);
+    m_listingColoured = m_gaussSeidel;
+    m_recolour = false;
     if (!m_gaussSeidel) m_listedOverlap = -1;  // Jacobi's first sweep measures it
     cudaCheck(cudaMemcpyAsync(m_xListed.data(), home().x.data(), size_t(m_n) * sizeof(Vec3<Real>), cudaMemcpyDeviceToDevice, s), "contacts");
     return total;
@@ -881,6 +893,7 @@ void CudaDevice<Real>::restoreContactWarmStart(const std::vector<ContactWarmStar
     m_contactPartner.upload(partner.data(), partner.size());
     m_contactLambda.upload(lambda.data(), lambda.size());
     m_listedThisStep = true;
+    m_listingColoured = false;  // a checkpoint keeps impulses, not colours
 }
 
 template <class Real>

@@ -180,7 +180,8 @@ private:
     // read once the step has finished.
     void launchTimedForces(const gpu::ForceArgs<Real>& args);
     void markForceTime();
-    ParticleState download(const DeviceBuffer<Vec3<Real>>& x, const DeviceBuffer<Vec3<Real>>& v) const;
+    // x and v of the home GPU (or its snapshot) into out, with the species, in one wait.
+    void download(const DeviceBuffer<Vec3<Real>>& x, const DeviceBuffer<Vec3<Real>>& v, ParticleState& out) const;
     // Sums of `rows` rows of m_rows (each n long); block partials are added on the host in order.
     std::vector<double> sumRows(int rows);
     template <class T>
@@ -406,7 +407,7 @@ private:
         m_cellSplit = chooseCellSplit(m_model.radius, m_speciesCounts);
     }
     CellSplit<Real> contactCellSplit();
-    mutable PinnedBuffer<Vec3<Real>> m_hostStateX, m_hostStateV;  // readState's staging
+    mutable PinnedBuffer<Vec3<Real>> m_hostStateX, m_hostStateV;  // the state downloads' staging
 
     // A step's timing marks: Integrate, Collide, Done, and a pair around each force pass. Two sets, a
     // step's in one while the last step's may still be unread (phaseSeconds: read without a wait).
@@ -515,6 +516,11 @@ private:
     bool m_gaussSeidel = false;  // the current listing is coloured: its sweeps are Gauss-Seidel
     DeviceBuffer<int64_t> m_rowParticle, m_rowMirror, m_colourOrder;
     DeviceBuffer<uint8_t> m_rowColour;
+    // The colours of the warm rows (swapped with m_rowColour as the rows are) and whether their listing
+    // was coloured; each own row's colour there (the fill's, for the colouring to keep) and whether
+    // this listing keeps them (a later listing of a step only).
+    DeviceBuffer<uint8_t> m_warmColour, m_prevColour;
+    bool m_listingColoured = false, m_warmColoured = false, m_recolour = false;
     DeviceBuffer<Real> m_rowTarget;
     // The own rows packed in colour order for the sweeps (gpu::ContactArgs::packed*), and each own row's place.
     DeviceBuffer<int32_t> m_packedParticle, m_packedPartner, m_rowRank;

@@ -38,28 +38,15 @@ std::string CudaDevice<Real>::deviceName() const {
 
 template <class Real>
 ParticleState CudaDevice<Real>::state() const {
-    gatherToHome();
-    return download(home().x, home().v);
+    ParticleState out;
+    readState(out);
+    return out;
 }
 
-// Both arrays in one wait, through page-locked staging (a pageable copy is staged by the driver).
 template <class Real>
 void CudaDevice<Real>::readState(ParticleState& out) const {
     gatherToHome();
-    const size_t n = size_t(m_n);
-    Vec3<Real>* x = m_hostStateX.resize(n);
-    Vec3<Real>* v = m_hostStateV.resize(n);
-    if (n > 0) {
-        cudaCheck(cudaMemcpyAsync(x, home().x.data(), n * sizeof(Vec3<Real>), cudaMemcpyDeviceToHost, stream()), "state");
-        cudaCheck(cudaMemcpyAsync(v, home().v.data(), n * sizeof(Vec3<Real>), cudaMemcpyDeviceToHost, stream()), "state");
-    }
-    sync();
-    out.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-        out.position[i] = vec3Cast<double>(x[i]);
-        out.velocity[i] = vec3Cast<double>(v[i]);
-        out.species[i] = m_hostSpecies[i];
-    }
+    download(home().x, home().v, out);
 }
 
 template <class Real>
@@ -79,7 +66,9 @@ DeviceState CudaDevice<Real>::deviceState() {
 template <class Real>
 ParticleState CudaDevice<Real>::snapshot() const {
     takeSnapshot();
-    return download(m_snapshotX, m_snapshotV);
+    ParticleState out;
+    download(m_snapshotX, m_snapshotV, out);
+    return out;
 }
 
 template class CudaDevice<float>;
