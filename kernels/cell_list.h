@@ -5,12 +5,14 @@
 //
 // - The rule (cellGeometry): cells at least `minCell` wide on every axis, so every pair closer than
 //   minCell lies in the same or an adjacent cell, and about two cells per particle at most, so that a
-//   dilute system does not pay for empty cells. Contacts pass minCell = largest a_i + a_j; forces with a
-//   cutoff will pass r_c + skin and keep Verlet lists from the same walk.
+//   dilute system does not pay for empty cells. Contacts pass minCell = the largest a_i + a_j of the
+//   particles in the cells (below); forces with a cutoff pass r_c + skin and keep Verlet lists from the
+//   same walk.
 // - Layout (CellListView): particles sorted by cell key, cellStart[key] .. cellStart[key + 1] the slice
 //   of cell `key` (cells + 1 entries), ascending particle index inside a cell. The host builds it by a
 //   counting sort, the GPU by a stable radix sort of (key, index) pairs; both give the same arrays.
-// - Order (forEachNeighbour): the 27 cells around a position in ascending key, then ascending particle
+// - Order (forEachNeighbour): the 27 cells around a position (a large particle: the cells within its
+//   reach) in ascending key, then ascending particle index, then the large particles in ascending
 //   index, so any order-dependent sum or tie-break over neighbours is reproducible bit for bit.
 // - Large particles (CellSplit): a few particles much larger than the rest would set minCell for all
 //   (a heavy ball of radius 1 among 10^5 of radius 0.5 made the cells twice as wide, eight times the
@@ -181,11 +183,26 @@ COREBOX_HD inline int cellKeyOfParticle(const CellGeometry& g, const CellSplit<R
     return cellKeyOf(g, x);
 }
 
-// The narrowest cell width of a grid [sigma].
-COREBOX_HD inline double narrowestCell(const CellGeometry& g) {
-    double w = 1.0 / g.inverseCell[0];
-    for (int a = 1; a < 3; ++a) w = 1.0 / g.inverseCell[a] < w ? 1.0 / g.inverseCell[a] : w;
-    return w;
+// Whether two geometries are the same grid.
+COREBOX_HD inline bool sameGeometry(const CellGeometry& a, const CellGeometry& b) {
+    for (int k = 0; k < 3; ++k)
+        if (a.dims[k] != b.dims[k] || a.inverseCell[k] != b.inverseCell[k]) return false;
+    return true;
+}
+
+// How far beyond its radius a large particle's walk reaches (CellListView::largeReach) [sigma]: the
+// narrowest cell less the largest radius in the cells, over the axes of more than one cell (an axis of
+// one cell, narrower than minCell in a thin box, is walked whole anyway; none: the box's widest edge),
+// plus a millionth of the box's widest edge, so that the pairs a float distance puts within reach are
+// in it from the large particle's side too (the small one's walk visits every large particle).
+inline double largeReachOf(const CellGeometry& g, double gridRadius) {
+    double narrowest = 0, widest = 0;
+    for (int a = 0; a < 3; ++a) {
+        const double width = 1.0 / g.inverseCell[a], edge = width * g.dims[a];
+        widest = edge > widest ? edge : widest;
+        if (g.dims[a] > 1 && (narrowest == 0 || width < narrowest)) narrowest = width;
+    }
+    return (narrowest > 0 ? narrowest - gridRadius : widest) + 1e-6 * widest;
 }
 
 // A built cell list, owned elsewhere (host vectors or device buffers).
@@ -204,7 +221,7 @@ struct CellListView {
 // radius left in them (chooseCellSplit's gridRadius).
 inline CellListView splitView(CellListView view, double largeAbove, double gridRadius, int64_t n) {
     view.largeAbove = largeAbove;
-    view.largeReach = largeAbove < kNoLargeParticles ? narrowestCell(view.geometry) - gridRadius : 0.0;
+    view.largeReach = largeAbove < kNoLargeParticles ? largeReachOf(view.geometry, gridRadius) : 0.0;
     view.count = int32_t(n);
     return view;
 }
@@ -212,8 +229,9 @@ inline CellListView splitView(CellListView view, double largeAbove, double gridR
 COREBOX_HD inline bool isLargeIn(const CellListView& view, double radius) { return radius > view.largeAbove; }
 
 // fn(j) for every particle j in the 27 cells around `position` (the particle itself included when it
-// is in the list), in ascending cell key and, within a cell, ascending index. Every particle closer to
-// `position` than the minCell the geometry was made with is visited exactly once, up to the rounding of
+// is in the list), in ascending cell key and, within a cell, ascending index, then for every large
+// particle. Every particle closer to `position` than the minCell the geometry was made with is
+// visited exactly once, up to the rounding of
 // x * inverseCell: a pair across a cell face closer than minCell by less than ~1e-16 of its cell
 // coordinate may be missed, which the contact and overlap tests ignore anyway (their relative slack
 // is 1e-12 or more).

@@ -1,10 +1,11 @@
 // Cell list build on the GPU (layout, rule and neighbour walk in cell_list.h). Deterministic by
 // construction, so a run's contact search reads the same arrays every time and the same arrays as the
 // host's counting sort:
-//   1. key[i] = cell key of particle i, index[i] = i;
+//   1. key[i] = cell key of particle i (cells for one kept out of them: cell_list.h), index[i] = i;
 //   2. cub::DeviceRadixSort::SortPairs on (key, index): LSD radix sort is stable, so indices stay
 //      ascending inside a cell; only the bits a key can use are sorted (cells <= 2^30);
-//   3. cellStart[c] = first k with sortedKey[k] >= c, one thread per cell (c = cells gives n): a binary
+//   3. cellStart[c] = first k with sortedKey[k] >= c, one thread per cell (c = cells gives where the
+//      particles kept out of the cells begin, n without them): a binary
 //      search instead of marking boundaries and filling empty cells by a scan, no atomics and no
 //      extra pass.
 // The sort costs more than the former atomic scatter for n above a few thousand (a few tens of us per
@@ -141,6 +142,8 @@ size_t cellListScratchBytes(int64_t n) {
                                     static_cast<const int32_t*>(nullptr), static_cast<int32_t*>(nullptr), int(n), 0, 32);
     return bytes;
 }
+
+bool cellListBuildIsOneLaunch(int64_t n) { return n <= kOneBlockItems; }
 
 template <class Real>
 void launchBuildCellList(const CellListArgs<Real>& a, cudaStream_t stream) {

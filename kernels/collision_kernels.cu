@@ -1,7 +1,7 @@
 // A posteriori collision rounds on the GPU (DESIGN.md sec. 2) with the shared event and resolution
 // functions of collision_resolution.h. Contacts are found through the cell list (cell_list.h, cells at
-// least the largest contact distance wide), rebuilt by cell_list_kernels.cu every round since
-// resolution moves particles.
+// least the largest contact distance of the particles in them wide, a few large ones walked apart),
+// rebuilt by cell_list_kernels.cu every round since resolution moves particles.
 #include <algorithm>
 
 #include "gpu_common.cuh"

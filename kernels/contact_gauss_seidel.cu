@@ -79,7 +79,7 @@
 namespace corebox::gpu {
 namespace {
 
-constexpr uint8_t kUncoloured = 0xFF;  // an own row not coloured yet, and every row that is not own
+constexpr uint8_t kUncoloured = kUncolouredRow;
 static_assert(kMaxContactColours <= 64, "a particle's colours are a 64-bit mask");
 // Round 0 of a listing of at least kSpreadRows rows spreads the candidates over kSpreadColours colours
 // (design note above); smaller listings start from colour 0, so that they take no more colours (a

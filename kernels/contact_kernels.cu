@@ -141,7 +141,7 @@ __device__ void addImpulseRows(const ContactArgs<Real>& a, int64_t i, const Impu
 
 // Particles in index order, so that a warp writes neighbouring rows (in cell order, as the count walks
 // them, the 10^6-ball pile's fill took 1.6 ms on an H200 instead of 1.5). Where the count listed a
-// particle's contacts (ContactArgs::partnerScratch) the fill copies them instead of walking the 27 cells
+// particle's contacts (ContactArgs::partnerScratch) the fill copies them instead of walking the cells
 // again: on the settled 10^6-ball pile (ncu, H200, fp32) the fill took 0.24 ms instead of 1.55 and the
 // count 0.41 instead of 0.29; `corebox bench pile` (same call, the same bits) 97.2 ms a frame instead of
 // 105.9 (the last second 53.8 instead of 59.1), 10^5 balls 27.1 instead of 27.8.
@@ -167,7 +167,7 @@ __global__ void fillContactsKernel(ContactArgs<Real> a) {
         const int64_t warmRow = warm || recolour ? warmRowOf(a, i, partner, warmFrom) : -1;
         a.lambda[slot] = warm && warmRow >= 0 ? a.warmLambda[warmRow] : Real(0);
         a.applied[slot] = a.lambda[slot];
-        if (a.prevColour) a.prevColour[slot] = recolour && warmRow >= 0 ? a.warmColour[warmRow] : uint8_t(0xFF);
+        if (a.prevColour) a.prevColour[slot] = recolour && warmRow >= 0 ? a.warmColour[warmRow] : kUncolouredRow;
         ++slot;
     };
     if (a.partnerScratch && count <= kListedPartners) {  // the count's list: no second walk

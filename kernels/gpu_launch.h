@@ -323,6 +323,8 @@ struct CellListArgs {
 };
 // Bytes of radix-sort scratch a cell list of n particles needs.
 size_t cellListScratchBytes(int64_t n);
+// Whether launchBuildCellList builds n particles in one launch (one block), not several.
+bool cellListBuildIsOneLaunch(int64_t n);
 // Keys per particle, a stable radix sort of (key, index) pairs, then cellStart by a binary search per
 // cell: no atomics, so the arrays are the same on every run and equal to the host's counting sort.
 template <class Real>
@@ -344,7 +346,7 @@ struct CollisionArgs {
     ParticleArrays<Real> p;
     SpeciesTable<Real> table;
     Vec3<Real> box;
-    CellListView grid;  // contacts: cells at least the largest a_i + a_j wide
+    CellListView grid;  // contacts: cells at least the largest a_i + a_j of the particles in them wide (cell_list.h)
     CollisionEvent* events;
     char* active;
     Vec3<Real>* contactAcceleration;
@@ -428,7 +430,7 @@ struct ContactArgs {
     ParticleArrays<Real> p;
     SpeciesTable<Real> table;
     Vec3<Real> box;
-    CellListView cells;       // cells at least the largest contact distance plus the resting gap wide
+    CellListView cells;       // cells at least the largest contact distance in them plus the resting gap wide
     int64_t* contactStart;    // n + 1: particle i's contacts are partner[contactStart[i] .. contactStart[i + 1])
     int64_t* partner;         // particle index, or wall code -1 - (2 axis + side)
     RestingContact<Real> resting;
@@ -484,6 +486,8 @@ struct ContactArgs {
     Real omega;            // over-relaxation of the stopping updates (kGaussSeidelOverRelaxation)
 };
 
+// The colour of an own row not coloured yet, and of every row that is not own.
+constexpr uint8_t kUncolouredRow = 0xFF;
 // The most colours a listing's pairs may take: a particle's colours are a 64-bit mask. A listing that
 // needs more (a particle with more than ~32 contacts) is relaxed with Jacobi sweeps.
 constexpr int kMaxContactColours = 64;

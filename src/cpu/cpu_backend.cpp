@@ -364,14 +364,15 @@ public:
         const int64_t n = size();
         if (scope == EventScope::All) std::fill(m_active.begin(), m_active.end(), 1);
         // A step that needs a third round is a dense one (a pile, a cluster): from then on the rounds
-        // read per-particle candidate lists instead of walking 27 cells (buildCandidates).
+        // read per-particle candidate lists instead of walking the cells (buildCandidates).
         if (++m_round >= 3 || m_candidatesValid) return findEventsAmongCandidates();
         // Cells also wide enough for the pairs within the resting gap bound (earliestEvent's `near`).
         buildContactGrid(double(m_nearGap));
         // After the first round few particles are active. An inactive particle had no event in the
         // previous round and has not changed since, so it can only have one with an active particle in
-        // its 27 cells: only the active particles and their grid neighbours look (the same events as
-        // every particle looking, without walking the whole fluid again).
+        // its walk (cell_list.h: walks are symmetric): only the active particles and their grid
+        // neighbours look (the same events as every particle looking, without walking the whole fluid
+        // again).
         const int64_t active = int64_t(std::count(m_active.begin(), m_active.end(), char(1)));
         if (4 * active >= n) {
             // In the grid's order: consecutive particles walk overlapping cells (cache reuse).

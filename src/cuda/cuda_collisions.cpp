@@ -19,15 +19,6 @@
 #include "cuda_device.h"
 
 namespace corebox {
-namespace {
-
-bool sameGeometry(const CellGeometry& a, const CellGeometry& b) {
-    for (int k = 0; k < 3; ++k)
-        if (a.dims[k] != b.dims[k] || a.inverseCell[k] != b.inverseCell[k]) return false;
-    return true;
-}
-
-}  // namespace
 
 template <class Real>
 gpu::CollisionArgs<Real> CudaDevice<Real>::collisionArgs() {
@@ -300,15 +291,9 @@ int CudaDevice<Real>::resolveWallImpacts() {
     return int(read[0]) + 1;
 }
 
-// The impact search's cells at the current positions, at least the largest contact distance wide
-// (cell_list.h: the one rule); none when the screen showed that no pair can meet in this stage
+// The impact search's cells at the current positions, at least the largest contact distance of the
+// particles in them wide, the few large ones kept out (cell_list.h: the one rule, CellSplit); none when the screen showed that no pair can meet in this stage
 // (screenStage).
-template <class Real>
-CellSplit<Real> CudaDevice<Real>::contactCellSplit() {
-    if (!(m_cellSplit.largeAbove < kNoLargeParticles)) return CellSplit<Real>{};
-    return CellSplit<Real>{home().species.data(), home().radius.data(), m_cellSplit.largeAbove};
-}
-
 template <class Real>
 CellListView CudaDevice<Real>::impactCells() {
     if (m_pairsClear) return emptyCells();
@@ -621,8 +606,8 @@ gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
     a.warmStart = m_warmStart.data();
     a.warmPartner = m_warmPartner.data();
     a.warmLambda = m_warmLambda.data();
-    a.warmColour = m_recolour ? m_warmColour.data() : nullptr;
-    a.prevColour = m_recolour ? m_prevColour.data() : nullptr;
+    a.warmColour = nullptr;  // listContacts gives them to a later listing's fill and colouring
+    a.prevColour = nullptr;
     a.applied = m_contactApplied.data();
     a.gaussSeidel = m_gaussSeidelContacts;
     a.rowParticle = m_rowParticle.data();
@@ -650,7 +635,7 @@ gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
 // Jacobi sweeps) where the device has no cooperative launch or the contacts need more than
 // gpu::kMaxContactColours colours.
 template <class Real>
-bool CudaDevice<Real>::colourListing(int64_t rows) {
+bool CudaDevice<Real>::colourListing(int64_t rows, bool keepColours) {
     cudaStream_t s = stream();
     for (auto* b : {&m_rowParticle, &m_rowMirror, &m_colourOrder}) b->resize(size_t(rows));
     for (auto* b : {&m_packedParticle, &m_packedPartner, &m_rowRank}) b->resize(size_t(rows));
@@ -661,7 +646,9 @@ bool CudaDevice<Real>::colourListing(int64_t rows) {
     m_colouringWords.resize(8);  // [6..7]: the deepest overlap's bits
     m_colouringScratch.resize(gpu::contactColouringScratchBytes(m_n, rows));
     auto* deepest = reinterpret_cast<unsigned long long*>(m_colouringWords.data() + 6);
-    if (!gpu::launchColourContacts(contactArgs(), rows, m_colouringScratch.data(), m_colouringScratch.size(), m_colouringWords.data(),
+    gpu::ContactArgs<Real> a = contactArgs();
+    if (keepColours) a.prevColour = m_prevColour.data();
+    if (!gpu::launchColourContacts(a, rows, m_colouringScratch.data(), m_colouringScratch.size(), m_colouringWords.data(),
                                    deepest, s))
         return false;
     unsigned int words[8] = {0, 0, 0, 0, 0, 0, 0, 0};
@@ -676,7 +663,15 @@ bool CudaDevice<Real>::colourListing(int64_t rows) {
     return true;
 }
 
-// Cells for the contact listing: every listed pair in neighbouring cells.
+// The particles the contact grids keep out of their cells (chooseContactCellSplit), on the home GPU.
+template <class Real>
+CellSplit<Real> CudaDevice<Real>::contactCellSplit() {
+    if (!(m_cellSplit.largeAbove < kNoLargeParticles)) return CellSplit<Real>{};
+    return CellSplit<Real>{home().species.data(), home().radius.data(), m_cellSplit.largeAbove};
+}
+
+// Cells for the contact listing: every listed pair in neighbouring cells, or within a large
+// particle's reach.
 template <class Real>
 CellGeometry CudaDevice<Real>::listingGeometry(const RestingContact<double>& resting) const {
     return cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_cellSplit.gridRadius + resting.gap);
@@ -758,15 +753,18 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     // A later listing of a step keeps the colours of the pairs the listing before coloured (the
     // colouring's first round over every row was most of its time; contact_gauss_seidel.cu says why
     // not across steps).
-    m_recolour = carry && m_warmColoured && m_gaussSeidelContacts;
-    if (m_recolour) m_prevColour.resize(size_t(total));
+    const bool recolour = carry && m_warmColoured && m_gaussSeidelContacts;
+    if (recolour) m_prevColour.resize(size_t(total));
     gpu::ContactArgs<Real> fill = contactArgs();
     fill.warm = warm || carry;
+    if (recolour) {
+        fill.warmColour = m_warmColour.data();
+        fill.prevColour = m_prevColour.data();
+    }
     gpu::launchFillContacts(fill, s);
     m_warmPending = warm;
-    m_gaussSeidel = m_gaussSeidelContacts && colourListing(total);
+    m_gaussSeidel = m_gaussSeidelContacts && colourListing(total, recolour);
     m_listingColoured = m_gaussSeidel;
-    m_recolour = false;
     if (!m_gaussSeidel) m_listedOverlap = -1;  // Jacobi's first sweep measures it
     cudaCheck(cudaMemcpyAsync(m_xListed.data(), home().x.data(), size_t(m_n) * sizeof(Vec3<Real>), cudaMemcpyDeviceToDevice, s), "contacts");
     return total;

@@ -400,12 +400,8 @@ private:
     int64_t m_n = 0;
     std::vector<int32_t> m_hostSpecies;
     // The contact grids' large particles (cell_list.h), from the radii and the state's species counts.
-    std::vector<int64_t> m_speciesCounts;
     CellSplitChoice m_cellSplit;
-    void chooseContactCellSplit() {
-        m_speciesCounts = speciesCounts(m_hostSpecies, m_speciesCount);
-        m_cellSplit = chooseCellSplit(m_model.radius, m_speciesCounts);
-    }
+    void chooseContactCellSplit() { m_cellSplit = chooseCellSplit(m_model.radius, speciesCounts(m_hostSpecies, m_speciesCount)); }
     CellSplit<Real> contactCellSplit();
     mutable PinnedBuffer<Vec3<Real>> m_hostStateX, m_hostStateV;  // the state downloads' staging
 
@@ -517,10 +513,10 @@ private:
     DeviceBuffer<int64_t> m_rowParticle, m_rowMirror, m_colourOrder;
     DeviceBuffer<uint8_t> m_rowColour;
     // The colours of the warm rows (swapped with m_rowColour as the rows are) and whether their listing
-    // was coloured; each own row's colour there (the fill's, for the colouring to keep) and whether
-    // this listing keeps them (a later listing of a step only).
+    // was coloured; each own row's colour there (the fill's, for the colouring to keep: a later listing
+    // of a step only).
     DeviceBuffer<uint8_t> m_warmColour, m_prevColour;
-    bool m_listingColoured = false, m_warmColoured = false, m_recolour = false;
+    bool m_listingColoured = false, m_warmColoured = false;
     DeviceBuffer<Real> m_rowTarget;
     // The own rows packed in colour order for the sweeps (gpu::ContactArgs::packed*), and each own row's place.
     DeviceBuffer<int32_t> m_packedParticle, m_packedPartner, m_rowRank;
@@ -533,7 +529,8 @@ private:
     DeviceBuffer<unsigned char> m_colouringScratch;
     std::vector<int32_t> m_colourStart;  // colours + 1 bounds into m_colourOrder
     double m_listedOverlap = -1;         // the colouring's measure of the listing (listedOverlap)
-    bool colourListing(int64_t rows);
+    // keepColours: rows keep the colours the fill put in m_prevColour (a later listing of a step).
+    bool colourListing(int64_t rows, bool keepColours);
     // Warm start (contact_relaxation.h): the last step's final rows, swapped in at beginCollisions.
     DeviceBuffer<int64_t> m_warmStart, m_warmPartner;
     DeviceBuffer<Real> m_warmLambda;

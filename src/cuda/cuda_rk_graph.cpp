@@ -1,5 +1,6 @@
 // The CUDA backend's explicit RK step as one CUDA graph (design note in cuda_device.h).
 #include "cuda_device.h"
+#include "graph_capture.h"
 
 namespace corebox {
 
@@ -65,25 +66,14 @@ bool CudaDevice<Real>::captureRkStep(RkGraph& graph, int stages, double dt) {
     m_timingWindow = -1;  // no per-pass timing events inside the graph: the pair around its launch brackets it
     const int64_t evaluations = m_allPairsEvaluations, passes = m_fullPasses;
     const bool snapshot = m_snapshotPending;  // taken inside: pending again if the capture fails
-    cudaGraph_t captured = nullptr;
-    bool made = cudaStreamBeginCapture(s, cudaStreamCaptureModeRelaxed) == cudaSuccess;
-    if (made) {
-        try {
-            Backend::rkStep(stages, dt);
-        } catch (const DeviceError&) {
-            made = false;
-        }
-        made = cudaStreamEndCapture(s, &captured) == cudaSuccess && made;
-    }
-    made = made && cudaGraphInstantiate(&graph.exec, captured, 0) == cudaSuccess;
-    if (captured) cudaGraphDestroy(captured);
+    graph.exec = captureGraph(s, [&] { Backend::rkStep(stages, dt); });
+    const bool made = graph.exec != nullptr;
     m_timingWindow = window;
     graph.evaluations = m_allPairsEvaluations - evaluations;
     graph.passes = m_fullPasses - passes;
     m_allPairsEvaluations = evaluations;  // counted where the graph is launched
     m_fullPasses = passes;
     if (made) return true;
-    cudaGetLastError();
     graph.reset();
     m_rkGraphsOff = true;
     m_snapshotPending = snapshot;

@@ -5,13 +5,15 @@
 
 #include <cuda_runtime_api.h>
 
-#include <exception>
-#include <utility>
+#include <array>
+#include <cstdint>
 #include <string>
+#include <utility>
 
-#include "device_buffer.h"
 #include "cuda_check.h"
+#include "device_buffer.h"
 #include "gpu_launch.h"
+#include "graph_capture.h"
 
 namespace corebox {
 
@@ -21,7 +23,7 @@ public:
     DeviceCellList() = default;
     DeviceCellList(const DeviceCellList&) = delete;
     DeviceCellList& operator=(const DeviceCellList&) = delete;
-    ~DeviceCellList() { forgetGraph(); }
+    ~DeviceCellList() { forgetGraphs(); }
 
     // Enqueues the build of n positions x (device memory) with `geometry` on `stream`; the view's
     // arrays are valid once the stream reaches this point, until the next build.
@@ -59,7 +61,7 @@ public:
         return a.view();
     }
 
-    // Buffers and the captured build travel together (the graph's arguments are these buffers).
+    // Buffers and the captured builds travel together (the graphs' arguments are these buffers).
     friend void swap(DeviceCellList& a, DeviceCellList& b) noexcept {
         using std::swap;
         swap(a.m_cellStart, b.m_cellStart);
@@ -70,74 +72,75 @@ public:
         swap(a.m_scratch, b.m_scratch);
         swap(a.m_scratchFor, b.m_scratchFor);
         swap(a.m_scratchBytes, b.m_scratchBytes);
-        swap(a.m_exec, b.m_exec);
-        swap(a.m_built, b.m_built);
-        swap(a.m_builtOn, b.m_builtOn);
+        swap(a.m_graphs, b.m_graphs);
         swap(a.m_graphsOff, b.m_graphsOff);
     }
 
 private:
-    // A build of more than one block's particles is several launches (keys, the radix sort's passes,
-    // the cell starts) whose host side, CUB's most of all, cost a collision round about 35 us (an H200's
-    // host, 10^5 particles, 37 of a round's 44 us of enqueueing). So they are captured into a graph once
-    // and the graph is launched while the build's arguments stay the same; a change of positions'
-    // buffer, count, geometry or split captures again. Not on the legacy default stream (no capture
-    // there) nor for builds of one launch.
+    // A build of more than one launch (keys, the radix sort's passes, the cell starts) costs the host
+    // about 35 us, CUB's side most of it (an H200's host, 10^5 particles: 37 of a collision round's 44
+    // us of enqueueing), and a collision round builds one. So each build is captured into a graph the
+    // first time its arguments are seen and the graph launched while they are the same: a change of
+    // positions' buffer, count, geometry or split is another graph. A few are kept (the impact search's
+    // grid and the contact listing's, a little wider, alternate within a step), the least recently
+    // used replaced. Not on the legacy default stream (no capture there) nor for builds of one launch.
+    struct Graph {
+        gpu::CellListArgs<Real> args{};
+        cudaStream_t stream = nullptr;
+        cudaGraphExec_t exec = nullptr;
+        uint64_t used = 0;  // when last launched (m_launches)
+    };
+    static constexpr size_t kGraphs = 4;
+
     void launch(const gpu::CellListArgs<Real>& a, cudaStream_t stream) {
-        if (stream == nullptr || a.n <= kOneLaunchBuild || m_graphsOff) {
+        if (stream == nullptr || gpu::cellListBuildIsOneLaunch(a.n) || m_graphsOff) {
             gpu::launchBuildCellList(a, stream);
             return;
         }
-        if (!(m_exec && sameBuild(a, m_built) && stream == m_builtOn)) {
-            forgetGraph();
-            cudaGraph_t captured = nullptr;
-            bool made = cudaStreamBeginCapture(stream, cudaStreamCaptureModeRelaxed) == cudaSuccess;
-            if (made) {
-                try {
-                    gpu::launchBuildCellList(a, stream);
-                } catch (const std::exception&) {
-                    made = false;
-                }
-                made = cudaStreamEndCapture(stream, &captured) == cudaSuccess && made;
-            }
-            made = made && cudaGraphInstantiate(&m_exec, captured, 0) == cudaSuccess;
-            if (captured) cudaGraphDestroy(captured);
-            if (!made) {  // nothing was launched: plain launches from now on
-                cudaGetLastError();
-                forgetGraph();
+        Graph* graph = nullptr;
+        for (Graph& g : m_graphs)
+            if (g.exec && g.stream == stream && sameBuild(a, g.args)) graph = &g;
+        if (!graph) {
+            graph = &m_graphs[0];
+            for (Graph& g : m_graphs)
+                if (g.used < graph->used) graph = &g;  // the least recently used (or an empty one)
+            forget(*graph);
+            graph->exec = captureGraph(stream, [&] { gpu::launchBuildCellList(a, stream); });
+            if (!graph->exec) {  // nothing was launched: plain launches from now on
                 m_graphsOff = true;
                 gpu::launchBuildCellList(a, stream);
                 return;
             }
-            m_built = a;
-            m_builtOn = stream;
+            graph->args = a;
+            graph->stream = stream;
         }
-        const cudaError_t e = cudaGraphLaunch(m_exec, stream);
+        graph->used = ++m_launches;
+        const cudaError_t e = cudaGraphLaunch(graph->exec, stream);
         if (e != cudaSuccess) throw DeviceError(std::string("cell list graph launch: ") + cudaGetErrorString(e));
     }
 
     static bool sameBuild(const gpu::CellListArgs<Real>& a, const gpu::CellListArgs<Real>& b) {
-        for (int k = 0; k < 3; ++k)
-            if (a.geometry.dims[k] != b.geometry.dims[k] || a.geometry.inverseCell[k] != b.geometry.inverseCell[k]) return false;
-        return a.x == b.x && a.n == b.n && a.cellStart == b.cellStart && a.sorted == b.sorted && a.keys == b.keys &&
-               a.sortedKeys == b.sortedKeys && a.indices == b.indices && a.scratch == b.scratch && a.scratchBytes == b.scratchBytes &&
-               a.split.species == b.split.species && a.split.radius == b.split.radius && a.split.largeAbove == b.split.largeAbove;
+        return sameGeometry(a.geometry, b.geometry) && a.x == b.x && a.n == b.n && a.cellStart == b.cellStart && a.sorted == b.sorted &&
+               a.keys == b.keys && a.sortedKeys == b.sortedKeys && a.indices == b.indices && a.scratch == b.scratch &&
+               a.scratchBytes == b.scratchBytes && a.split.species == b.split.species && a.split.radius == b.split.radius &&
+               a.split.largeAbove == b.split.largeAbove;
     }
 
-    void forgetGraph() {
-        if (m_exec) cudaGraphExecDestroy(m_exec);  // one still running completes first
-        m_exec = nullptr;
+    static void forget(Graph& g) {
+        if (g.exec) cudaGraphExecDestroy(g.exec);  // one still running completes first
+        g = Graph{};
+    }
+    void forgetGraphs() {
+        for (Graph& g : m_graphs) forget(g);
     }
 
-    static constexpr int64_t kOneLaunchBuild = 4096;  // cell_list_kernels.cu: kOneBlockItems
     DeviceBuffer<int32_t> m_cellStart, m_sorted, m_indices;
     DeviceBuffer<uint32_t> m_keys, m_sortedKeys;
     DeviceBuffer<unsigned char> m_scratch;
     int64_t m_scratchFor = -1;
     size_t m_scratchBytes = 0;
-    cudaGraphExec_t m_exec = nullptr;
-    gpu::CellListArgs<Real> m_built{};
-    cudaStream_t m_builtOn = nullptr;
+    std::array<Graph, kGraphs> m_graphs{};
+    uint64_t m_launches = 0;
     bool m_graphsOff = false;
 };
 

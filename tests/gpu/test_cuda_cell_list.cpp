@@ -115,6 +115,29 @@ TEST(CudaCellList, EmptyBuildHasEmptyCells) {
     EXPECT_TRUE(built.second.empty());
 }
 
+// Positions, species and radii on the device.
+template <class Real>
+struct DeviceParticles {
+    DeviceBuffer<Vec3<Real>> x;
+    DeviceBuffer<int32_t> species;
+    DeviceBuffer<Real> radius;
+    DeviceParticles(const std::vector<Vec3<Real>>& xs, const std::vector<int32_t>& ss, const std::vector<Real>& rs) {
+        x.upload(xs.data(), xs.size());
+        species.upload(ss.data(), ss.size());
+        radius.upload(rs.data(), rs.size());
+    }
+};
+
+// A device build's arrays (finished) against the host's.
+void expectViewEquals(const CellListView& view, const CellList& host, int64_t n) {
+    std::vector<int32_t> starts(size_t(view.geometry.cellCount()) + 1);
+    std::vector<int32_t> order(static_cast<size_t>(n));
+    cudaCheck(cudaMemcpy(starts.data(), view.cellStart, starts.size() * sizeof(int32_t), cudaMemcpyDeviceToHost), "download");
+    if (n > 0) cudaCheck(cudaMemcpy(order.data(), view.sorted, order.size() * sizeof(int32_t), cudaMemcpyDeviceToHost), "download");
+    EXPECT_EQ(starts, host.cellStart());
+    EXPECT_EQ(order, host.sorted());
+}
+
 // With large particles kept out of the cells (cell_list.h, CellSplit): the same arrays as the host's
 // build, in every build path (the shared-memory counting sort, the block radix sort, the device-wide
 // sort), the tail after the cells in ascending index.
@@ -132,24 +155,15 @@ void expectSplitSameAsHost(int64_t n, const Vec3<double>& box, uint64_t seed) {
     CellList host;
     host.build(x.data(), n, g, CellSplit<Real>{species.data(), radius.data(), choice.largeAbove}, choice.gridRadius);
     EXPECT_EQ(host.cellStart()[size_t(g.cellCount())], int32_t(n - large));
-    DeviceBuffer<Vec3<Real>> dx;
-    DeviceBuffer<int32_t> ds;
-    DeviceBuffer<Real> dr;
-    dx.upload(x.data(), x.size());
-    ds.upload(species.data(), species.size());
-    dr.upload(radius.data(), radius.size());
+    const DeviceParticles<Real> d(x, species, radius);
     DeviceCellList<Real> cells;
-    const CellListView view = cells.build(dx.data(), n, g, CellSplit<Real>{ds.data(), dr.data(), choice.largeAbove}, choice.gridRadius, nullptr);
+    const CellListView view =
+        cells.build(d.x.data(), n, g, CellSplit<Real>{d.species.data(), d.radius.data(), choice.largeAbove}, choice.gridRadius, nullptr);
     cudaCheck(cudaDeviceSynchronize(), "cell list build");
-    std::vector<int32_t> starts(size_t(g.cellCount()) + 1);
-    std::vector<int32_t> order(static_cast<size_t>(n));
-    cudaCheck(cudaMemcpy(starts.data(), view.cellStart, starts.size() * sizeof(int32_t), cudaMemcpyDeviceToHost), "download");
-    cudaCheck(cudaMemcpy(order.data(), view.sorted, order.size() * sizeof(int32_t), cudaMemcpyDeviceToHost), "download");
-    EXPECT_EQ(starts, host.cellStart());
-    EXPECT_EQ(order, host.sorted());
+    expectViewEquals(view, host, n);
     EXPECT_EQ(view.count, int32_t(n));
     EXPECT_EQ(view.largeAbove, 0.75);
-    EXPECT_DOUBLE_EQ(view.largeReach, narrowestCell(g) - 0.5);
+    EXPECT_DOUBLE_EQ(view.largeReach, largeReachOf(g, 0.5));
 }
 
 TEST(CudaCellList, KeepsLargeParticlesOutOfTheCellsAsTheHostDoes) {
@@ -159,4 +173,48 @@ TEST(CudaCellList, KeepsLargeParticlesOutOfTheCellsAsTheHostDoes) {
         expectSplitSameAsHost<float>(n, {14, 12, 13}, uint64_t(n));
         expectSplitSameAsHost<double>(n, {14, 12, 13}, uint64_t(n) + 1);
     }
+}
+
+// On a stream of its own a build of more than one block is a CUDA graph, captured the first time its
+// arguments are seen and launched again while they are the same (src/cuda/device_cell_list.h): builds
+// that alternate geometries, counts and splits, and a list swapped with another, give the host's arrays
+// every time.
+TEST(CudaCellList, GraphBuildsFollowEveryChangeOfTheirArguments) {
+    COREBOX_REQUIRE_GPU();
+    cudaStream_t stream = nullptr;
+    cudaCheck(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking), "stream");
+    const Vec3<double> box{20, 16, 18};
+    const int64_t n = 9000;
+    std::vector<Vec3<float>> x = randomPositions<float>(n, box, 5);
+    std::vector<int32_t> species(size_t(n), 0);
+    for (int64_t i = 7; i < n; i += 301) species[size_t(i)] = 1;
+    const std::vector<float> radius{0.5f, 1.0f};
+    DeviceParticles<float> d(x, species, radius);
+    DeviceCellList<float> cells, other;
+    auto check = [&](DeviceCellList<float>& list, int64_t count, double minCell, bool split, const char* what) {
+        SCOPED_TRACE(what);
+        const CellGeometry g = cellGeometry(box, count, minCell);
+        const CellSplit<float> hostSplit = split ? CellSplit<float>{species.data(), radius.data(), 0.75} : CellSplit<float>{};
+        const CellSplit<float> deviceSplit = split ? CellSplit<float>{d.species.data(), d.radius.data(), 0.75} : CellSplit<float>{};
+        CellList host;
+        host.build(x.data(), count, g, hostSplit, 0.5);
+        const CellListView view = list.build(d.x.data(), count, g, deviceSplit, 0.5, stream);
+        cudaCheck(cudaStreamSynchronize(stream), "build");
+        expectViewEquals(view, host, count);
+    };
+    check(cells, n, 1.0, true, "first build (captured)");
+    check(cells, n, 1.0, true, "again (launched)");
+    check(cells, n, 1.3, true, "wider cells");
+    check(cells, n, 1.0, true, "the first geometry again");
+    check(cells, n, 1.0, false, "no split");
+    check(cells, n - 2500, 1.0, true, "fewer particles");
+    // New positions in the same buffer: the graph reads them.
+    x = randomPositions<float>(n, box, 6);
+    d.x.upload(x.data(), x.size());
+    check(cells, n, 1.0, true, "new positions");
+    check(other, n, 1.3, true, "another list");
+    swap(cells, other);
+    check(cells, n, 1.3, true, "swapped in");
+    check(other, n, 1.0, true, "swapped out");
+    cudaCheck(cudaStreamDestroy(stream), "stream");
 }

@@ -431,4 +431,11 @@ TEST(CellSplit, EveryPairIsVisitedOnceFromBothSides) {
         for (size_t i = 0; i < x.size(); ++i) xf[i] = vec3Cast<float>(x[i]);
         EXPECT_GT(expectSplitWalksFindEveryPair(xf, species, std::vector<float>{0.5f, 1.0f, 2.5f, 6.0f}, box, gap), 1000);
     }
+    // A slab thinner than a cell (one cell across it, narrower than minCell): the large particles'
+    // reach is set by the axes of several cells. Radii 0.5 and 0.6 (60 balls) and 2 (none).
+    const Vec3<double> slab{18, 14, 1.0};
+    const std::vector<Vec3<double>> x = randomPositions<double>(1500, slab, 23, 0.02);
+    std::vector<int32_t> species(x.size(), 0);
+    for (size_t k = 3; k < x.size(); k += 25) species[k] = 1;
+    EXPECT_GT(expectSplitWalksFindEveryPair(x, species, std::vector<double>{0.5, 0.6, 2.0}, slab, 0.4), 1000);
 }
