@@ -231,10 +231,9 @@ COREBOX_HD inline bool isLargeIn(const CellListView& view, double radius) { retu
 // fn(j) for every particle j in the 27 cells around `position` (the particle itself included when it
 // is in the list), in ascending cell key and, within a cell, ascending index, then for every large
 // particle. Every particle closer to `position` than the minCell the geometry was made with is
-// visited exactly once, up to the rounding of
-// x * inverseCell: a pair across a cell face closer than minCell by less than ~1e-16 of its cell
-// coordinate may be missed, which the contact and overlap tests ignore anyway (their relative slack
-// is 1e-12 or more).
+// visited exactly once, up to the rounding of x * inverseCell: a pair across a cell face closer than
+// minCell by less than ~1e-16 of its cell coordinate may be missed, which the contact and overlap
+// tests ignore anyway (their relative slack is 1e-12 or more).
 // With a split, `radius` is that of the particle at `position`: a large one walks the cells within its
 // reach, every one then the large particles (the tail, in ascending index). The cells are walked as
 // rows of consecutive keys (x is fastest), each one contiguous range of the order, and the tail as one

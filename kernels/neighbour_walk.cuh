@@ -30,8 +30,9 @@ __device__ inline unsigned groupMask() {
 
 // fn(j) for the particles of the 27 cells around `position` (and the large ones: below) whose place in
 // the walk's concatenated runs (cell_list.h neighbourCellRun: 9 rows of up to 3 cells, each one
-// contiguous range of the list's order) is rank modulo G. The runs' bounds are loaded first, all at once (independent loads),
-// then each lane takes its places: a few dependent loads deep, whatever the number of cells.
+// contiguous range of the list's order) is rank modulo G. The runs' bounds are loaded first, all at
+// once (independent loads), then each lane takes its places: a few dependent loads deep, whatever the
+// number of cells.
 // With a split (cell_list.h), `radius` is the particle's: a large particle's wider walk is made by its
 // first lane alone (they are few), the large particles' tail is shared out like the runs.
 template <int G, class Real, class Fn>

@@ -292,8 +292,8 @@ int CudaDevice<Real>::resolveWallImpacts() {
 }
 
 // The impact search's cells at the current positions, at least the largest contact distance of the
-// particles in them wide, the few large ones kept out (cell_list.h: the one rule, CellSplit); none when the screen showed that no pair can meet in this stage
-// (screenStage).
+// particles in them wide, the few large ones kept out (cell_list.h: the one rule, CellSplit); none
+// when the screen showed that no pair can meet in this stage (screenStage).
 template <class Real>
 CellListView CudaDevice<Real>::impactCells() {
     if (m_pairsClear) return emptyCells();
@@ -750,9 +750,8 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     m_contactImpulses.resize(size_t(kImpulseRows) * size_t(m_n));
     cudaCheck(cudaMemsetAsync(m_contactImpulses.data(), 0, size_t(kImpulseRows) * size_t(m_n) * sizeof(double), s), "memset");
     if (m_gaussSeidelContacts) m_rowTarget.resize(size_t(total));  // the fill sets the targets
-    // A later listing of a step keeps the colours of the pairs the listing before coloured (the
-    // colouring's first round over every row was most of its time; contact_gauss_seidel.cu says why
-    // not across steps).
+    // A later listing of a step keeps the colours of the pairs the listing before coloured
+    // (contact_gauss_seidel.cu: what it saves, and why not across steps).
     const bool recolour = carry && m_warmColoured && m_gaussSeidelContacts;
     if (recolour) m_prevColour.resize(size_t(total));
     gpu::ContactArgs<Real> fill = contactArgs();
