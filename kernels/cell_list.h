@@ -176,6 +176,12 @@ struct CellSplit {
     double largeAbove = kNoLargeParticles;
 };
 
+// The threshold a split keeps out of the cells: none without species.
+template <class Real>
+inline double largeAboveOf(const CellSplit<Real>& split) {
+    return split.species ? split.largeAbove : kNoLargeParticles;
+}
+
 // The cell key of particle i at x: its cell, or cells for a particle kept out of them.
 template <class Real>
 COREBOX_HD inline int cellKeyOfParticle(const CellGeometry& g, const CellSplit<Real>& split, int64_t i, const Vec3<Real>& x) {

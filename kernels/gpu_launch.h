@@ -318,7 +318,7 @@ struct CellListArgs {
     double gridRadius;      // the largest radius left in the cells, where split names species
 
     CellListView view() const {
-        return splitView(CellListView{geometry, cellStart, sorted}, split.species ? split.largeAbove : kNoLargeParticles, gridRadius, n);
+        return splitView(CellListView{geometry, cellStart, sorted}, largeAboveOf(split), gridRadius, n);
     }
 };
 // Bytes of radix-sort scratch a cell list of n particles needs.
@@ -447,7 +447,7 @@ struct ContactArgs {
     const int64_t* warmPartner;
     const Real* warmLambda;
     // A later listing of a step (the warm rows are the step's listing before, coloured): those rows'
-    // colours (kUncoloured for rows not their pair's own), and per row the colour the fill finds there
+    // colours (kUncolouredRow for rows not their pair's own), and per row the colour the fill finds there
     // for its pair, which the colouring keeps (contact_gauss_seidel.cu). Null otherwise.
     const uint8_t* warmColour;
     uint8_t* prevColour;

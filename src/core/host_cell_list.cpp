@@ -69,7 +69,7 @@ void CellList::build(const Vec3<Real>* x, int64_t n, const CellGeometry& geometr
     for (size_t c = cells + 1; c > 0; --c) m_cellStart[c] = m_cellStart[c - 1];
     m_cellStart[0] = 0;
     m_cellStart.resize(cells + 1);
-    const CellListView made = splitView(view(), split.species ? split.largeAbove : kNoLargeParticles, gridRadius, n);
+    const CellListView made = splitView(view(), largeAboveOf(split), gridRadius, n);
     m_largeAbove = made.largeAbove;
     m_largeReach = made.largeReach;
 }

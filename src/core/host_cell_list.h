@@ -35,6 +35,14 @@ constexpr int64_t kMaxLargeParticles = 64;  // each walk visits them all
 constexpr double kLargeRatio = 1.25;
 CellSplitChoice chooseCellSplit(const std::vector<double>& radius, const std::vector<int64_t>& count);
 
+// The split a choice makes over particles' species and the radii per species (host or device
+// pointers): none where it keeps no particle out.
+template <class Real>
+CellSplit<Real> cellSplitOf(const CellSplitChoice& choice, const int32_t* species, const Real* radius) {
+    if (!(choice.largeAbove < kNoLargeParticles)) return CellSplit<Real>{};
+    return CellSplit<Real>{species, radius, choice.largeAbove};
+}
+
 // Particles per species (species indices outside [0, species) are not counted).
 std::vector<int64_t> speciesCounts(const std::vector<int32_t>& species, int speciesCount);
 

@@ -666,8 +666,7 @@ bool CudaDevice<Real>::colourListing(int64_t rows, bool keepColours) {
 // The particles the contact grids keep out of their cells (chooseContactCellSplit), on the home GPU.
 template <class Real>
 CellSplit<Real> CudaDevice<Real>::contactCellSplit() {
-    if (!(m_cellSplit.largeAbove < kNoLargeParticles)) return CellSplit<Real>{};
-    return CellSplit<Real>{home().species.data(), home().radius.data(), m_cellSplit.largeAbove};
+    return cellSplitOf(m_cellSplit, home().species.data(), home().radius.data());
 }
 
 // Cells for the contact listing: every listed pair in neighbouring cells, or within a large

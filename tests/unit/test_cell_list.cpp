@@ -331,48 +331,42 @@ TEST(IncrementalCellList, VisitsWhatASortedListOfTheInsertedParticlesVisits) {
 // ---- large particles kept out of the cells (cell_list.h: CellSplit, chooseCellSplit) ----
 
 TEST(CellSplit, ChoosesTheSmallestRadiusWithFewParticlesAbove) {
-    // Monodisperse: nothing to split.
-    CellSplitChoice c = chooseCellSplit({0.5}, {100000});
-    EXPECT_EQ(c.gridRadius, 0.5);
-    EXPECT_EQ(c.largeAbove, kNoLargeParticles);
-    // A few heavy balls twice as large: kept out, the cells sized for the small ones.
-    c = chooseCellSplit({0.5, 1.0}, {100000, 3});
-    EXPECT_EQ(c.gridRadius, 0.5);
-    EXPECT_EQ(c.largeAbove, 0.75);
-    // None of them yet: still large, so that a ball added later is never in cells too narrow for it.
-    c = chooseCellSplit({0.5, 1.0}, {100000, 0});
-    EXPECT_EQ(c.gridRadius, 0.5);
-    EXPECT_EQ(c.largeAbove, 0.75);
-    // Too many to visit from every walk: one grid for all.
-    c = chooseCellSplit({0.5, 1.0}, {100000, kMaxLargeParticles + 1});
-    EXPECT_EQ(c.gridRadius, 1.0);
-    EXPECT_EQ(c.largeAbove, kNoLargeParticles);
-    c = chooseCellSplit({0.5, 1.0}, {100000, kMaxLargeParticles});
-    EXPECT_EQ(c.gridRadius, 0.5);
-    // Little larger: the cells would narrow by little.
-    c = chooseCellSplit({0.5, 0.6}, {100000, 3});
-    EXPECT_EQ(c.gridRadius, 0.6);
-    EXPECT_EQ(c.largeAbove, kNoLargeParticles);
-    // Three sizes, in no order: the middle one too numerous to leave out; the threshold between it and
-    // the largest.
-    c = chooseCellSplit({2.0, 0.5, 0.8}, {5, 100000, 1000});
-    EXPECT_EQ(c.gridRadius, 0.8);
-    EXPECT_EQ(c.largeAbove, 1.4);
-    // A radius a hair above another is no place for a threshold (float rounding would put it on
-    // either side): the next place up, or none.
-    c = chooseCellSplit({0.5, 0.50001}, {100000, 3});
-    EXPECT_EQ(c.gridRadius, 0.50001);
-    EXPECT_EQ(c.largeAbove, kNoLargeParticles);
-    c = chooseCellSplit({0.5, 0.50001, 1.0}, {100000, 3, 3});
-    EXPECT_EQ(c.gridRadius, 0.50001);
-    EXPECT_EQ(c.largeAbove, 0.5 * (0.50001 + 1.0));
-    c = chooseCellSplit({0.5, 0.50001, 2.0}, {100000, 100000, 3});
-    EXPECT_EQ(c.gridRadius, 0.50001);
-    EXPECT_EQ(c.largeAbove, 0.5 * (0.50001 + 2.0));
-    // Point particles with a few hard spheres: the spheres are large.
-    c = chooseCellSplit({0.0, 0.5}, {1000, 2});
-    EXPECT_EQ(c.gridRadius, 0.0);
-    EXPECT_EQ(c.largeAbove, 0.25);
+    const double any = std::numeric_limits<double>::quiet_NaN();  // threshold not looked at
+    struct Case {
+        const char* why;
+        std::vector<double> radius;
+        std::vector<int64_t> count;
+        double gridRadius, largeAbove;
+    };
+    for (const Case& k : std::vector<Case>{
+             {"monodisperse: nothing to split", {0.5}, {100000}, 0.5, kNoLargeParticles},
+             {"a few heavy balls twice as large: kept out, the cells sized for the small ones", {0.5, 1.0}, {100000, 3}, 0.5, 0.75},
+             {"none of them yet: still large, so that a ball added later is never in cells too narrow for it",
+              {0.5, 1.0},
+              {100000, 0},
+              0.5,
+              0.75},
+             {"too many to visit from every walk: one grid for all", {0.5, 1.0}, {100000, kMaxLargeParticles + 1}, 1.0, kNoLargeParticles},
+             {"as many as every walk may visit", {0.5, 1.0}, {100000, kMaxLargeParticles}, 0.5, any},
+             {"little larger: the cells would narrow by little", {0.5, 0.6}, {100000, 3}, 0.6, kNoLargeParticles},
+             {"three sizes, in no order: the middle one too numerous to leave out, the threshold between it and the largest",
+              {2.0, 0.5, 0.8},
+              {5, 100000, 1000},
+              0.8,
+              1.4},
+             // A radius a hair above another is no place for a threshold (float rounding would put it on
+             // either side): the next place up, or none.
+             {"a hair above: no place", {0.5, 0.50001}, {100000, 3}, 0.50001, kNoLargeParticles},
+             {"a hair above: the next place up", {0.5, 0.50001, 1.0}, {100000, 3, 3}, 0.50001, 0.5 * (0.50001 + 1.0)},
+             {"a hair above, both numerous", {0.5, 0.50001, 2.0}, {100000, 100000, 3}, 0.50001, 0.5 * (0.50001 + 2.0)},
+             {"point particles with a few hard spheres: the spheres are large", {0.0, 0.5}, {1000, 2}, 0.0, 0.25}}) {
+        SCOPED_TRACE(k.why);
+        const CellSplitChoice c = chooseCellSplit(k.radius, k.count);
+        EXPECT_EQ(c.gridRadius, k.gridRadius);
+        if (!std::isnan(k.largeAbove)) {
+            EXPECT_EQ(c.largeAbove, k.largeAbove);
+        }
+    }
     EXPECT_EQ(chooseCellSplit({}, {}).largeAbove, kNoLargeParticles);
     EXPECT_EQ(speciesCounts({0, 1, 1, 0, 0, 3, -1}, 3), (std::vector<int64_t>{3, 2, 0}));
 }
