@@ -95,6 +95,7 @@ struct Options {
     int64_t frames = 0;  // 0: until the window closes (headless: 300)
     int threads = 0;  // 0: worldThreads() picks
     int contactSweeps = 0;  // WorldDef::contactSweeps; 0: corebox's own
+    int impactRounds = 0;   // WorldDef::impactRounds; 0: corebox's own
     bool headless = false;
     bool softwareGl = false;
     bool vsync = true;
@@ -117,6 +118,7 @@ const char* const kUsage =
     "  --threads N            the CPU world's threads (default 0: every hardware thread, but one when frames are\n"
     "                         pipelined: the main thread draws on it)\n"
     "  --contact-sweeps N     the contact solver's sweeps per listing (default 0: corebox's own, 16)\n"
+    "  --impact-rounds N      the impact rounds per substep (default 0: corebox's own, 64)\n"
     "  --frames F             exit after F frames (default: until the window closes; headless 300)\n"
     "  --headless             no window: an EGL context rendering offscreen (same loop)\n"
     "  --software-gl          headless on Mesa's software renderer even where a GPU is present\n"
@@ -196,6 +198,9 @@ Options parseOptions(int argc, char** argv) {
         } else if (flag == "--contact-sweeps") {
             o.contactSweeps = int(parseInteger(flag, value(), 0));
             if (o.contactSweeps > 1024) throw UsageError("--contact-sweeps: at most 1024");
+        } else if (flag == "--impact-rounds") {
+            o.impactRounds = int(parseInteger(flag, value(), 0));
+            if (o.impactRounds > 4096) throw UsageError("--impact-rounds: at most 4096");
         } else if (flag == "--frames") {
             o.frames = parseInteger(flag, value(), 1);
             framesGiven = true;
@@ -501,6 +506,7 @@ private:
         def.precision = o.precision;
         def.threads = worldThreads(o);
         def.contactSweeps = o.contactSweeps;
+        def.impactRounds = o.impactRounds;
         def.recordContacts = o.flashes;
         def.contactMinImpulse = o.flashImpulse;  // only the impacts that flash
         return def;
@@ -766,6 +772,8 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         .add("samples", int64_t(frameSamples))
         .add("pipelined", o.pipelined)
         .add("record_contacts", o.flashes)
+        .add("contact_sweeps", int64_t(o.contactSweeps))  // 0: corebox's own cap
+        .add("impact_rounds", int64_t(o.impactRounds))    // 0: corebox's own cap
         .add("width", int64_t(o.width))
         .add("height", int64_t(o.height))
         .add("frames", int64_t(samples.size()))

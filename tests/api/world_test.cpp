@@ -507,6 +507,41 @@ TEST_P(WorldTest, ContactSweepsCapTheSolver) {
     }
 }
 
+// WorldDef::impactRounds reaches the impact rounds: a column of balls falling onto a heap takes more
+// than one round a step (each impact of a chain turns the next ball), so a cap of one is hit, corebox's
+// own cap (64) is 0's, and a negative cap is refused by name.
+TEST_P(WorldTest, ImpactRoundsCapTheRounds) {
+    auto drop = [&](int rounds, int* capHits) {
+        WorldDef d = def();
+        d.impactRounds = rounds;
+        std::unique_ptr<World> w = make(d);
+        if (!w) return uint64_t(0);
+        std::vector<ParticleDef> balls;
+        for (int k = 0; k < 200; ++k)
+            balls.push_back(ParticleDef{0, Vec3d{10 + 1.05 * (k % 10), 0.6 + 1.05 * (k / 100), 10 + 1.05 * ((k / 10) % 10)}, Vec3d{0, 0, 0}});
+        for (int k = 0; k < 8; ++k) balls.push_back(ParticleDef{0, Vec3d{14.7, 4 + 1.2 * k, 14.7}, Vec3d{0, -6, 0}});
+        addAll(*w, balls);
+        *capHits = 0;
+        for (int f = 0; f < 30; ++f) *capHits += w->advance(1.0 / 60.0).roundCapHits;
+        return w->stateHash();
+    };
+    int ownHits = 0, oneHits = 0, sixtyFourHits = 0;
+    const uint64_t own = drop(0, &ownHits);
+    if (own == 0) GTEST_SKIP() << GetParam().name << ": not on this machine (DeviceError: " << m_missing << ")";
+    EXPECT_EQ(ownHits, 0);
+    EXPECT_NE(drop(1, &oneHits), own);
+    EXPECT_GT(oneHits, 0);
+    EXPECT_EQ(drop(64, &sixtyFourHits), own);  // corebox's own cap is 64
+    WorldDef bad = def();
+    bad.impactRounds = -1;
+    try {
+        World w(bad);
+        FAIL() << "impactRounds = -1 was accepted";
+    } catch (const corebox::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("impactRounds"), std::string::npos) << e.what();
+    }
+}
+
 TEST_P(WorldTest, StepInfoSplitsTheCollisionStagesTime) {
     MAKE_OR_SKIP(w, def());
     std::vector<ParticleDef> heap;
