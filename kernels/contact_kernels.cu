@@ -24,8 +24,8 @@ namespace {
 template <class Real>
 __device__ bool isPairContact(const ContactArgs<Real>& a, int64_t i, const Vec3<Real>& xi, const Vec3<Real>& vi, Real ai, int64_t j) {
     if (j == i) return false;
-    const PackedBody<Real> xj = a.bodyX[j];
-    return pairContactActive(xi, vi, vec3Of(xj), vec3Of(a.bodyV[j]), ai + xj.w, a.resting);
+    const PackedBody<Real> xj = xBody(a, j);
+    return pairContactActive(xi, vi, vec3Of(xj), vec3Of(vBody(a, j)), ai + xj.w, a.resting);
 }
 
 // fn(wall code) for each wall contact of the particle at xi, in wall order; returns their count.
@@ -47,8 +47,8 @@ __device__ int forEachWallContact(const ContactArgs<Real>& a, const Vec3<Real>& 
 template <class Real, class Fn>
 __device__ int forEachContact(const ContactArgs<Real>& a, int64_t i, Fn&& fn) {
     int count = 0;
-    const PackedBody<Real> bxi = a.bodyX[i];
-    const Vec3<Real> xi = vec3Of(bxi), vi = vec3Of(a.bodyV[i]);
+    const PackedBody<Real> bxi = xBody(a, i);
+    const Vec3<Real> xi = vec3Of(bxi), vi = vec3Of(vBody(a, i));
     const Real ai = bxi.w;
     forEachNeighbour(a.cells, xi, ai, [&](int64_t j) {
         if (!isPairContact(a, i, xi, vi, ai, j)) return;
@@ -76,8 +76,8 @@ __global__ void countContactsKernel(ContactArgs<Real> a, unsigned long long* tot
             ++c;
         });
     } else {
-        const PackedBody<Real> bxi = a.bodyX[i];
-        const Vec3<Real> xi = vec3Of(bxi), vi = vec3Of(a.bodyV[i]);
+        const PackedBody<Real> bxi = xBody(a, i);
+        const Vec3<Real> xi = vec3Of(bxi), vi = vec3Of(vBody(a, i));
         const Real ai = bxi.w;
         int pairs = 0;
         forEachNeighbourShared<G>(a.cells, xi, ai, rank, [&](int64_t j) { pairs += isPairContact(a, i, xi, vi, ai, j) ? 1 : 0; });
@@ -113,16 +113,16 @@ __device__ int64_t warmRowOf(const ContactArgs<Real>& a, int64_t i, int64_t part
 // The normal speed an isolated contact's Gauss-Seidel update aims at (isolatedContactTarget).
 template <class Real>
 __device__ Real contactTarget(const ContactArgs<Real>& a, int64_t i, int64_t partner) {
-    const Vec3<Real> xi = vec3Of(a.bodyX[i]), vi = vec3Of(a.bodyV[i]);
+    const Vec3<Real> xi = vec3Of(xBody(a, i)), vi = vec3Of(vBody(a, i));
     Real vn = 0, e = 0;
     if (isWallContact(partner)) {
         const int code = int(-1 - partner);
         vn = (code % 2 == 0 ? Real(1) : Real(-1)) * vi[code / 2];
         e = a.bounce.wallRestitution;
     } else {
-        const Vec3<Real> r = xi - vec3Of(a.bodyX[partner]);
+        const Vec3<Real> r = xi - vec3Of(xBody(a, partner));
         const Real dist = realSqrt(norm2(r));
-        vn = dist > Real(0) ? dot(vi - vec3Of(a.bodyV[partner]), r) / dist : Real(0);
+        vn = dist > Real(0) ? dot(vi - vec3Of(vBody(a, partner)), r) / dist : Real(0);
         e = a.bounce.restitution;
     }
     return isolatedContactTarget(vn, e, a.bounce);
@@ -313,22 +313,22 @@ __global__ void liftWorkKernel(ParticleArrays<Real> p, SpeciesTable<Real> table,
     row[i] = -m * dot(vec3Cast<double>(table.field[s]), vec3Cast<double>(p.x[i]) - vec3Cast<double>(xListed[i]));
 }
 
-// The contact phase's copy of the state (ContactArgs::bodyX, bodyV) from X, V and the species, and back.
+// The contact phase's copy of the state (ContactArgs::body) from X, V and the species, and back.
 template <class Real>
 __global__ void packBodiesKernel(ContactArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.p.n) return;
     const int s = a.p.species[i];
-    a.bodyX[i] = packed(a.p.x[i], a.table.radius[s]);
-    a.bodyV[i] = packed(a.p.v[i], a.table.mass[s]);
+    xBody(a, i) = packed(a.p.x[i], a.table.radius[s]);
+    vBody(a, i) = packed(a.p.v[i], a.table.mass[s]);
 }
 
 template <class Real>
 __global__ void unpackBodiesKernel(ContactArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.p.n) return;
-    a.p.x[i] = vec3Of(a.bodyX[i]);
-    a.p.v[i] = vec3Of(a.bodyV[i]);
+    a.p.x[i] = vec3Of(xBody(a, i));
+    a.p.v[i] = vec3Of(vBody(a, i));
 }
 
 }  // namespace

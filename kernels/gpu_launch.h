@@ -30,7 +30,7 @@ struct ParticleArrays {
 
 // A particle's position or velocity with a fourth value (its hard-core radius, its mass), aligned so that
 // a thread reads or writes it whole in one vector access (two for fp64): the contact phase's copy of
-// the state (ContactArgs::bodyX, bodyV).
+// the state (ContactArgs::body).
 template <class Real>
 struct alignas(4 * sizeof(Real)) PackedBody {
     Real x, y, z, w;
@@ -474,11 +474,11 @@ struct ContactArgs {
     Real* packedLambda;
     double* packedVirial;
     int32_t* rowRank;
-    // n each: the contact phase's copy of X with each radius and of V with each mass (packed_body.cuh
-    // says why): packed by the count, which the fill reads too, and again before a listing's
-    // Gauss-Seidel sweeps, which write it back into p when they end.
-    PackedBody<Real>* bodyX;
-    PackedBody<Real>* bodyV;
+    // 2n: the contact phase's copy of X with each radius and of V with each mass, particle i's side by
+    // side at 2i and 2i + 1 (packed_body.cuh says why: xBody, vBody): packed by the count, which the
+    // fill reads too, and again before a listing's Gauss-Seidel sweeps, which write it back into p
+    // when they end.
+    PackedBody<Real>* body;
     // n x kListedPartners, where set (contactCountListsPartners): the count writes each particle's first
     // kListedPartners contacts here in list order, and the fill copies them instead of walking the
     // cells again (a particle with more walks them again).
@@ -497,7 +497,7 @@ constexpr int kListedPartners = 16;
 // Whether the count of n particles lists them: where a thread walks a particle's cells alone (the walks of
 // several lanes a particle visit its contacts out of list order), and indices fit 32 bits.
 bool contactCountListsPartners(int64_t n);
-// bodyX, bodyV from p (X with each radius, V with each mass), and back into p.
+// body from p (X with each radius, V with each mass), and back into p.
 template <class Real>
 void launchPackBodies(const ContactArgs<Real>& args, cudaStream_t stream);
 template <class Real>

@@ -622,8 +622,7 @@ gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
     a.packedLambda = m_packedLambda.data();
     a.packedVirial = m_packedVirial.data();
     a.rowRank = m_rowRank.data();
-    a.bodyX = m_bodyX.data();
-    a.bodyV = m_bodyV.data();
+    a.body = m_body.data();
     const bool listsPartners = gpu::contactCountListsPartners(m_n) && m_partnerScratch.size() >= size_t(m_n) * gpu::kListedPartners;
     a.partnerScratch = listsPartners ? m_partnerScratch.data() : nullptr;
     a.omega = Real(kGaussSeidelOverRelaxation);
@@ -683,7 +682,7 @@ void CudaDevice<Real>::countContacts(bool scan, unsigned long long* total) {
     m_contactStart.resize(size_t(m_n) + 1);
     m_residual.resize(2);
     for (auto* b : {&m_xListed, &m_dv, &m_dx}) b->resize(size_t(m_n));
-    for (auto* b : {&m_bodyX, &m_bodyV}) b->resize(size_t(m_n));  // packed by the count
+    m_body.resize(2 * size_t(m_n));  // packed by the count
     if (gpu::contactCountListsPartners(m_n)) m_partnerScratch.resize(size_t(m_n) * gpu::kListedPartners);
     gpu::launchCountContacts(contactArgs(), stream(), total);
     if (scan) scanContacts();

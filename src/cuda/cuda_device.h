@@ -521,7 +521,7 @@ private:
     // The own rows packed in colour order for the sweeps (gpu::ContactArgs::packed*), and each own row's place.
     DeviceBuffer<int32_t> m_packedParticle, m_packedPartner, m_rowRank;
     DeviceBuffer<int32_t> m_partnerScratch;  // the count's lists for the fill (ContactArgs::partnerScratch)
-    DeviceBuffer<gpu::PackedBody<Real>> m_bodyX, m_bodyV;  // the contact phase's copy of X and V (ContactArgs)
+    DeviceBuffer<gpu::PackedBody<Real>> m_body;  // the contact phase's copy of X and V, 2n (ContactArgs::body)
     DeviceBuffer<Real> m_packedTarget, m_packedLambda;
     DeviceBuffer<double> m_packedVirial;
     DeviceBuffer<int32_t> m_colourStartOnDevice;
