@@ -118,7 +118,7 @@ const char* const kUsage =
     "  --threads N            the CPU world's threads (default 0: every hardware thread, but one when frames are\n"
     "                         pipelined: the main thread draws on it)\n"
     "  --contact-sweeps N     the contact solver's sweeps per listing (default 0: corebox's own, 16)\n"
-    "  --impact-rounds N      the impact rounds per substep (default 0: corebox's own, 64)\n"
+    "  --impact-rounds N      cap on the impact rounds per substep (default 0: corebox's own, 64)\n"
     "  --frames F             exit after F frames (default: until the window closes; headless 300)\n"
     "  --headless             no window: an EGL context rendering offscreen (same loop)\n"
     "  --software-gl          headless on Mesa's software renderer even where a GPU is present\n"
@@ -146,7 +146,8 @@ std::string shellQuoted(const std::string& s) {
     return out + "'";
 }
 
-int64_t parseInteger(const std::string& flag, const std::string& text, int64_t lowest) {
+// A whole number in [lowest, highest], checked before any narrowing to int.
+int64_t parseInteger(const std::string& flag, const std::string& text, int64_t lowest, int64_t highest = INT64_MAX) {
     size_t used = 0;
     long long v = 0;
     try {
@@ -156,6 +157,7 @@ int64_t parseInteger(const std::string& flag, const std::string& text, int64_t l
     }
     if (used == 0 || used != text.size() || v < lowest)
         throw UsageError(flag + ": '" + text + "' is not a whole number >= " + std::to_string(lowest));
+    if (v > highest) throw UsageError(flag + ": at most " + std::to_string(highest));
     return v;
 }
 
@@ -194,13 +196,11 @@ Options parseOptions(int argc, char** argv) {
             else
                 throw UsageError("--precision: '" + v + "' is not fp32 or fp64");
         } else if (flag == "--threads") {
-            o.threads = int(parseInteger(flag, value(), 0));
+            o.threads = int(parseInteger(flag, value(), 0, 4096));
         } else if (flag == "--contact-sweeps") {
-            o.contactSweeps = int(parseInteger(flag, value(), 0));
-            if (o.contactSweeps > 1024) throw UsageError("--contact-sweeps: at most 1024");
+            o.contactSweeps = int(parseInteger(flag, value(), 0, 1024));
         } else if (flag == "--impact-rounds") {
-            o.impactRounds = int(parseInteger(flag, value(), 0));
-            if (o.impactRounds > 4096) throw UsageError("--impact-rounds: at most 4096");
+            o.impactRounds = int(parseInteger(flag, value(), 0, 4096));
         } else if (flag == "--frames") {
             o.frames = parseInteger(flag, value(), 1);
             framesGiven = true;
@@ -212,17 +212,15 @@ Options parseOptions(int argc, char** argv) {
             o.vsync = false;
         } else if (flag == "--samples") {
             const std::string v = value();
-            o.samples = v == "auto" ? corebox::GlfwWindow::kAutoSamples : int(parseInteger(flag, v, 0));
-            if (o.samples > 16) throw UsageError("--samples: at most 16");
+            o.samples = v == "auto" ? corebox::GlfwWindow::kAutoSamples : int(parseInteger(flag, v, 0, 16));
         } else if (flag == "--sequential") {
             o.pipelined = false;
         } else if (flag == "--size") {
             const std::string v = value();
             const size_t x = v.find('x');
             if (x == std::string::npos) throw UsageError("--size: '" + v + "' is not WIDTHxHEIGHT");
-            o.width = int(parseInteger("--size width", v.substr(0, x), 16));
-            o.height = int(parseInteger("--size height", v.substr(x + 1), 16));
-            if (o.width > 8192 || o.height > 8192) throw UsageError("--size: at most 8192x8192");
+            o.width = int(parseInteger("--size width", v.substr(0, x), 16, 8192));
+            o.height = int(parseInteger("--size height", v.substr(x + 1), 16, 8192));
         } else if (flag == "--scripted") {
             o.scripted = true;
         } else if (flag == "--script") {

@@ -61,9 +61,10 @@
 // 10^6 balls 113.4 ms a frame instead of 138.1 (the last second 64.1 instead of 79.0); with the count
 // and the fill on the packed bodies too, 111.9 (62.4); 10^5 balls 26.4 instead of 31.1 (12.4 and 16.3).
 // A particle's two bodies side by side (one 32-byte sector in fp32), and each written back only where it
-// changed: the same bits; `corebox bench pile` (an H200, fp32, the same call) 10^6 balls 59.7 ms a frame
-// against 66.1 (the last second 41.9 against 45.8), 10^5 14.5 against 15.0; the sandbox example at 10^5
-// balls 14.7 and 14.7 against 15.3 and 15.5 (its contact phase 5.0 ms a frame against 5.6).
+// changed: the same bits (but for the sign of a zero velocity: relaxOwnRow), the same state hashes;
+// `corebox bench pile` (an H200, fp32, the same call) 10^6 balls 59.7 ms a frame against 66.1 (the last
+// second 41.9 against 45.8), 10^5 14.5 against 15.0; the sandbox example at 10^5 balls 14.7 and 14.7
+// against 15.3 and 15.5 (its contact phase 5.0 ms a frame against 5.6).
 // Tried and not kept: more resident blocks for the sweeps (ncu: 64 registers a thread, half the warps an
 // SM could hold, and the sweeps waiting on L2 and on the colours' barriers): __launch_bounds__(kBlock, 6)
 // and (kBlock, 5) made the 10^6-ball pile 109.0 and 100.1 ms a frame against 96.4 (the same call, an
@@ -317,7 +318,9 @@ __device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidu
     Real lambda = a.packedLambda[e];
     const Real before = lambda;
     // A body is written back only where it changed (stores are L2 traffic, and a settled pile's rows
-    // often push nothing): a zero impulse adds zero to the velocity, a pair apart moves no position.
+    // often push nothing): a zero impulse adds zero to the velocity, a pair apart moves no position. The
+    // same bits as writing every body back, but for the sign of a zero: adding a zero impulse turned a
+    // velocity component of -0 into +0, which is now left -0 (the same motion; a state hash sees it).
     if (isWallContact(p)) {
         const int code = int(-1 - p), axis = code / 2, side = code % 2;
         const Real inward = side == 0 ? Real(1) : Real(-1);
@@ -351,9 +354,7 @@ __device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidu
         vBody(a, i) = packed(vi, mi);
         vBody(a, p) = packed(vj, mj);
     }
-    const bool apart = !(contactGap(d, dist) > Real(0));  // what separatePair finds: the positions are the same
-    separatePair(xi, xj, mi, mj, d, a.up, r);
-    if (!apart) {
+    if (separatePair(xi, xj, mi, mj, d, a.up, r)) {
         xBody(a, i) = packed(xi, ai);
         xBody(a, p) = packed(xj, bxj.w);
     }

@@ -512,19 +512,20 @@ COREBOX_HD inline void stopWallContact(Real& v, Real inward, Real target, Real& 
     v += push * inward;
 }
 
-// Removes the overlap of i and j, shared as overlapShare says.
+// Removes the overlap of i and j, shared as overlapShare says; whether it moved them.
 template <class Real>
-COREBOX_HD inline void separatePair(Vec3<Real>& xi, Vec3<Real>& xj, Real mi, Real mj, Real d, Vec3<Real> up,
+COREBOX_HD inline bool separatePair(Vec3<Real>& xi, Vec3<Real>& xj, Real mi, Real mj, Real d, Vec3<Real> up,
                                     ContactResidual<Real>& residual) {
     const Vec3<Real> r = xi - xj;
     const Real dist = realSqrt(norm2(r));
     const Real gap = contactGap(d, dist);
-    if (!(gap > Real(0)) || !(dist > Real(0))) return;
+    if (!(gap > Real(0)) || !(dist > Real(0))) return false;
     if (gap / d > residual.overlap) residual.overlap = gap / d;
     const Vec3<Real> n = (Real(1) / dist) * r;
     const Real share = overlapShare(mi, mj, n, up);
     xi += (gap * share) * n;
     xj -= (gap * (Real(1) - share)) * n;
+    return true;
 }
 
 }  // namespace corebox

@@ -24,7 +24,8 @@ def row(path):
     frames = "pipelined" if d.get("pipelined", False) else "sequential"
     sweeps = re.search(r"--contact-sweeps (\d+)", d["command_line"])
     rounds = re.search(r"--impact-rounds (\d+)", d["command_line"])
-    solver = (f", {sweeps.group(1)} sweeps" if sweeps else "") + (f", {rounds.group(1)} impact rounds" if rounds else "")
+    solver = f", {sweeps.group(1)} sweeps" if sweeps else ""
+    solver += f", {rounds.group(1)} impact rounds" if rounds else ""
     samples = d.get("samples", 4)
     return (d["n_start"], d["backend"], frames != "pipelined", solver,
             f"| {d['n_start']:,} | {d['backend']} {d['precision']} | {where} | {d['gl_renderer'].split(' (')[0]}, {samples or 1} sample{'s' if samples > 1 else ''} "

@@ -126,9 +126,10 @@ struct WorldDef {
     int contactSweeps = 0;
     // Cap on the impact rounds per step, a game engine's collision iterations (kernels/
     // collision_resolution.h: a round resolves every particle's earliest impact where it is also its
-    // partner's; a chain of impacts through a stack takes a round a ball); 0: corebox's own, 64. What a
-    // capped step leaves goes to the contact solver, which stops those contacts (restitution 0) instead
-    // of bouncing them: energy is never gained, a dense landing bounces less. Where it pays: a landing
+    // partner's; a chain of impacts through a stack takes a round a ball); 0: corebox's own, 64; at most
+    // 4096. What a capped step leaves goes to the contact solver, which stops those contacts (restitution
+    // 0; a contact alone at both its balls still bounces) instead of bouncing them: energy is never
+    // gained, a dense landing bounces less. Where it pays: a landing
     // of many balls at once, whose impact chains hit any cap. The sandbox example at 10^5 balls (one
     // H200, fp32, scripted, one call) with caps 64 / 32 / 16 / 8: 15.1 / 14.1 / 13.7 / 13.7 ms a frame,
     // the slowest 68 / 54 / 49 / 47 (the landing's contact phase stays), the cap hit in 87 / 117 / 150 /
@@ -207,7 +208,7 @@ public:
     // A world from a scene file (DESIGN.md sec. 3: box, species, interaction, integrator, the initial
     // particles with ids 0 .. N-1, its thermostat if it has one), on `def`'s backend, threads, device,
     // recordContacts and contactMinImpulse; the scene's precision, [devices], dt (as substep) and
-    // [interaction] (its contact_sweeps too) apply.
+    // [interaction] (its contact_sweeps and max_collision_rounds too) apply.
     static World fromSceneFile(const std::string& path, const WorldDef& def = WorldDef{});
     ~World();
     World(World&&) noexcept;

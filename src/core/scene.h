@@ -44,6 +44,8 @@ struct InteractionDef {
     std::array<double, 3> gravity{0, 0, 0};  // uniform acceleration [sigma / tau^2]
     double elasticBelowSpeed = 1e-3;         // contacts slower than this are elastic [sigma / tau]
     int maxCollisionRounds = 64;             // cap on parallel resolution rounds per step
+    // The largest cap a scene may set: a GPU keeps two counters a round and clears them every stage.
+    static constexpr int kMaxCollisionRoundsLimit = 4096;
     // Cap on the contact phase's sweeps per listing (collision_rounds.h); 0: the backend's own (16
     // Gauss-Seidel sweeps, CPU and GPU; 128 where the GPU falls back to Jacobi sweeps). Fewer trade
     // resting accuracy for speed, as a game engine's iteration count does.

@@ -101,7 +101,9 @@ private:
               "must be 3 finite numbers");
         checkUnitInterval("interaction.restitution", in.restitution);
         checkNonNegative("interaction.elastic_below_speed", in.elasticBelowSpeed);
-        check("interaction.max_collision_rounds", in.maxCollisionRounds >= 1, "must be >= 1");
+        const int roundsLimit = InteractionDef::kMaxCollisionRoundsLimit;
+        check("interaction.max_collision_rounds", in.maxCollisionRounds >= 1 && in.maxCollisionRounds <= roundsLimit,
+              "must be >= 1 and <= " + std::to_string(roundsLimit));
         check("interaction.contact_sweeps", in.contactSweeps >= 0, "must be >= 0 (0: the backend's own cap)");
         // A zero skin would rebuild the lists whenever anything moves, i.e. every step.
         check("interaction.skin", finite(in.skin) && in.skin > 0,

@@ -8,6 +8,7 @@
 // pressure observables (impulse_sums.h) go into per-particle rows, summed in a fixed order when the
 // tally is read.
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -378,7 +379,7 @@ void CudaDevice<Real>::applyEvents() {
 // balls (an H200, fp32, one call) 15.3 and 15.7 ms a frame against 15.8 and 14.9, its impact rounds 5.07
 // against 5.14 and 5.25.
 // The batch's wait also brings back what the calls after the rounds would each wait for (queueStageTail):
-// read where the batch's last round found nothing.
+// read where the batch's last round found nothing; queued only behind a round of few events.
 // With lists on one GPU or without CudaBackendOptions::fusedSteps: a round a wait. With the contact log,
 // the batch is as long as a record per particle a round fits in kLogBatchBytes (at least one round),
 // room the log gets before the batch; its count comes back with the batch's. The same bits as a round a
@@ -420,7 +421,9 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
     ImpactRounds result;
     bool applied = false;
     int batch = std::clamp(m_lastImpactRounds, std::min(2, maxRounds), maxRounds);
-    unsigned int lastEvents = 0;  // the events of the last round read back (none before the first batch)
+    // The events of the last round read back; before the first batch, many where the last stage ran to
+    // the cap (a landing goes on), none otherwise.
+    unsigned int lastEvents = m_lastImpactRounds >= maxRounds ? UINT_MAX : 0u;
     while (result.rounds < maxRounds && !result.settled) {
         const int first = result.rounds;
         int queued = std::min(batch, maxRounds - first);
@@ -464,7 +467,7 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
                 applied = true;
             }
         }
-        if (result.settled) readStageTail(tail, applied);
+        if (result.settled && tail.tally) readStageTail(tail, applied);
         batch = 4;
     }
     m_lastImpactRounds = result.rounds;

@@ -564,7 +564,7 @@ private:
     static constexpr size_t kHostWords = 16, kHealthWord = 8;
     // The stage's tail is queued behind a batch of impact rounds only where the round before the batch
     // found at most this many events (queueStageTail); after more, a batch that does end the stage
-    // costs the calls after it a wait more.
+    // leaves the calls after it up to three waits (the tally, the listing's count, the step check).
     static constexpr unsigned int kTailAfterEvents = 64;
     // The contact log's room for a batch of impact rounds (runImpactRounds): 64 MiB, 13 rounds of 10^5 particles.
     static constexpr size_t kLogBatchBytes = size_t(64) << 20;

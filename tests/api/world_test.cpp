@@ -517,8 +517,10 @@ TEST_P(WorldTest, ImpactRoundsCapTheRounds) {
         std::unique_ptr<World> w = make(d);
         if (!w) return uint64_t(0);
         std::vector<ParticleDef> balls;
-        for (int k = 0; k < 200; ++k)
-            balls.push_back(ParticleDef{0, Vec3d{10 + 1.05 * (k % 10), 0.6 + 1.05 * (k / 100), 10 + 1.05 * ((k / 10) % 10)}, Vec3d{0, 0, 0}});
+        for (int k = 0; k < 200; ++k) {
+            const Vec3d at{10 + 1.05 * (k % 10), 0.6 + 1.05 * (k / 100), 10 + 1.05 * ((k / 10) % 10)};
+            balls.push_back(ParticleDef{0, at, Vec3d{0, 0, 0}});
+        }
         for (int k = 0; k < 8; ++k) balls.push_back(ParticleDef{0, Vec3d{14.7, 4 + 1.2 * k, 14.7}, Vec3d{0, -6, 0}});
         addAll(*w, balls);
         *capHits = 0;

@@ -140,6 +140,9 @@ bad "unknown option" "--bogus" --bogus
 bad "too many balls" "at most" --headless --balls 10000000
 bad "too many samples" "--samples: at most 16" --headless --samples 32
 bad "negative contact sweeps" "--contact-sweeps" --headless --contact-sweeps -2
+bad "negative impact rounds" "--impact-rounds" --headless --impact-rounds -1
+bad "impact rounds past int" "--impact-rounds: at most 4096" --headless --impact-rounds 4294967297
+bad "size past the limit" "--size width: at most 8192" --headless --size 9000x600
 bad "heavy ball too large" "--heavy-radius" --headless --heavy-radius 9
 bad "samples not a number" "--samples" --headless --samples many
 bad "missing script" "cannot open" --headless --script "$work/none.script"

@@ -518,6 +518,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "interaction.elastic_below_speed", ">= 0"},
         BadScene{"MaxCollisionRoundsZero", kOne + "[interaction]\nmax_collision_rounds = 0 # <-\n",
                  "interaction.max_collision_rounds", ">= 1"},
+        BadScene{"MaxCollisionRoundsAboveTheLimit", kOne + "[interaction]\nmax_collision_rounds = 5000 # <-\n",
+                 "interaction.max_collision_rounds", "<= 4096"},
         BadScene{"ContactSweepsNegative", kOne + "[interaction]\ncontact_sweeps = -3 # <-\n", "interaction.contact_sweeps", ">= 0"},
         BadScene{"MaxCollisionRoundsHuge", kOne + "[interaction]\nmax_collision_rounds = 9999999999 # <-\n",
                  "interaction.max_collision_rounds", "<="},
