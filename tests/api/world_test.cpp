@@ -509,7 +509,7 @@ TEST_P(WorldTest, ContactSweepsCapTheSolver) {
 
 // WorldDef::impactRounds reaches the impact rounds: a column of balls falling onto a heap takes more
 // than one round a step (each impact of a chain turns the next ball), so a cap of one is hit, corebox's
-// own cap (64) is 0's, and a negative cap is refused by name.
+// own cap (64) is 0's, and a negative cap or one above 4096 is refused by name.
 TEST_P(WorldTest, ImpactRoundsCapTheRounds) {
     auto drop = [&](int rounds, int* capHits) {
         WorldDef d = def();
@@ -535,12 +535,14 @@ TEST_P(WorldTest, ImpactRoundsCapTheRounds) {
     EXPECT_GT(oneHits, 0);
     EXPECT_EQ(drop(64, &sixtyFourHits), own);  // corebox's own cap is 64
     WorldDef bad = def();
-    bad.impactRounds = -1;
-    try {
-        World w(bad);
-        FAIL() << "impactRounds = -1 was accepted";
-    } catch (const corebox::InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("impactRounds"), std::string::npos) << e.what();
+    for (const int rounds : {-1, 4097}) {  // at most 4096: a GPU keeps and clears two counters a round
+        bad.impactRounds = rounds;
+        try {
+            World w(bad);
+            FAIL() << "impactRounds = " << rounds << " was accepted";
+        } catch (const corebox::InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("impactRounds"), std::string::npos) << e.what();
+        }
     }
 }
 
