@@ -64,6 +64,8 @@ typedef struct corebox_world_def {
     int threads;               /* CPU threads; 0: all */
     int gpus;                  /* CUDA devices; 0: the measured best */
     int device;                /* first CUDA device */
+    int contact_sweeps;        /* cap on the contact solver's sweeps per listing; 0: corebox's own (16) */
+    int impact_rounds;         /* cap on the impact rounds per step, 0 to 4096; 0: corebox's own (64) */
 } corebox_world_def;
 
 typedef struct corebox_step_info {

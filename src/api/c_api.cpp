@@ -145,6 +145,8 @@ void corebox_world_def_default(corebox_world_def* def) {
     def->threads = d.threads;
     def->gpus = d.gpus;
     def->device = d.device;
+    def->contact_sweeps = d.contactSweeps;
+    def->impact_rounds = d.impactRounds;
 }
 
 corebox_status corebox_world_create(const corebox_world_def* def, corebox_world** world) {
@@ -164,6 +166,8 @@ corebox_status corebox_world_create(const corebox_world_def* def, corebox_world*
         d.threads = def->threads;
         d.gpus = def->gpus;
         d.device = def->device;
+        d.contactSweeps = def->contact_sweeps;
+        d.impactRounds = def->impact_rounds;
         *world = new corebox_world{World(d), {}};
         return COREBOX_OK;
     });

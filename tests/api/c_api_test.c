@@ -71,6 +71,15 @@ int main(void) {
     corebox_world* none = NULL;
     CHECK(corebox_world_create(&bad, &none) == COREBOX_INPUT_ERROR && none == NULL);
     CHECK(strstr(corebox_last_error(), "mass") != NULL);
+    corebox_world_def_default(&bad);
+    CHECK(bad.contact_sweeps == 0 && bad.impact_rounds == 0);  /* corebox's own caps */
+    bad.impact_rounds = 5000;
+    CHECK(corebox_world_create(&bad, &none) == COREBOX_INPUT_ERROR && none == NULL);
+    CHECK(strstr(corebox_last_error(), "impactRounds") != NULL);
+    bad.impact_rounds = 0;
+    bad.contact_sweeps = -1;
+    CHECK(corebox_world_create(&bad, &none) == COREBOX_INPUT_ERROR && none == NULL);
+    CHECK(strstr(corebox_last_error(), "contactSweeps") != NULL);
     CHECK(strlen(corebox_version()) >= 5);
 
     if (failures) fprintf(stderr, "%d check(s) failed\n", failures);
