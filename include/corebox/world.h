@@ -124,15 +124,15 @@ struct WorldDef {
     // the energy balance exact, at 8.0 / 10.3 / 14.9 ms a frame once settled. A pile 40 layers deep needs
     // the 16 (fewer: it rattles, lists its contacts again and takes more impact rounds).
     int contactSweeps = 0;
-    // Cap on the impact rounds per step, a game engine's collision iterations (kernels/
-    // collision_resolution.h: a round resolves every particle's earliest impact where it is also its
-    // partner's; a chain of impacts through a stack takes a round a ball); 0: corebox's own, 64; at most
-    // 4096. What a capped step leaves goes to the contact solver, which stops those contacts (restitution
-    // 0; a contact alone at both its balls still bounces) instead of bouncing them: energy is never
-    // gained, a dense landing bounces less. Where it pays: a landing
-    // of many balls at once, whose impact chains hit any cap. The sandbox example at 10^5 balls (one
-    // H200, fp32, scripted, one call) with caps 64 / 32 / 16 / 8: 15.1 / 14.1 / 13.7 / 13.7 ms a frame,
-    // the slowest 68 / 54 / 49 / 47 (the landing's contact phase stays), the cap hit in 87 / 117 / 150 /
+    // Cap on the impact rounds per step, a game engine's collision iterations
+    // (kernels/collision_resolution.h: a round resolves every particle's earliest impact where it is
+    // also its partner's; a chain of impacts through a stack takes a round a ball); 0: corebox's own,
+    // 64; at most 4096. What a capped step leaves goes to the contact solver, which stops those
+    // contacts (restitution 0; a contact alone at both its balls still bounces) instead of bouncing
+    // them: energy is never gained, a dense landing bounces less. Where it pays: a landing of many
+    // balls at once, whose impact chains hit any cap. The sandbox example at 10^5 balls (one H200,
+    // fp32, scripted, one call) with caps 64 / 32 / 16 / 8: 15.1 / 14.1 / 13.7 / 13.7 ms a frame, the
+    // slowest 68 / 54 / 49 / 47 (the landing's contact phase stays), the cap hit in 87 / 117 / 150 /
     // 211 of 1680 steps, 21 / 19 / 14 / 9 million pair impacts; the same rest and overlaps.
     int impactRounds = 0;
 };

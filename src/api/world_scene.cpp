@@ -43,7 +43,8 @@ Scene sceneOfWorldDef(const WorldDef& def) {
     scene.interaction.contactSweeps = def.contactSweeps;
     const int roundsLimit = InteractionDef::kMaxCollisionRoundsLimit;
     if (!(def.impactRounds >= 0 && def.impactRounds <= roundsLimit))
-        throw InputError("WorldDef: impactRounds: must be 0 to " + std::to_string(roundsLimit) + " (0: corebox's own cap, 64)");
+        throw InputError("WorldDef: impactRounds: must be 0 to " + std::to_string(roundsLimit) +
+                         " (0: corebox's own cap, 64)");
     if (def.impactRounds > 0) scene.interaction.maxCollisionRounds = def.impactRounds;
     if (!parseMethod(def.method, &scene.integrator.method)) throw InputError("WorldDef: method: " + methodTable().unknown(def.method));
     scene.integrator.dt = def.substep;

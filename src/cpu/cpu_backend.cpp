@@ -1203,7 +1203,8 @@ private:
     void buildContactGrid(double extra) {
         const int64_t n = size();
         const CellGeometry geometry = cellGeometry(vec3Cast<double>(m_boxLength), n, 2.0 * m_cellSplit.gridRadius + extra);
-        m_grid.build(m_x.data(), n, geometry, cellSplitOf(m_cellSplit, m_species.data(), m_radius.data()), m_cellSplit.gridRadius);
+        const CellSplit<Real> split = cellSplitOf(m_cellSplit, m_species.data(), m_radius.data());
+        m_grid.build(m_x.data(), n, geometry, split, m_cellSplit.gridRadius);
     }
 
     // Forces: the neighbour list and its per-slot pair values, what still matches m_x, the counters.

@@ -401,7 +401,9 @@ private:
     std::vector<int32_t> m_hostSpecies;
     // The contact grids' large particles (cell_list.h), from the radii and the state's species counts.
     CellSplitChoice m_cellSplit;
-    void chooseContactCellSplit() { m_cellSplit = chooseCellSplit(m_model.radius, speciesCounts(m_hostSpecies, m_speciesCount)); }
+    void chooseContactCellSplit() {
+        m_cellSplit = chooseCellSplit(m_model.radius, speciesCounts(m_hostSpecies, m_speciesCount));
+    }
     CellSplit<Real> contactCellSplit();
     mutable PinnedBuffer<Vec3<Real>> m_hostStateX, m_hostStateV;  // the state downloads' staging
 

@@ -120,10 +120,10 @@ private:
     }
 
     static bool sameBuild(const gpu::CellListArgs<Real>& a, const gpu::CellListArgs<Real>& b) {
-        return sameGeometry(a.geometry, b.geometry) && a.x == b.x && a.n == b.n && a.cellStart == b.cellStart && a.sorted == b.sorted &&
-               a.keys == b.keys && a.sortedKeys == b.sortedKeys && a.indices == b.indices && a.scratch == b.scratch &&
-               a.scratchBytes == b.scratchBytes && a.split.species == b.split.species && a.split.radius == b.split.radius &&
-               a.split.largeAbove == b.split.largeAbove;
+        return sameGeometry(a.geometry, b.geometry) && a.x == b.x && a.n == b.n && a.cellStart == b.cellStart &&
+               a.sorted == b.sorted && a.keys == b.keys && a.sortedKeys == b.sortedKeys && a.indices == b.indices &&
+               a.scratch == b.scratch && a.scratchBytes == b.scratchBytes && a.split.species == b.split.species &&
+               a.split.radius == b.split.radius && a.split.largeAbove == b.split.largeAbove;
     }
 
     static void forget(Graph& g) {
