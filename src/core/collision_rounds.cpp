@@ -16,7 +16,15 @@ constexpr int kSweepBatch = 8;
 // listing held pairs the one before did not, 195 / 1139 / 3685 of them at the 10th / 50th / 90th
 // percentile: the sweeps' position moves bring neighbours within the resting gap. So listing again only
 // when an unlisted pair touches would save no listing.
-constexpr double kDeepOverlap = 0.005;
+// 2% of a diameter, not 0.5%: at 10^6 balls some pair of the landing pile always starts a listing deeper
+// than 0.5%, so nearly every step listed again (up to 5 listings a step, each with its sweeps over the
+// whole pile) to mend a few pairs. `corebox bench pile` (an H200, fp32, the same call, 0.5% / 1% / 2%):
+// 10^6 balls 58.5 / 53.5 / 49.8 ms a frame (the last second 40.8 / 41.2 / 40.8), the largest overlap at
+// the end 3e-4 / 3e-4 / 5e-4 of a diameter, rest at 2.20 s in each; 10^5 balls 14.8 against 13.0 (0.5% /
+// 2%), overlap 3e-4 in both. The CPU here (2 threads, 0.5% / 2%): 10,000 balls 1.25 / 1.0 listings a
+// step, 55.8 / 56.6 ms a frame (fp32) and 58.9 / 54.9 (fp64), overlaps within 5e-5 in both, the same
+// rest times.
+constexpr double kDeepOverlap = 0.02;
 constexpr int kMaxListings = 32;
 // Contacts closing slower than what kRestingSteps steps of gravity add (kRestingSteps g dt) rest
 // (restitution 0, the contact phase) instead of bouncing as impacts. A bounce from that speed would
