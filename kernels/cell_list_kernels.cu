@@ -179,6 +179,19 @@ void launchBuildCellList(const CellListArgs<Real>& a, cudaStream_t stream) {
     checkLaunch("cell start kernel");
 }
 
+namespace {
+__global__ void cellListGateKernel(cudaGraphConditionalHandle handle, unsigned int* moved) {
+    const unsigned int m = *moved;
+    *moved = 0u;
+    cudaGraphSetConditional(handle, m != 0u ? 1u : 0u);
+}
+}  // namespace
+
+void launchCellListGate(cudaGraphConditionalHandle handle, unsigned int* moved, cudaStream_t stream) {
+    cellListGateKernel<<<1, 1, 0, stream>>>(handle, moved);
+    checkLaunch("cell list gate kernel");
+}
+
 template void launchBuildCellList<float>(const CellListArgs<float>&, cudaStream_t);
 template void launchBuildCellList<double>(const CellListArgs<double>&, cudaStream_t);
 

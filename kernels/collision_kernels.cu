@@ -127,6 +127,13 @@ __device__ void recordImpact(const CollisionArgs<Real>& a, int64_t i, int kind, 
     atomicAdd(&a.kindCounts[kind - 1], 1ull);
 }
 
+// Where the search's cells are tracked (CollisionArgs::cellKeys): particle i, moved to x, flags the cells
+// stale when it left the cell its key names.
+template <class Real>
+__device__ void flagCellChange(const CollisionArgs<Real>& a, int64_t i, const Vec3<Real>& x) {
+    if (a.cellKeys && uint32_t(cellKeyOfParticle(a.grid.geometry, a.cellSplit, i, x)) != a.cellKeys[i]) *a.cellsMoved = 1u;
+}
+
 // Resolves the mutual-earliest events, and leaves a particle active for the next round when it had an
 // event (resolved now or still pending): the resolution reads no active flag, so the next search's
 // flags are set here rather than by a launch of their own.
@@ -156,9 +163,12 @@ __global__ void resolveKernel(CollisionArgs<Real> a) {
             a.p.v[i] = vi;
             a.p.x[j] = xj;
             a.p.v[j] = vj;
+            flagCellChange(a, i, xi);
+            flagCellChange(a, j, xj);
         }
     } else {
         kind = resolveWallOf(a, i, e, a.contactAcceleration[i], &loss, &impulse, &impulseRow, &atCentre, logged);
+        flagCellChange(a, i, a.p.x[i]);
     }
     recordImpact(a, i, kind, loss, impulse, impulseRow, atCentre);
     if (kind != kNoCollision && logged && loggedImpact(detail, a.logMinImpulse))

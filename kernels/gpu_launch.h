@@ -329,6 +329,9 @@ bool cellListBuildIsOneLaunch(int64_t n);
 // cell: no atomics, so the arrays are the same on every run and equal to the host's counting sort.
 template <class Real>
 void launchBuildCellList(const CellListArgs<Real>& args, cudaStream_t stream);
+// The gate of a build that runs only where a particle changed cell since the last (DeviceCellList::
+// rebuildIfMoved): sets the graph's IF condition `handle` to *moved != 0 and clears *moved. One thread.
+void launchCellListGate(cudaGraphConditionalHandle handle, unsigned int* moved, cudaStream_t stream);
 
 // ---- collisions (collision_kernels.cu) ----
 // One impact of the contact log (backend.h ContactRecord, before the host converts it): the particle
@@ -376,6 +379,12 @@ struct CollisionArgs {
     unsigned char* walker;
     const int32_t* activeIn;
     const unsigned int* activeInCount;
+    // When set, the resolution sets *cellsMoved = 1 where a particle it moves leaves the cell key
+    // cellKeys[i] the last build of `grid` gave it (with cellSplit, the build's split): a round after
+    // one that moved nobody out of a cell skips its build (CudaDevice::runImpactRounds).
+    const uint32_t* cellKeys;
+    CellSplit<Real> cellSplit;
+    unsigned int* cellsMoved;
 };
 // A collision stage opened in one launch (CudaDevice::beginCollisions): for every particle i, active[i]
 // = 1 where active is set; where flagged[i], rows[r * n + i] = 0 for r < rowCount and flagged[i] = 0

@@ -43,6 +43,10 @@ struct CudaBackendOptions {
     // to the particles near the last round's active ones (cuda_collisions.cpp: narrowSearch); -1: the
     // default (kNarrowedSearchMin), 0: always, a huge count: never (the same bits, for comparison).
     int64_t narrowedSearchFrom = -1;
+    // The impact rounds queued in batches (fusedSteps) skip a round's cell-list build where the rounds
+    // since the last build moved no particle out of its cell (cuda_collisions.cpp: runImpactRounds);
+    // false: every round builds (the same bits, for comparison and tests).
+    bool skipUnmovedCellBuilds = true;
     // Tests only: take every pair of GPUs to have no peer access (peer_exchange.h), so that corebox's
     // decisions for machines without it run where the GPUs have it: DA refused, no peer access enabled
     // by corebox, no pass shared across GPUs, auto never DA. The copies themselves are not forced through

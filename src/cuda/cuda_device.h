@@ -450,6 +450,13 @@ private:
     DeviceBuffer<int32_t> m_emptyCellStart, m_indexOrder;
     CellListView emptyCells();
     CellListView impactCells();
+    // The same cells in a round after the first of runImpactRounds: the build skipped where the rounds
+    // since the last moved no particle out of its cell (trackCellMoves).
+    CellListView impactCellsIfMoved();
+    // Sets `a` to flag where its resolution moves a particle out of the cell the impact cells' last
+    // build gave it, where those cells are in use and hold keys.
+    void trackCellMoves(gpu::CollisionArgs<Real>& a);
+    unsigned int* cellsMovedFlag();
     void applyPendingWarmStart();
     int64_t m_refreshes = 0;
     // Verlet's refresh after collisions (one GPU, lists): A matched X at the last full pass and X has
@@ -477,6 +484,7 @@ private:
     // Narrowed impact searches from this many particles (narrowSearch; CudaBackendOptions::narrowedSearchFrom).
     static constexpr int64_t kNarrowedSearchMin = int64_t(1) << 19;
     int64_t m_narrowedSearchFrom = kNarrowedSearchMin;
+    bool m_skipUnmovedCellBuilds = true;  // CudaBackendOptions::skipUnmovedCellBuilds
     DeviceCellList<Real> m_contactCells;
     CellListView m_cellList{};  // of the last findEvents or listContacts
     bool m_cellsMatchPositions = false;  // m_cellList was built from the current positions
@@ -549,6 +557,7 @@ private:
     DeviceBuffer<int32_t> m_wallMoved;  // StageOpening::moved
     // [0] particles needing a contact acceleration, [1] particles with an event, [2] contact log records
     DeviceBuffer<unsigned int> m_counters;
+    DeviceBuffer<unsigned int> m_cellsMoved;  // a round's resolution moved a particle out of its cell (runImpactRounds)
     unsigned int m_needCount = 0;   // counters[0] of the last findEvents
     unsigned int m_eventCount = 0;  // counters[1] of the last findEvents: the next round resolves at most that many
     // The contact log (backend.h): records appended on the device by the resolution, in no order, and

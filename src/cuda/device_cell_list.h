@@ -34,6 +34,51 @@ public:
     // largest radius left in them (chooseCellSplit).
     CellListView build(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry, const CellSplit<Real>& split, double gridRadius,
                        cudaStream_t stream) {
+        const gpu::CellListArgs<Real> a = argsFor(x, n, geometry, split, gridRadius);
+        launch(a, stream);
+        return a.view();
+    }
+    // The same build, skipped on the device where *moved is 0 when the stream reaches it, and *moved
+    // cleared. The caller's promise: since the last build into this list, positions changed only where
+    // a kernel set *moved on seeing a particle leave the cell keys() gives it. A skipped build leaves the
+    // arrays a build would make: they depend on the keys alone (ascending key, then index). Where the
+    // last build had other arguments, or wrote no keys (keys() null), or conditional graphs are refused,
+    // a plain build.
+    CellListView rebuildIfMoved(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry, const CellSplit<Real>& split,
+                                double gridRadius, unsigned int* moved, cudaStream_t stream) {
+        const gpu::CellListArgs<Real> a = argsFor(x, n, geometry, split, gridRadius);
+        if (!(m_keysValid && sameBuild(a, m_last)) || stream == nullptr || m_gatedOff) {
+            launch(a, stream);
+            return a.view();
+        }
+        Graph* graph = nullptr;
+        for (Graph& g : m_gated)
+            if (g.exec && g.stream == stream && g.moved == moved && sameBuild(a, g.args)) graph = &g;
+        if (!graph) {
+            graph = leastRecentlyUsed(m_gated);
+            forget(*graph);
+            graph->exec = captureConditionalGraph(
+                stream, [&](cudaGraphConditionalHandle handle) { gpu::launchCellListGate(handle, moved, stream); },
+                [&] { gpu::launchBuildCellList(a, stream); });
+            if (!graph->exec) {  // refused: plain builds from now on
+                m_gatedOff = true;
+                launch(a, stream);
+                return a.view();
+            }
+            graph->args = a;
+            graph->stream = stream;
+            graph->moved = moved;
+        }
+        run(*graph, stream);
+        return a.view();
+    }
+    // Each particle's cell key at the last build (device memory, n), where that build wrote them (the
+    // radix-sort builds, above cellListBuildIsOneLaunch); null otherwise.
+    const uint32_t* keys() const { return m_keysValid ? m_keys.data() : nullptr; }
+
+private:
+    gpu::CellListArgs<Real> argsFor(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry, const CellSplit<Real>& split,
+                                    double gridRadius) {
         m_keys.resize(size_t(n));
         m_sortedKeys.resize(size_t(n));
         m_indices.resize(size_t(n));
@@ -57,9 +102,10 @@ public:
         a.scratch = m_scratch.data();
         a.split = split;
         a.gridRadius = gridRadius;
-        launch(a, stream);
-        return a.view();
+        return a;
     }
+
+public:
 
     // Buffers and the captured builds travel together (the graphs' arguments are these buffers).
     friend void swap(DeviceCellList& a, DeviceCellList& b) noexcept {
@@ -74,6 +120,10 @@ public:
         swap(a.m_scratchBytes, b.m_scratchBytes);
         swap(a.m_graphs, b.m_graphs);
         swap(a.m_graphsOff, b.m_graphsOff);
+        swap(a.m_gated, b.m_gated);
+        swap(a.m_gatedOff, b.m_gatedOff);
+        swap(a.m_last, b.m_last);
+        swap(a.m_keysValid, b.m_keysValid);
     }
 
 private:
@@ -84,15 +134,33 @@ private:
     // positions' buffer, count, geometry or split is another graph. A few are kept (the impact search's
     // grid and the contact listing's, a little wider, alternate within a step), the least recently
     // used replaced. Not on the legacy default stream (no capture there) nor for builds of one launch.
+    // The builds rebuildIfMoved gates (a conditional graph each, the same arguments and the flag) are kept
+    // apart from these.
     struct Graph {
         gpu::CellListArgs<Real> args{};
         cudaStream_t stream = nullptr;
         cudaGraphExec_t exec = nullptr;
+        unsigned int* moved = nullptr;  // the gate's flag
         uint64_t used = 0;  // when last launched (m_launches)
     };
     static constexpr size_t kGraphs = 4;
 
+    static Graph* leastRecentlyUsed(std::array<Graph, kGraphs>& graphs) {
+        Graph* oldest = &graphs[0];
+        for (Graph& g : graphs)
+            if (g.used < oldest->used) oldest = &g;  // or an empty one
+        return oldest;
+    }
+
+    void run(Graph& graph, cudaStream_t stream) {
+        graph.used = ++m_launches;
+        const cudaError_t e = cudaGraphLaunch(graph.exec, stream);
+        if (e != cudaSuccess) throw DeviceError(std::string("cell list graph launch: ") + cudaGetErrorString(e));
+    }
+
     void launch(const gpu::CellListArgs<Real>& a, cudaStream_t stream) {
+        m_last = a;
+        m_keysValid = !gpu::cellListBuildIsOneLaunch(a.n);  // the one-launch builds write no keys
         if (stream == nullptr || gpu::cellListBuildIsOneLaunch(a.n) || m_graphsOff) {
             gpu::launchBuildCellList(a, stream);
             return;
@@ -101,9 +169,7 @@ private:
         for (Graph& g : m_graphs)
             if (g.exec && g.stream == stream && sameBuild(a, g.args)) graph = &g;
         if (!graph) {
-            graph = &m_graphs[0];
-            for (Graph& g : m_graphs)
-                if (g.used < graph->used) graph = &g;  // the least recently used (or an empty one)
+            graph = leastRecentlyUsed(m_graphs);
             forget(*graph);
             graph->exec = captureGraph(stream, [&] { gpu::launchBuildCellList(a, stream); });
             if (!graph->exec) {  // nothing was launched: plain launches from now on
@@ -114,9 +180,7 @@ private:
             graph->args = a;
             graph->stream = stream;
         }
-        graph->used = ++m_launches;
-        const cudaError_t e = cudaGraphLaunch(graph->exec, stream);
-        if (e != cudaSuccess) throw DeviceError(std::string("cell list graph launch: ") + cudaGetErrorString(e));
+        run(*graph, stream);
     }
 
     static bool sameBuild(const gpu::CellListArgs<Real>& a, const gpu::CellListArgs<Real>& b) {
@@ -132,6 +196,7 @@ private:
     }
     void forgetGraphs() {
         for (Graph& g : m_graphs) forget(g);
+        for (Graph& g : m_gated) forget(g);
     }
 
     DeviceBuffer<int32_t> m_cellStart, m_sorted, m_indices;
@@ -139,9 +204,11 @@ private:
     DeviceBuffer<unsigned char> m_scratch;
     int64_t m_scratchFor = -1;
     size_t m_scratchBytes = 0;
-    std::array<Graph, kGraphs> m_graphs{};
+    std::array<Graph, kGraphs> m_graphs{}, m_gated{};
     uint64_t m_launches = 0;
-    bool m_graphsOff = false;
+    bool m_graphsOff = false, m_gatedOff = false;
+    gpu::CellListArgs<Real> m_last{};  // the last build's arguments (launch)
+    bool m_keysValid = false;          // m_keys holds the last build's keys
 };
 
 }  // namespace corebox

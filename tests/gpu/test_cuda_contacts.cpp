@@ -214,6 +214,49 @@ TEST(CudaContacts, AListingColouredFromSpreadColoursGivesTheSameBitsInOneLaunchA
                 std::get<3>(fused) / std::get<4>(fused), std::get<4>(fused));
 }
 
+TEST(CudaContacts, SkippedCellBuildsGiveTheBitsOfBuiltOnes) {
+    // A round of the batched impact rounds after the first skips its cell-list build where the rounds
+    // since moved no particle out of its cell (cuda_collisions.cpp: runImpactRounds), leaving the arrays
+    // that build would make: against every round building, the same state, impacts, rounds and
+    // dissipation, in fp32 and fp64. 6,000 balls: above the one-launch builds, which keep no keys.
+    COREBOX_REQUIRE_GPU();
+    struct Outcome {
+        uint64_t hash;
+        int64_t pairs, walls, rounds;
+        double dissipated;
+    };
+    auto run = [](const Scene& scene, bool skip) {
+        CudaBackendOptions options;
+        options.precision = scene.integrator.precision;
+        options.skipUnmovedCellBuilds = skip;
+        Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
+        Outcome o{0, 0, 0, 0, 0.0};
+        for (int k = 0; k < 480; ++k) {
+            const StepReport r = sim.step();
+            o.pairs += r.pairCollisions;
+            o.walls += r.wallCollisions;
+            o.rounds += r.rounds;
+        }
+        o.hash = stateHash(sim.state());
+        o.dissipated = sim.observe().dissipated;
+        return o;
+    };
+    for (Precision p : {Precision::Fp32, Precision::Fp64}) {
+        Scene scene = deepPile(p);
+        scene.box.size = {16.0, 16.0, 60.0};
+        scene.species[0].count = 6000;
+        const Outcome built = run(scene, false), skipped = run(scene, true);
+        const std::string where = precisionName(p);
+        EXPECT_EQ(skipped.hash, built.hash) << where << ": the state";
+        EXPECT_EQ(skipped.pairs, built.pairs) << where << ": the pair impacts";
+        EXPECT_EQ(skipped.walls, built.walls) << where << ": the wall impacts";
+        EXPECT_EQ(skipped.rounds, built.rounds) << where << ": the rounds";
+        EXPECT_EQ(skipped.dissipated, built.dissipated) << where << ": the dissipated energy";
+        EXPECT_GT(built.rounds, 2 * 480) << where << ": rounds beyond the first of a step";
+        EXPECT_GT(built.pairs, 6000) << where << ": the balls met";
+    }
+}
+
 TEST(CudaContacts, SearchesNarrowedToTheActiveParticlesGiveTheBitsOfFullOnes) {
     // After a stage's first search, only the particles in the cells around the last round's active
     // ones search (cuda_collisions.cpp: narrowSearch), from 524,288 particles by default: here from any
