@@ -131,7 +131,8 @@ __device__ void recordImpact(const CollisionArgs<Real>& a, int64_t i, int kind, 
 // stale when it left the cell its key names.
 template <class Real>
 __device__ void flagCellChange(const CollisionArgs<Real>& a, int64_t i, const Vec3<Real>& x) {
-    if (a.cellKeys && uint32_t(cellKeyOfParticle(a.grid.geometry, a.cellSplit, i, x)) != a.cellKeys[i]) *a.cellsMoved = 1u;
+    if (a.cellKeys && uint32_t(cellKeyOfParticle(a.grid.geometry, a.cellSplit, i, x)) != a.cellKeys[i])
+        *a.cellsMoved = 1u;
 }
 
 // Resolves the mutual-earliest events, and leaves a particle active for the next round when it had an

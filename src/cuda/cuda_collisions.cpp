@@ -316,8 +316,9 @@ unsigned int* CudaDevice<Real>::cellsMovedFlag() {
 template <class Real>
 CellListView CudaDevice<Real>::impactCellsIfMoved() {
     if (m_pairsClear) return emptyCells();
-    return m_contactCells.rebuildIfMoved(home().x.data(), m_n, cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_cellSplit.gridRadius),
-                                         contactCellSplit(), m_cellSplit.gridRadius, cellsMovedFlag(), stream());
+    const CellGeometry geometry = cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_cellSplit.gridRadius);
+    return m_contactCells.rebuildIfMoved(home().x.data(), m_n, geometry, contactCellSplit(), m_cellSplit.gridRadius,
+                                         cellsMovedFlag(), stream());
 }
 
 template <class Real>

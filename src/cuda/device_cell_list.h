@@ -44,8 +44,9 @@ public:
     // arrays a build would make: they depend on the keys alone (ascending key, then index). Where the
     // last build had other arguments, or wrote no keys (keys() null), or conditional graphs are refused,
     // a plain build.
-    CellListView rebuildIfMoved(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry, const CellSplit<Real>& split,
-                                double gridRadius, unsigned int* moved, cudaStream_t stream) {
+    CellListView rebuildIfMoved(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry,
+                                const CellSplit<Real>& split, double gridRadius, unsigned int* moved,
+                                cudaStream_t stream) {
         const gpu::CellListArgs<Real> a = argsFor(x, n, geometry, split, gridRadius);
         if (!(m_keysValid && sameBuild(a, m_last)) || stream == nullptr || m_gatedOff) {
             launch(a, stream);
@@ -77,8 +78,8 @@ public:
     const uint32_t* keys() const { return m_keysValid ? m_keys.data() : nullptr; }
 
 private:
-    gpu::CellListArgs<Real> argsFor(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry, const CellSplit<Real>& split,
-                                    double gridRadius) {
+    gpu::CellListArgs<Real> argsFor(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry,
+                                    const CellSplit<Real>& split, double gridRadius) {
         m_keys.resize(size_t(n));
         m_sortedKeys.resize(size_t(n));
         m_indices.resize(size_t(n));

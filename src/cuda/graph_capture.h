@@ -47,7 +47,8 @@ cudaGraphExec_t captureConditionalGraph(cudaStream_t stream, Gate&& gate, Body&&
     // Captures what enqueue() puts on the stream into `into`, after what it holds.
     auto captureInto = [&](cudaGraph_t into, auto&& enqueue, auto&& beforeEnd) {
         if (!made) return;
-        made = cudaStreamBeginCaptureToGraph(stream, into, nullptr, nullptr, 0, cudaStreamCaptureModeRelaxed) == cudaSuccess;
+        made = cudaStreamBeginCaptureToGraph(stream, into, nullptr, nullptr, 0, cudaStreamCaptureModeRelaxed) ==
+               cudaSuccess;
         if (!made) return;
         try {
             enqueue();
@@ -73,9 +74,11 @@ cudaGraphExec_t captureConditionalGraph(cudaStream_t stream, Gate&& gate, Body&&
         params.conditional.type = cudaGraphCondTypeIf;
         params.conditional.size = 1;
         cudaGraphNode_t node = nullptr;
-        if (cudaGraphAddNode(&node, capturing, after, nullptr, afterCount, &params) != cudaSuccess) throw std::runtime_error("conditional node");
+        if (cudaGraphAddNode(&node, capturing, after, nullptr, afterCount, &params) != cudaSuccess)
+            throw std::runtime_error("conditional node");
         bodyGraph = params.conditional.phGraph_out[0];
-        if (cudaStreamUpdateCaptureDependencies(stream, &node, nullptr, 1, cudaStreamSetCaptureDependencies) != cudaSuccess)
+        if (cudaStreamUpdateCaptureDependencies(stream, &node, nullptr, 1, cudaStreamSetCaptureDependencies) !=
+            cudaSuccess)
             throw std::runtime_error("capture dependencies");
     });
     captureInto(bodyGraph, [&] { body(); }, [] {});
