@@ -10,6 +10,9 @@
 //      extra pass.
 // The sort costs more than the former atomic scatter for n above a few thousand (a few tens of us per
 // build at n ~ 1e5 on an H100); that is the price of an order that does not depend on scheduling.
+// Builds captured into CUDA graphs (DeviceCellList) take a counting sort instead, which puts each
+// cell's entries in ascending index after an atomic scatter (launchCountedCellList): the same arrays,
+// with the radix sort as its fallback where a cell is crowded (a conditional graph node).
 // Up to kOneBlockItems (4096) particles the three steps run in one block (cub::BlockRadixSort, stable
 // too, the keys then binary-searched in shared memory), and up to 1024 as a counting sort in shared
 // memory (smallCellListKernel): one launch instead of five or so. At that size a build is all launch
@@ -17,6 +20,9 @@
 #include <cub/block/block_radix_sort.cuh>
 #include <cub/block/block_scan.cuh>
 #include <cub/device/device_radix_sort.cuh>
+#include <cub/device/device_scan.cuh>
+
+#include <algorithm>
 
 #include <stdexcept>
 #include <string>
@@ -140,7 +146,11 @@ size_t cellListScratchBytes(int64_t n) {
     size_t bytes = 0;
     cub::DeviceRadixSort::SortPairs(nullptr, bytes, static_cast<const uint32_t*>(nullptr), static_cast<uint32_t*>(nullptr),
                                     static_cast<const int32_t*>(nullptr), static_cast<int32_t*>(nullptr), int(n), 0, 32);
-    return bytes;
+    // The counted build's scan of the cell counts (at most maxCellCount(n) cells and the large ones').
+    size_t scanBytes = 0;
+    cub::DeviceScan::ExclusiveSum(nullptr, scanBytes, static_cast<const int32_t*>(nullptr),
+                                  static_cast<int32_t*>(nullptr), int(maxCellCount(n) + 1));
+    return std::max(bytes, scanBytes);
 }
 
 bool cellListBuildIsOneLaunch(int64_t n) { return n <= kOneBlockItems; }
@@ -180,12 +190,74 @@ void launchBuildCellList(const CellListArgs<Real>& a, cudaStream_t stream) {
 }
 
 namespace {
+
+template <class Real>
+__global__ void countCellKeysKernel(CellListArgs<Real> a) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.n) return;
+    const int key = cellKeyOfParticle(a.geometry, a.split, i, a.x[i]);
+    a.keys[i] = uint32_t(key);
+    const int32_t rank = atomicAdd(&a.counts[key], 1);
+    a.indices[i] = rank;
+    if (rank == kCountedCellMost) *a.crowded = 1u;  // a cell of more than kCountedCellMost
+}
+
+template <class Real>
+__global__ void placeInCellsKernel(CellListArgs<Real> a) {
+    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (i >= a.n) return;
+    a.sorted[a.cellStart[a.keys[i]] + a.indices[i]] = int32_t(i);
+}
+
+// Key c's entries (c = cells: the particles kept out of the cells) in ascending index, by insertion:
+// a cell holds a few.
+__global__ void orderCellsKernel(const int32_t* cellStart, int cells, int32_t n, int32_t* sorted) {
+    const int64_t c = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (c > cells) return;
+    const int32_t b = cellStart[c], e = c < cells ? cellStart[c + 1] : n;
+    if (e - b > kCountedCellMost) return;  // crowded: the radix build redoes every array
+    for (int32_t x = b + 1; x < e; ++x) {
+        const int32_t v = sorted[x];
+        int32_t y = x - 1;
+        for (; y >= b && sorted[y] > v; --y) sorted[y + 1] = sorted[y];
+        sorted[y + 1] = v;
+    }
+}
+
+__global__ void crowdedGateKernel(cudaGraphConditionalHandle handle, const unsigned int* crowded) {
+    cudaGraphSetConditional(handle, *crowded != 0u ? 1u : 0u);
+}
+
 __global__ void cellListGateKernel(cudaGraphConditionalHandle handle, unsigned int* moved) {
     const unsigned int m = *moved;
     *moved = 0u;
     cudaGraphSetConditional(handle, m != 0u ? 1u : 0u);
 }
 }  // namespace
+
+template <class Real>
+void launchCountedCellList(const CellListArgs<Real>& a, cudaGraphConditionalHandle crowded, cudaStream_t stream) {
+    if (a.n <= kOneBlockItems) throw std::logic_error("launchCountedCellList: a one-launch build");
+    const int cells = a.geometry.cellCount();
+    if (cudaMemsetAsync(a.counts, 0, size_t(cells + 1) * sizeof(int32_t), stream) != cudaSuccess ||
+        cudaMemsetAsync(a.crowded, 0, sizeof(unsigned int), stream) != cudaSuccess)
+        throw std::runtime_error("cell list counts: memset");
+    countCellKeysKernel<Real><<<blocksFor(a.n), kBlock, 0, stream>>>(a);
+    checkLaunch("cell count kernel");
+    size_t bytes = a.scratchBytes;
+    const cudaError_t scanned =
+        cub::DeviceScan::ExclusiveSum(a.scratch, bytes, a.counts, a.cellStart, cells + 1, stream);
+    if (scanned != cudaSuccess) throw std::runtime_error(std::string("cell list scan: ") + cudaGetErrorString(scanned));
+    placeInCellsKernel<Real><<<blocksFor(a.n), kBlock, 0, stream>>>(a);
+    checkLaunch("cell place kernel");
+    orderCellsKernel<<<blocksFor(int64_t(cells) + 1), kBlock, 0, stream>>>(a.cellStart, cells, int32_t(a.n), a.sorted);
+    checkLaunch("cell order kernel");
+    crowdedGateKernel<<<1, 1, 0, stream>>>(crowded, a.crowded);
+    checkLaunch("crowded cell gate kernel");
+}
+
+template void launchCountedCellList<float>(const CellListArgs<float>&, cudaGraphConditionalHandle, cudaStream_t);
+template void launchCountedCellList<double>(const CellListArgs<double>&, cudaGraphConditionalHandle, cudaStream_t);
 
 void launchCellListGate(cudaGraphConditionalHandle handle, unsigned int* moved, cudaStream_t stream) {
     cellListGateKernel<<<1, 1, 0, stream>>>(handle, moved);

@@ -311,9 +311,11 @@ struct CellListArgs {
     int32_t* sorted;        // out: n particle indices by ascending (cell key, index)
     uint32_t* keys;         // scratch: n cell keys
     uint32_t* sortedKeys;   // scratch: n cell keys, sorted
-    int32_t* indices;       // scratch: n (0 .. n-1, the values the sort carries)
-    void* scratch;          // radix sort scratch, cellListScratchBytes(n) large
+    int32_t* indices;       // scratch: n (0 .. n-1, the values the sort carries; the counted build's ranks)
+    void* scratch;          // radix sort and scan scratch, cellListScratchBytes(n) large
     size_t scratchBytes;
+    int32_t* counts;        // scratch for launchCountedCellList: cells + 1 (may be null otherwise)
+    unsigned int* crowded;  // scratch for launchCountedCellList: one word
     CellSplit<Real> split;  // particles kept out of the cells (cell_list.h), none by default
     double gridRadius;      // the largest radius left in the cells, where split names species
 
@@ -321,7 +323,7 @@ struct CellListArgs {
         return splitView(CellListView{geometry, cellStart, sorted}, largeAboveOf(split), gridRadius, n);
     }
 };
-// Bytes of radix-sort scratch a cell list of n particles needs.
+// Bytes of radix-sort and scan scratch a cell list of n particles needs.
 size_t cellListScratchBytes(int64_t n);
 // Whether launchBuildCellList builds n particles in one launch (one block), not several.
 bool cellListBuildIsOneLaunch(int64_t n);
@@ -329,6 +331,15 @@ bool cellListBuildIsOneLaunch(int64_t n);
 // cell: no atomics, so the arrays are the same on every run and equal to the host's counting sort.
 template <class Real>
 void launchBuildCellList(const CellListArgs<Real>& args, cudaStream_t stream);
+// The same arrays by a counting sort, for builds captured into a graph (DeviceCellList): each particle's
+// key and its rank among its cell's particles by atomics (in no order), the cell starts by a scan, the
+// particles placed by rank, then each cell's entries put in ascending index. A cell of more than
+// kCountedCellMost particles (a blow-up crowds them into one) would make that last pass quadratic: it is
+// left, and `crowded` set as the graph's IF condition, whose body is to be the radix build
+// (launchBuildCellList), which writes every array again. Above cellListBuildIsOneLaunch only.
+constexpr int32_t kCountedCellMost = 32;
+template <class Real>
+void launchCountedCellList(const CellListArgs<Real>& args, cudaGraphConditionalHandle crowded, cudaStream_t stream);
 // The gate of a build that runs only where a particle changed cell since the last (DeviceCellList::
 // rebuildIfMoved): sets the graph's IF condition `handle` to *moved != 0 and clears *moved. One thread.
 void launchCellListGate(cudaGraphConditionalHandle handle, unsigned int* moved, cudaStream_t stream);

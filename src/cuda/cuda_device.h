@@ -450,6 +450,7 @@ private:
     DeviceBuffer<int32_t> m_emptyCellStart, m_indexOrder;
     CellListView emptyCells();
     CellListView impactCells();
+    CellGeometry impactGeometry() const;
     // The same cells in a round after the first of runImpactRounds: the build skipped where the rounds
     // since the last moved no particle out of its cell (trackCellMoves).
     CellListView impactCellsIfMoved();

@@ -58,9 +58,13 @@ public:
         if (!graph) {
             graph = leastRecentlyUsed(m_gated);
             forget(*graph);
-            graph->exec = captureConditionalGraph(
-                stream, [&](cudaGraphConditionalHandle handle) { gpu::launchCellListGate(handle, moved, stream); },
-                [&] { gpu::launchBuildCellList(a, stream); });
+            makeHelpers();
+            graph->exec = captureGraph(stream, [&] {
+                enqueueIf(
+                    stream, helper(0),
+                    [&](cudaGraphConditionalHandle handle) { gpu::launchCellListGate(handle, moved, stream); },
+                    [&](cudaStream_t body) { enqueueBuild(a, body, 1); });
+            });
             if (!graph->exec) {  // refused: plain builds from now on
                 m_gatedOff = true;
                 launch(a, stream);
@@ -74,7 +78,7 @@ public:
         return a.view();
     }
     // Each particle's cell key at the last build (device memory, n), where that build wrote them (the
-    // radix-sort builds, above cellListBuildIsOneLaunch); null otherwise.
+    // builds above cellListBuildIsOneLaunch); null otherwise.
     const uint32_t* keys() const { return m_keysValid ? m_keys.data() : nullptr; }
 
 private:
@@ -85,6 +89,8 @@ private:
         m_indices.resize(size_t(n));
         m_sorted.resize(size_t(n));
         m_cellStart.resize(size_t(geometry.cellCount()) + 1);
+        m_counts.resize(size_t(geometry.cellCount()) + 1);
+        m_crowded.resize(1);
         if (n != m_scratchFor) {  // a query of CUB's: host time
             m_scratchBytes = gpu::cellListScratchBytes(n);
             m_scratchFor = n;
@@ -103,6 +109,8 @@ private:
         a.scratch = m_scratch.data();
         a.split = split;
         a.gridRadius = gridRadius;
+        a.counts = m_counts.data();
+        a.crowded = m_crowded.data();
         return a;
     }
 
@@ -125,6 +133,10 @@ public:
         swap(a.m_gatedOff, b.m_gatedOff);
         swap(a.m_last, b.m_last);
         swap(a.m_keysValid, b.m_keysValid);
+        swap(a.m_counts, b.m_counts);
+        swap(a.m_crowded, b.m_crowded);
+        swap(a.m_countedOff, b.m_countedOff);
+        swap(a.m_helpers, b.m_helpers);
     }
 
 private:
@@ -172,7 +184,12 @@ private:
         if (!graph) {
             graph = leastRecentlyUsed(m_graphs);
             forget(*graph);
-            graph->exec = captureGraph(stream, [&] { gpu::launchBuildCellList(a, stream); });
+            makeHelpers();
+            graph->exec = captureGraph(stream, [&] { enqueueBuild(a, stream, 0); });
+            if (!graph->exec && !m_countedOff) {  // no conditional nodes: the radix builds alone
+                m_countedOff = true;
+                graph->exec = captureGraph(stream, [&] { enqueueBuild(a, stream, 0); });
+            }
             if (!graph->exec) {  // nothing was launched: plain launches from now on
                 m_graphsOff = true;
                 gpu::launchBuildCellList(a, stream);
@@ -184,11 +201,44 @@ private:
         run(*graph, stream);
     }
 
+    // A build as a graph captures it: the counting sort with the radix build as its fallback where a cell
+    // is crowded (gpu::launchCountedCellList), `depth` the nesting of IF nodes around it (its helper
+    // stream); the radix build alone where conditional nodes were refused.
+    // Why counting: a radix build is a keys pass, CUB's histogram and three passes over (key, index) of
+    // every particle, and a binary search a cell; the counting build one pass of atomics, a scan of the
+    // counts, a placing pass and a short insertion sort a cell. The same arrays; an H200 (fp32, the same
+    // call, twice each): the sandbox example at 10^5 balls 13.3 and 12.9 ms a frame against 13.6 and
+    // 14.5, its impact rounds 3.4 and 3.7 against 4.2 and 4.1, the slowest frame 50 and 49 against 55 and
+    // 56; `corebox bench pile` 10^5 balls 11.2 and 10.8 against 11.7 and 11.9, 10^6 47.2 and 47.0 against
+    // 47.4 and 47.5, 10^4 within noise (5.8, 5.6 against 5.5, 5.7).
+    void enqueueBuild(const gpu::CellListArgs<Real>& a, cudaStream_t stream, int depth) {
+        if (m_countedOff) {
+            gpu::launchBuildCellList(a, stream);
+            return;
+        }
+        enqueueIf(
+            stream, helper(depth),
+            [&](cudaGraphConditionalHandle crowded) { gpu::launchCountedCellList(a, crowded, stream); },
+            [&](cudaStream_t body) { gpu::launchBuildCellList(a, body); });
+    }
+
+    // The idle streams that capture the bodies of IF nodes, by nesting, made on the current device (the
+    // stream's: the caller's) before a capture begins, since a capturing stream's device cannot be asked.
+    void makeHelpers() {
+        for (cudaStream_t& h : m_helpers)
+            if (!h && cudaStreamCreateWithFlags(&h, cudaStreamNonBlocking) != cudaSuccess) {
+                h = nullptr;
+                throw DeviceError("cell list helper stream: create");
+            }
+    }
+    cudaStream_t helper(int depth) const { return m_helpers.at(size_t(depth)); }
+
     static bool sameBuild(const gpu::CellListArgs<Real>& a, const gpu::CellListArgs<Real>& b) {
         return sameGeometry(a.geometry, b.geometry) && a.x == b.x && a.n == b.n && a.cellStart == b.cellStart &&
                a.sorted == b.sorted && a.keys == b.keys && a.sortedKeys == b.sortedKeys && a.indices == b.indices &&
                a.scratch == b.scratch && a.scratchBytes == b.scratchBytes && a.split.species == b.split.species &&
-               a.split.radius == b.split.radius && a.split.largeAbove == b.split.largeAbove;
+               a.split.radius == b.split.radius && a.split.largeAbove == b.split.largeAbove && a.counts == b.counts &&
+               a.crowded == b.crowded;
     }
 
     static void forget(Graph& g) {
@@ -198,6 +248,10 @@ private:
     void forgetGraphs() {
         for (Graph& g : m_graphs) forget(g);
         for (Graph& g : m_gated) forget(g);
+        for (cudaStream_t& h : m_helpers) {
+            if (h) cudaStreamDestroy(h);
+            h = nullptr;
+        }
     }
 
     DeviceBuffer<int32_t> m_cellStart, m_sorted, m_indices;
@@ -208,6 +262,10 @@ private:
     std::array<Graph, kGraphs> m_graphs{}, m_gated{};
     uint64_t m_launches = 0;
     bool m_graphsOff = false, m_gatedOff = false;
+    DeviceBuffer<int32_t> m_counts;
+    DeviceBuffer<unsigned int> m_crowded;
+    bool m_countedOff = false;                // conditional nodes refused: radix builds in the graphs
+    std::array<cudaStream_t, 2> m_helpers{};  // enqueueIf's helpers, by nesting
     gpu::CellListArgs<Real> m_last{};  // the last build's arguments (launch)
     bool m_keysValid = false;          // m_keys holds the last build's keys
 };

@@ -6,6 +6,7 @@
 #include <cuda_runtime_api.h>
 
 #include <stdexcept>
+#include <string>
 
 namespace corebox {
 
@@ -33,61 +34,51 @@ cudaGraphExec_t captureGraph(cudaStream_t stream, Enqueue&& enqueue) {
     return nullptr;
 }
 
-// A graph of a gate and an IF body: gate(handle) enqueues what sets the condition `handle` (from a
-// kernel: cudaGraphSetConditional; 0 at every launch until it does), body() what runs only where it set
-// it non-zero; both captured as captureGraph does. Null where the driver refused (conditional nodes need
-// CUDA 12.4) or either threw a runtime_error: then nothing of them was launched.
+// Within a capture of `stream` (captureGraph): gate(handle) enqueues on `stream` what sets the IF
+// condition `handle` (from a kernel: cudaGraphSetConditional; 0 at every launch until it does), then an
+// IF node follows it whose body is what body(helper) enqueues on `helper`, an idle stream of the same
+// device that captures it (a stream captures one graph at a time; a body may hold an IF of its own, with
+// a helper of its own). Throws a runtime_error where the driver refuses (conditional nodes need CUDA
+// 12.4), which makes captureGraph give up the graph.
 template <class Gate, class Body>
-cudaGraphExec_t captureConditionalGraph(cudaStream_t stream, Gate&& gate, Body&& body) {
-    cudaGraph_t graph = nullptr;
-    cudaGraphExec_t exec = nullptr;
-    cudaGraphConditionalHandle handle{};
-    bool made = cudaGraphCreate(&graph, 0) == cudaSuccess &&
-                cudaGraphConditionalHandleCreate(&handle, graph, 0, cudaGraphCondAssignDefault) == cudaSuccess;
-    // Captures what enqueue() puts on the stream into `into`, after what it holds.
-    auto captureInto = [&](cudaGraph_t into, auto&& enqueue, auto&& beforeEnd) {
-        if (!made) return;
-        made = cudaStreamBeginCaptureToGraph(stream, into, nullptr, nullptr, 0, cudaStreamCaptureModeRelaxed) ==
-               cudaSuccess;
-        if (!made) return;
-        try {
-            enqueue();
-            beforeEnd();
-        } catch (const std::runtime_error&) {
-            made = false;
-        }
-        cudaGraph_t ended = nullptr;
-        made = cudaStreamEndCapture(stream, &ended) == cudaSuccess && made;
+void enqueueIf(cudaStream_t stream, cudaStream_t helper, Gate&& gate, Body&& body) {
+    auto check = [](cudaError_t e, const char* what) {
+        if (e != cudaSuccess)
+            throw std::runtime_error(std::string("conditional graph node: ") + what + ": " + cudaGetErrorString(e));
     };
-    cudaGraph_t bodyGraph = nullptr;
-    captureInto(graph, [&] { gate(handle); }, [&] {
-        // The IF node after the gate, made the capture's last node.
-        cudaStreamCaptureStatus status{};
-        cudaGraph_t capturing = nullptr;
-        const cudaGraphNode_t* after = nullptr;
-        size_t afterCount = 0;
-        if (cudaStreamGetCaptureInfo(stream, &status, nullptr, &capturing, &after, nullptr, &afterCount) != cudaSuccess)
-            throw std::runtime_error("capture info");
-        cudaGraphNodeParams params{};
-        params.type = cudaGraphNodeTypeConditional;
-        params.conditional.handle = handle;
-        params.conditional.type = cudaGraphCondTypeIf;
-        params.conditional.size = 1;
-        cudaGraphNode_t node = nullptr;
-        if (cudaGraphAddNode(&node, capturing, after, nullptr, afterCount, &params) != cudaSuccess)
-            throw std::runtime_error("conditional node");
-        bodyGraph = params.conditional.phGraph_out[0];
-        if (cudaStreamUpdateCaptureDependencies(stream, &node, nullptr, 1, cudaStreamSetCaptureDependencies) !=
-            cudaSuccess)
-            throw std::runtime_error("capture dependencies");
-    });
-    captureInto(bodyGraph, [&] { body(); }, [] {});
-    made = made && cudaGraphInstantiate(&exec, graph, 0) == cudaSuccess;
-    if (graph) cudaGraphDestroy(graph);
-    if (made) return exec;
-    if (exec) cudaGraphExecDestroy(exec);
-    cudaGetLastError();
-    return nullptr;
+    cudaStreamCaptureStatus status{};
+    cudaGraph_t graph = nullptr;
+    const cudaGraphNode_t* after = nullptr;
+    size_t afterCount = 0;
+    check(cudaStreamGetCaptureInfo(stream, &status, nullptr, &graph, &after, nullptr, &afterCount), "capture info");
+    if (status != cudaStreamCaptureStatusActive)
+        throw std::runtime_error("conditional graph node: the stream is not capturing");
+    cudaGraphConditionalHandle handle{};
+    check(cudaGraphConditionalHandleCreate(&handle, graph, 0, cudaGraphCondAssignDefault), "handle");
+    gate(handle);
+    check(cudaStreamGetCaptureInfo(stream, &status, nullptr, &graph, &after, nullptr, &afterCount), "capture info");
+    cudaGraphNodeParams params{};
+    params.type = cudaGraphNodeTypeConditional;
+    params.conditional.handle = handle;
+    params.conditional.type = cudaGraphCondTypeIf;
+    params.conditional.size = 1;
+    cudaGraphNode_t node = nullptr;
+    check(cudaGraphAddNode(&node, graph, after, nullptr, afterCount, &params), "add");
+    check(cudaStreamUpdateCaptureDependencies(stream, &node, nullptr, 1, cudaStreamSetCaptureDependencies),
+          "dependencies");
+    check(cudaStreamBeginCaptureToGraph(helper, params.conditional.phGraph_out[0], nullptr, nullptr, 0,
+                                        cudaStreamCaptureModeRelaxed),
+          "body capture");
+    bool captured = false;
+    try {
+        body(helper);
+        captured = true;
+    } catch (const std::runtime_error&) {
+    }
+    cudaGraph_t ended = nullptr;
+    const cudaError_t end = cudaStreamEndCapture(helper, &ended);
+    if (!captured) throw std::runtime_error("conditional graph node: the body failed");
+    check(end, "body capture end");
 }
 
 }  // namespace corebox

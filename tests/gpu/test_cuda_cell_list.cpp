@@ -218,3 +218,116 @@ TEST(CudaCellList, GraphBuildsFollowEveryChangeOfTheirArguments) {
     check(other, n, 1.0, true, "swapped out");
     cudaCheck(cudaStreamDestroy(stream), "stream");
 }
+
+// Graph builds sort by counting (gpu::launchCountedCellList) and fall back to the radix sort inside the
+// graph where a cell holds more than kCountedCellMost particles: cells of exactly that many and of one
+// more, every particle in one cell (a blow-up), and a crowded tail of large particles, each against the
+// host's arrays, in fp32 and fp64.
+template <class Real>
+void expectCrowdedSameAsHost(cudaStream_t stream) {
+    const Vec3<double> box{20, 16, 18};
+    const int64_t n = 9000;
+    const int most = int(gpu::kCountedCellMost);
+    struct Case {
+        int crowd;       // particles put at one point
+        int largeEvery;  // every this many a large particle (0: none)
+        const char* what;
+    };
+    for (const Case& c : {Case{most, 0, "a cell at the counted sort's most"},
+                          Case{most + 1, 0, "one more: the fallback"}, Case{int(n), 0, "every particle in one cell"},
+                          Case{0, 100, "90 large particles after the cells"}, Case{0, 0, "no crowd"}}) {
+        SCOPED_TRACE(c.what);
+        std::vector<Vec3<Real>> x = randomPositions<Real>(n, box, uint64_t(c.crowd) + 11);
+        // The crowd at a cell's centre; the cell's random residents make it fuller still but for the
+        // first case, whose cell is emptied of them first.
+        const Vec3<Real> point{Real(5.5), Real(5.5), Real(5.5)};
+        std::vector<int32_t> species(size_t(n), 0);
+        const CellGeometry g = cellGeometry(box, n, 1.0);
+        const int pointKey = cellKeyOf(g, point);
+        for (Vec3<Real>& p : x)
+            if (cellKeyOf(g, p) == pointKey) p = Vec3<Real>{Real(15.5), Real(12.5), Real(0.5)};
+        for (int k = 0; k < c.crowd; ++k) x[size_t(k * (n / std::max(c.crowd, 1)))] = point;
+        if (c.largeEvery > 0)
+            for (int64_t i = 0; i < n; i += c.largeEvery) species[size_t(i)] = 1;
+        const std::vector<Real> radius{Real(0.5), Real(1.0)};
+        const CellSplit<Real> hostSplit{species.data(), radius.data(), 0.75};
+        CellList host;
+        host.build(x.data(), n, g, hostSplit, 0.5);
+        DeviceParticles<Real> d(x, species, radius);
+        DeviceCellList<Real> cells;
+        for (int build = 0; build < 2; ++build) {  // captured, then launched
+            const CellListView view =
+                cells.build(d.x.data(), n, g, CellSplit<Real>{d.species.data(), d.radius.data(), 0.75}, 0.5, stream);
+            cudaCheck(cudaStreamSynchronize(stream), "build");
+            expectViewEquals(view, host, n);
+        }
+    }
+}
+
+TEST(CudaCellList, CountedGraphBuildsFallBackToTheRadixSortWhereACellIsCrowded) {
+    COREBOX_REQUIRE_GPU();
+    cudaStream_t stream = nullptr;
+    cudaCheck(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking), "stream");
+    expectCrowdedSameAsHost<float>(stream);
+    expectCrowdedSameAsHost<double>(stream);
+    cudaCheck(cudaStreamDestroy(stream), "stream");
+}
+
+// rebuildIfMoved (the impact rounds' builds after the first): with the flag clear the build is skipped,
+// the arrays left as they were (here poisoned, to see it), and with it set the build runs and gives the
+// host's arrays at the new positions; either way the flag is cleared. Other arguments than the last
+// build's make it build whatever the flag says.
+TEST(CudaCellList, RebuildIfMovedBuildsOnlyWhereFlagged) {
+    COREBOX_REQUIRE_GPU();
+    cudaStream_t stream = nullptr;
+    cudaCheck(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking), "stream");
+    const Vec3<double> box{20, 16, 18};
+    const int64_t n = 9000;
+    std::vector<Vec3<float>> x = randomPositions<float>(n, box, 21);
+    DeviceBuffer<Vec3<float>> dx;
+    dx.upload(x.data(), x.size());
+    DeviceBuffer<unsigned int> moved;
+    const unsigned int zero = 0, one = 1;
+    moved.upload(&zero, 1);
+    const CellGeometry g = cellGeometry(box, n, 1.0);
+    DeviceCellList<float> cells;
+    auto hostOf = [&](const std::vector<Vec3<float>>& at, const CellGeometry& geometry) {
+        CellList host;
+        host.build(at.data(), n, geometry, CellSplit<float>{}, 0.5);
+        return host;
+    };
+    auto flag = [&]() {
+        unsigned int v = 7;
+        cudaCheck(cudaMemcpy(&v, moved.data(), sizeof v, cudaMemcpyDeviceToHost), "download");
+        return v;
+    };
+    CellListView view = cells.build(dx.data(), n, g, CellSplit<float>{}, 0.5, stream);
+    ASSERT_NE(cells.keys(), nullptr);
+    cudaCheck(cudaStreamSynchronize(stream), "build");
+    expectViewEquals(view, hostOf(x, g), n);
+    for (int pass = 0; pass < 2; ++pass) {  // captured, then launched
+        SCOPED_TRACE(pass);
+        // Not flagged: skipped. The poison stays.
+        cudaCheck(cudaMemset(const_cast<int32_t*>(view.sorted), 0xff, size_t(n) * sizeof(int32_t)), "memset");
+        view = cells.rebuildIfMoved(dx.data(), n, g, CellSplit<float>{}, 0.5, moved.data(), stream);
+        cudaCheck(cudaStreamSynchronize(stream), "skipped build");
+        std::vector<int32_t> order(static_cast<size_t>(n));
+        cudaCheck(cudaMemcpy(order.data(), view.sorted, order.size() * sizeof(int32_t), cudaMemcpyDeviceToHost),
+                  "download");
+        EXPECT_EQ(order, std::vector<int32_t>(size_t(n), -1)) << "the build ran without the flag";
+        // Flagged, at new positions: built, the flag cleared.
+        x = randomPositions<float>(n, box, 22 + uint64_t(pass));
+        dx.upload(x.data(), x.size());
+        moved.upload(&one, 1);
+        view = cells.rebuildIfMoved(dx.data(), n, g, CellSplit<float>{}, 0.5, moved.data(), stream);
+        cudaCheck(cudaStreamSynchronize(stream), "flagged build");
+        expectViewEquals(view, hostOf(x, g), n);
+        EXPECT_EQ(flag(), 0u) << "the flag was not cleared";
+    }
+    // Another geometry than the last build's: built without the flag.
+    const CellGeometry wider = cellGeometry(box, n, 1.3);
+    view = cells.rebuildIfMoved(dx.data(), n, wider, CellSplit<float>{}, 0.5, moved.data(), stream);
+    cudaCheck(cudaStreamSynchronize(stream), "new geometry");
+    expectViewEquals(view, hostOf(x, wider), n);
+    cudaCheck(cudaStreamDestroy(stream), "stream");
+}
