@@ -57,6 +57,13 @@ struct CollisionSettings {
     // / 55.2 / 53.0 ms a frame over the last second, the pile's kinetic energy at 5 s 2.5e5 / 3.3e4 /
     // 1.7e4 and its overlaps 0.39% / 0.16% / 0.08% of a diameter (10^5 balls: 17.0 / 12.9 / 12.2 ms,
     // 3.1e4 / 5.4e3 / 1.7e3): a pile relaxed less rattles, lists again and takes more impact rounds.
+    // Measured again once the impact rounds skipped and count-sorted their cell lists and a listing was
+    // made again only from overlaps of 2% of a diameter (collision_rounds.cpp): an H200, fp32, one call,
+    // 8 / 12 / 16, 10^6 balls 39.6 / 42.7 / 47.2 ms a frame (the last second 30.7 / 34.9 / 39.7), the
+    // kinetic energy at 5 s 2.4e4 / 9.1e3 / 7.9e3, overlaps 0.15% / 0.05% / 0.05%, rest at 2.23 / 2.20 /
+    // 2.20 s. 12 was kept for a call, and then the settled 400-ball pile of the dense-contact tests fell
+    // onto its lower layers on the GPU at 0.0126 a ball a step, where they allow 0.0102 (a quarter of
+    // g dt; the CPU's bottom-up sweeps held it): 16 stays.
     // [interaction] contact_sweeps replaces both caps.
     int maxSweepsJacobi = 128;
     int maxSweepsGaussSeidel = 16;
