@@ -412,22 +412,22 @@ void CudaDevice<Real>::applyEvents() {
 // the gathered state) each round's new rows get theirs at the positions that round found, as applyEvents
 // computes them, by a pass that reads the round's count on the device. The first batch is as long as
 // the last stage's rounds (a pile's rounds vary slowly), later ones four: a batch too long costs its
-// extra rounds' launches (their cell-list builds skipped, below), one too short a read-back.
-// Cell lists skipped. A round's build (a radix sort of every particle's cell key: a third of the kernel
-// time of the sandbox example's landing, ncu) makes the same arrays as the last build wherever no
-// particle changed cell since, the arrays depending on the keys alone. So the resolution flags any
-// particle it moves out of the cell its key names (CollisionArgs::cellKeys), and each round after the
-// call's first builds inside a conditional graph node whose gate reads and clears that flag
-// (DeviceCellList::rebuildIfMoved): a settled pile's rounds move particles by less than a cell, and the
-// rounds queued behind the one that found nothing move none. The same bits (tests/gpu/
-// test_cuda_contacts.cpp). An H200, fp32, with the listings' 2% deep overlap in both (collision_rounds.
-// cpp): `corebox bench pile` 10^6 balls 48.0 ms a frame against 49.8 (the last second 39.8 against
-// 40.8), 10^5 11.7 against 13.0, 10^4 5.5 against 7.5 (the last record); the sandbox example at 10^5
-// balls 13.4 ms a frame against 14.7 (the record, 0.5% deep overlap), its impact rounds 4.4 against 5.1,
-// the slowest frame 54 against 60. Tried and not kept: eight after a round of
-// more than kTailAfterEvents events (a landing's rounds, to the cap): the same bits, the sandbox at 10^5
-// balls (an H200, fp32, one call) 15.3 and 15.7 ms a frame against 15.8 and 14.9, its impact rounds 5.07
-// against 5.14 and 5.25.
+// extra rounds' launches (their cell-list builds skipped, below), one too short a read-back. Tried and
+// not kept: eight after a round of more than kTailAfterEvents events (a landing's rounds, to the cap):
+// the same bits, the sandbox at 10^5 balls (an H200, fp32, one call) 15.3 and 15.7 ms a frame against
+// 15.8 and 14.9, its impact rounds 5.07 against 5.14 and 5.25.
+// Cell lists skipped. A round's build (then a radix sort of every particle's cell key, now a counting
+// sort: device_cell_list.h; a third of the kernel time of the sandbox example's landing, ncu) makes the
+// same arrays as the last build wherever no particle changed cell since, the arrays depending on the
+// keys alone. So the resolution flags any particle it moves out of the cell its key names
+// (CollisionArgs::cellKeys), and each round after the call's first builds inside a conditional graph
+// node whose gate reads and clears that flag (DeviceCellList::rebuildIfMoved): a settled pile's rounds
+// move particles by less than a cell, and the rounds queued behind the one that found nothing move
+// none. The same bits (tests/gpu/test_cuda_contacts.cpp). An H200, fp32, with the listings' 2% deep
+// overlap in both (collision_rounds.cpp): `corebox bench pile` 10^6 balls 48.0 ms a frame against 49.8
+// (the last second 39.8 against 40.8), 10^5 11.7 against 13.0, 10^4 5.5 against 7.5 (the last record);
+// the sandbox example at 10^5 balls 13.4 ms a frame against 14.7 (the record, 0.5% deep overlap), its
+// impact rounds 4.4 against 5.1, the slowest frame 54 against 60.
 // The batch's wait also brings back what the calls after the rounds would each wait for (queueStageTail):
 // read where the batch's last round found nothing; queued only behind a round of few events.
 // With lists on one GPU or without CudaBackendOptions::fusedSteps: a round a wait. With the contact log,

@@ -39,11 +39,12 @@ public:
         return a.view();
     }
     // The same build, skipped on the device where *moved is 0 when the stream reaches it, and *moved
-    // cleared. The caller's promise: since the last build into this list, positions changed only where
-    // a kernel set *moved on seeing a particle leave the cell keys() gives it. A skipped build leaves the
-    // arrays a build would make: they depend on the keys alone (ascending key, then index). Where the
-    // last build had other arguments, or wrote no keys (keys() null), or conditional graphs are refused,
-    // a plain build.
+    // cleared by that gate. The caller's promise: since the last build into this list, positions changed
+    // only where a kernel set *moved on seeing a particle leave the cell keys() gives it. A skipped build
+    // leaves the arrays a build would make: they depend on the keys alone (ascending key, then index).
+    // Where the last build had other arguments, or wrote no keys (keys() null), or conditional graphs are
+    // refused, a plain build, which leaves *moved as it was (a stale 1 costs one build more, never a
+    // wrong list).
     CellListView rebuildIfMoved(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry,
                                 const CellSplit<Real>& split, double gridRadius, unsigned int* moved,
                                 cudaStream_t stream) {
@@ -80,6 +81,9 @@ public:
     // Each particle's cell key at the last build (device memory, n), where that build wrote them (the
     // builds above cellListBuildIsOneLaunch); null otherwise.
     const uint32_t* keys() const { return m_keysValid ? m_keys.data() : nullptr; }
+    // Whether builds in graphs sort by counting (gpu::launchCountedCellList): false once the driver
+    // refused a conditional node, or graphs altogether (for the tests).
+    bool buildsByCounting() const { return !m_countedOff && !m_graphsOff; }
 
 private:
     gpu::CellListArgs<Real> argsFor(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry,
@@ -212,7 +216,9 @@ private:
     // 56; `corebox bench pile` 10^5 balls 11.2 and 10.8 against 11.7 and 11.9, 10^6 47.2 and 47.0 against
     // 47.4 and 47.5, 10^4 within noise (5.8, 5.6 against 5.5, 5.7).
     void enqueueBuild(const gpu::CellListArgs<Real>& a, cudaStream_t stream, int depth) {
-        if (m_countedOff) {
+        // The scan's scratch holds maxCellCount(n) + 1 counts (gpu::cellListScratchBytes), which every
+        // geometry of cellGeometry respects; one made otherwise sorts by radix.
+        if (m_countedOff || int64_t(a.geometry.cellCount()) > maxCellCount(a.n)) {
             gpu::launchBuildCellList(a, stream);
             return;
         }

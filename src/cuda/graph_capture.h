@@ -12,7 +12,8 @@ namespace corebox {
 
 // What enqueue() puts on `stream`, captured (relaxed mode: other threads may go on calling CUDA) and
 // instantiated; null where the driver refused, or where enqueue threw a runtime_error (DeviceError
-// included): then nothing of it was launched, and the error is cleared.
+// included): then nothing of it was launched, and the error is cleared. Any other exception ends the
+// capture and goes on.
 template <class Enqueue>
 cudaGraphExec_t captureGraph(cudaStream_t stream, Enqueue&& enqueue) {
     cudaGraph_t captured = nullptr;
@@ -23,6 +24,11 @@ cudaGraphExec_t captureGraph(cudaStream_t stream, Enqueue&& enqueue) {
             enqueue();
         } catch (const std::runtime_error&) {
             made = false;
+        } catch (...) {
+            cudaStreamEndCapture(stream, &captured);
+            if (captured) cudaGraphDestroy(captured);
+            cudaGetLastError();
+            throw;
         }
         made = cudaStreamEndCapture(stream, &captured) == cudaSuccess && made;
     }
@@ -38,8 +44,8 @@ cudaGraphExec_t captureGraph(cudaStream_t stream, Enqueue&& enqueue) {
 // condition `handle` (from a kernel: cudaGraphSetConditional; 0 at every launch until it does), then an
 // IF node follows it whose body is what body(helper) enqueues on `helper`, an idle stream of the same
 // device that captures it (a stream captures one graph at a time; a body may hold an IF of its own, with
-// a helper of its own). Throws a runtime_error where the driver refuses (conditional nodes need CUDA
-// 12.4), which makes captureGraph give up the graph.
+// a helper of its own). Throws a runtime_error where the driver refuses (conditional nodes came with
+// CUDA 12.4; these calls are CUDA 13's), which makes captureGraph give up the graph.
 template <class Gate, class Body>
 void enqueueIf(cudaStream_t stream, cudaStream_t helper, Gate&& gate, Body&& body) {
     auto check = [](cudaError_t e, const char* what) {
@@ -74,6 +80,10 @@ void enqueueIf(cudaStream_t stream, cudaStream_t helper, Gate&& gate, Body&& bod
         body(helper);
         captured = true;
     } catch (const std::runtime_error&) {
+    } catch (...) {  // the helper leaves its capture whatever went wrong
+        cudaGraph_t ended = nullptr;
+        cudaStreamEndCapture(helper, &ended);
+        throw;
     }
     cudaGraph_t ended = nullptr;
     const cudaError_t end = cudaStreamEndCapture(helper, &ended);
