@@ -128,6 +128,16 @@ struct DeviceParticles {
     }
 };
 
+// A non-blocking stream of a test's own (graph builds need one: none on the legacy default stream),
+// destroyed however the test ends.
+struct TestStream {
+    cudaStream_t stream = nullptr;
+    TestStream() { cudaCheck(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking), "stream"); }
+    ~TestStream() { cudaStreamDestroy(stream); }
+    TestStream(const TestStream&) = delete;
+    TestStream& operator=(const TestStream&) = delete;
+};
+
 // A device build's arrays (finished) against the host's.
 void expectViewEquals(const CellListView& view, const CellList& host, int64_t n) {
     std::vector<int32_t> starts(size_t(view.geometry.cellCount()) + 1);
@@ -181,8 +191,8 @@ TEST(CudaCellList, KeepsLargeParticlesOutOfTheCellsAsTheHostDoes) {
 // every time.
 TEST(CudaCellList, GraphBuildsFollowEveryChangeOfTheirArguments) {
     COREBOX_REQUIRE_GPU();
-    cudaStream_t stream = nullptr;
-    cudaCheck(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking), "stream");
+    const TestStream owned;
+    const cudaStream_t stream = owned.stream;
     const Vec3<double> box{20, 16, 18};
     const int64_t n = 9000;
     std::vector<Vec3<float>> x = randomPositions<float>(n, box, 5);
@@ -216,7 +226,6 @@ TEST(CudaCellList, GraphBuildsFollowEveryChangeOfTheirArguments) {
     swap(cells, other);
     check(cells, n, 1.3, true, "swapped in");
     check(other, n, 1.0, true, "swapped out");
-    cudaCheck(cudaStreamDestroy(stream), "stream");
 }
 
 // Graph builds sort by counting (gpu::launchCountedCellList) and fall back to the radix sort inside the
@@ -267,11 +276,10 @@ void expectCrowdedSameAsHost(cudaStream_t stream) {
 
 TEST(CudaCellList, CountedGraphBuildsFallBackToTheRadixSortWhereACellIsCrowded) {
     COREBOX_REQUIRE_GPU();
-    cudaStream_t stream = nullptr;
-    cudaCheck(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking), "stream");
+    const TestStream owned;
+    const cudaStream_t stream = owned.stream;
     expectCrowdedSameAsHost<float>(stream);
     expectCrowdedSameAsHost<double>(stream);
-    cudaCheck(cudaStreamDestroy(stream), "stream");
 }
 
 // rebuildIfMoved (the impact rounds' builds after the first): with the flag clear the build is skipped,
@@ -280,8 +288,8 @@ TEST(CudaCellList, CountedGraphBuildsFallBackToTheRadixSortWhereACellIsCrowded) 
 // build's make it build whatever the flag says.
 TEST(CudaCellList, RebuildIfMovedBuildsOnlyWhereFlagged) {
     COREBOX_REQUIRE_GPU();
-    cudaStream_t stream = nullptr;
-    cudaCheck(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking), "stream");
+    const TestStream owned;
+    const cudaStream_t stream = owned.stream;
     const Vec3<double> box{20, 16, 18};
     const int64_t n = 9000;
     std::vector<Vec3<float>> x = randomPositions<float>(n, box, 21);
@@ -331,5 +339,4 @@ TEST(CudaCellList, RebuildIfMovedBuildsOnlyWhereFlagged) {
     view = cells.rebuildIfMoved(dx.data(), n, wider, CellSplit<float>{}, 0.5, moved.data(), stream);
     cudaCheck(cudaStreamSynchronize(stream), "new geometry");
     expectViewEquals(view, hostOf(x, wider), n);
-    cudaCheck(cudaStreamDestroy(stream), "stream");
 }

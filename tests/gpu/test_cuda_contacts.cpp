@@ -53,6 +53,44 @@ Scene deepPile(Precision precision) {
     return scene;
 }
 
+// What a run leaves for comparing two ways of running the impact rounds bit for bit: the state's hash,
+// the impacts and rounds summed over its steps, the dissipated energy, and with the contact log on its
+// records and an FNV-1a hash of them (particles and round).
+struct ImpactOutcome {
+    uint64_t hash = 0;
+    int64_t pairs = 0, walls = 0, rounds = 0, records = 0;
+    double dissipated = 0;
+    uint64_t logHash = 1469598103934665603ull;
+};
+
+ImpactOutcome runImpacts(const Scene& scene, const CudaBackendOptions& options, int steps, bool log) {
+    Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
+    sim.backend().setContactLog(log, 0.0);
+    ImpactOutcome o;
+    for (int k = 0; k < steps; ++k) {
+        const StepReport r = sim.step();
+        o.pairs += r.pairCollisions;
+        o.walls += r.wallCollisions;
+        o.rounds += r.rounds;
+        for (const ContactRecord& c : sim.backend().contactLog()) {
+            ++o.records;
+            for (int64_t v : {c.a, c.b, int64_t(c.round)}) o.logHash = (o.logHash ^ uint64_t(v)) * 1099511628211ull;
+        }
+    }
+    o.hash = stateHash(sim.state());
+    o.dissipated = sim.observe().dissipated;
+    return o;
+}
+
+// The same state, impacts, rounds and dissipation.
+void expectSameImpacts(const ImpactOutcome& a, const ImpactOutcome& reference, const std::string& where) {
+    EXPECT_EQ(a.hash, reference.hash) << where << ": the state";
+    EXPECT_EQ(a.pairs, reference.pairs) << where << ": the pair impacts";
+    EXPECT_EQ(a.walls, reference.walls) << where << ": the wall impacts";
+    EXPECT_EQ(a.rounds, reference.rounds) << where << ": the rounds";
+    EXPECT_EQ(a.dissipated, reference.dissipated) << where << ": the dissipated energy";
+}
+
 // Table 1's model (bench table1): `count` Lennard-Jones particles with hard cores of radius 0.56 at
 // number density 0.5, all pairs, RK4, here with restitution 0.8 so that the impacts dissipate: at 1234,
 // a dozen impacts a step in two or three rounds.
@@ -220,38 +258,19 @@ TEST(CudaContacts, SkippedCellBuildsGiveTheBitsOfBuiltOnes) {
     // that build would make: against every round building, the same state, impacts, rounds and
     // dissipation, in fp32 and fp64. 6,000 balls: above the one-launch builds, which keep no keys.
     COREBOX_REQUIRE_GPU();
-    struct Outcome {
-        uint64_t hash;
-        int64_t pairs, walls, rounds;
-        double dissipated;
-    };
     auto run = [](const Scene& scene, bool skip) {
         CudaBackendOptions options;
         options.precision = scene.integrator.precision;
         options.skipUnmovedCellBuilds = skip;
-        Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
-        Outcome o{0, 0, 0, 0, 0.0};
-        for (int k = 0; k < 480; ++k) {
-            const StepReport r = sim.step();
-            o.pairs += r.pairCollisions;
-            o.walls += r.wallCollisions;
-            o.rounds += r.rounds;
-        }
-        o.hash = stateHash(sim.state());
-        o.dissipated = sim.observe().dissipated;
-        return o;
+        return runImpacts(scene, options, 480, false);
     };
     for (Precision p : {Precision::Fp32, Precision::Fp64}) {
         Scene scene = deepPile(p);
         scene.box.size = {16.0, 16.0, 60.0};
         scene.species[0].count = 6000;
-        const Outcome built = run(scene, false), skipped = run(scene, true);
+        const ImpactOutcome built = run(scene, false), skipped = run(scene, true);
         const std::string where = precisionName(p);
-        EXPECT_EQ(skipped.hash, built.hash) << where << ": the state";
-        EXPECT_EQ(skipped.pairs, built.pairs) << where << ": the pair impacts";
-        EXPECT_EQ(skipped.walls, built.walls) << where << ": the wall impacts";
-        EXPECT_EQ(skipped.rounds, built.rounds) << where << ": the rounds";
-        EXPECT_EQ(skipped.dissipated, built.dissipated) << where << ": the dissipated energy";
+        expectSameImpacts(skipped, built, where);
         EXPECT_GT(built.rounds, 2 * 480) << where << ": rounds beyond the first of a step";
         EXPECT_GT(built.pairs, 6000) << where << ": the balls met";
     }
@@ -264,46 +283,21 @@ TEST(CudaContacts, SearchesNarrowedToTheActiveParticlesGiveTheBitsOfFullOnes) {
     // log on (its batches bounded by the log's room): the same state, impacts, rounds, dissipation and
     // log, in fp32 and fp64.
     COREBOX_REQUIRE_GPU();
-    struct Outcome {
-        uint64_t hash;
-        int64_t pairs, walls, rounds, records;
-        double dissipated;
-        uint64_t logHash;
-    };
     auto run = [](const Scene& scene, bool narrowed, bool fused, bool log) {
         CudaBackendOptions options;
         options.precision = scene.integrator.precision;
         options.fusedSteps = fused;
         options.narrowedSearchFrom = narrowed ? 0 : INT64_MAX;
-        Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
-        sim.backend().setContactLog(log, 0.0);
-        Outcome o{0, 0, 0, 0, 0, 0.0, 1469598103934665603ull};
-        for (int k = 0; k < 360; ++k) {
-            const StepReport r = sim.step();
-            o.pairs += r.pairCollisions;
-            o.walls += r.wallCollisions;
-            o.rounds += r.rounds;
-            for (const ContactRecord& c : sim.backend().contactLog()) {
-                ++o.records;
-                for (int64_t v : {c.a, c.b, int64_t(c.round)}) o.logHash = (o.logHash ^ uint64_t(v)) * 1099511628211ull;
-            }
-        }
-        o.hash = stateHash(sim.state());
-        o.dissipated = sim.observe().dissipated;
-        return o;
+        return runImpacts(scene, options, 360, log);
     };
     for (Precision p : {Precision::Fp32, Precision::Fp64}) {
         const Scene scene = deepPile(p);
         for (bool fused : {true, false}) {
             for (bool log : {false, true}) {
-                const Outcome full = run(scene, false, fused, log), narrowed = run(scene, true, fused, log);
+                const ImpactOutcome full = run(scene, false, fused, log), narrowed = run(scene, true, fused, log);
                 const std::string where = std::string(precisionName(p)) + (fused ? ", rounds in batches" : ", a round a wait") +
                                           (log ? ", contact log on" : "");
-                EXPECT_EQ(narrowed.hash, full.hash) << where << ": the state";
-                EXPECT_EQ(narrowed.pairs, full.pairs) << where << ": the pair impacts";
-                EXPECT_EQ(narrowed.walls, full.walls) << where << ": the wall impacts";
-                EXPECT_EQ(narrowed.rounds, full.rounds) << where << ": the rounds";
-                EXPECT_EQ(narrowed.dissipated, full.dissipated) << where << ": the dissipated energy";
+                expectSameImpacts(narrowed, full, where);
                 EXPECT_EQ(narrowed.records, full.records) << where << ": the log's records";
                 EXPECT_EQ(narrowed.logHash, full.logHash) << where << ": the log";
                 EXPECT_GT(full.rounds, 2 * 360) << where << ": rounds beyond the first of a step";
