@@ -39,11 +39,13 @@
 // lookup): they take them before round 0, and the rows left choose among the colours those leave
 // (round 0's spread too). An H200, fp32, `corebox bench pile`, one call: 10^6 balls 65.3 ms a frame
 // against 66.7, 10^5 15.5 against 15.6; the sandbox at 10^5 balls 14.9 and 14.8 against 16.1 (noisy).
-// Not across steps: kept from step to step (the first listing's colours too), the 10^6-ball pile took
-// 63.1 ms a frame against 68.1, but a settled pile of 400 balls sank onto its lower layers at 0.0152 a
-// ball against the 0.0102 the dense-contact tests allow (the same order of colours every step biases
-// the same chains, where a fresh colouring varies it), and a checkpoint or a World edit would have had
-// to carry the colours of every row for a bit-identical restart. Kept from step to step with the sweeps
+// Across steps too, but for a fresh colouring every few steps (cuda_collisions.cpp:
+// kFreshColouringSteps, with its evidence): the first listing of a step keeps the colours of the pairs
+// that pushed at the end of the last step, which a checkpoint carries (Backend::contactColours); a
+// World edit forgets them, as it forgets the rows. Kept for ever (no fresh colouring), the 10^6-ball
+// pile took 63.1 ms a frame against 68.1, but a settled pile of 400 balls sank onto its lower layers at
+// 0.0152 a ball against the 0.0102 the dense-contact tests allow (the same order of colours every step
+// biases the same chains, where a fresh colouring varies it). Kept from step to step with the sweeps
 // taking the colours backwards in every other sweep (symmetric Gauss-Seidel, so that no order is
 // favoured step after step): the piles of 10^5 and 10^6 balls never came to rest (an H200, fp32, 5 s:
 // every listing at the sweep cap, 58 and 65 sweeps a step against 26 and 31, the kinetic energy at 5 s

@@ -261,6 +261,19 @@ public:
     // or before anything rested. Setting the state forgets them (indices may mean other particles).
     virtual std::vector<ContactWarmStart> contactWarmStart() const { return {}; }
     virtual void restoreContactWarmStart(const std::vector<ContactWarmStart>& /*impulses*/) {}
+    // The Gauss-Seidel colour of each record contactWarmStart() gives, in its order, where the next
+    // step's listing may keep them (the CUDA backend keeps its contacts' colours between fresh
+    // colourings: a checkpoint carries them so that a restart stays bit-identical); empty where the
+    // backend keeps none.
+    virtual std::vector<uint8_t> contactColours() const { return {}; }
+    // Restores those colours, after restoreContactWarmStart with the same records. Colours that cannot
+    // be the records' (another count, a colour out of range, two contacts of a particle sharing one) are
+    // dropped: the next listing colours afresh.
+    virtual void restoreContactColours(const std::vector<uint8_t>& /*colours*/) {}
+    // The step about to run, counted from the simulation's start (Simulation::step; a restart goes on
+    // from its checkpoint's): a schedule that repeats every few steps keys on it, so that a restarted
+    // run repeats it.
+    virtual void beginStep(int64_t /*step*/) {}
     // Lists every particle's contacts (pairs and walls within the contact margin) from the current
     // positions and keeps those positions; returns the number of listed contacts (0: nothing to do).
     // `resting`: which touching contacts are stopped too (relaxParticle).

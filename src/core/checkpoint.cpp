@@ -16,9 +16,9 @@ namespace corebox {
 namespace {
 
 constexpr char kMagic[] = "corebox checkpoint\n";
-// 3: the contact relaxation's warm-start impulses after the accelerations; 2: the cached accelerations
-// after the particles; 1: neither. All three are read.
-constexpr uint32_t kVersion = 3;
+// 4: the contact impulses' colours after them; 3: the contact relaxation's warm-start impulses after the
+// accelerations; 2: the cached accelerations after the particles; 1: none of these. All four are read.
+constexpr uint32_t kVersion = 4;
 static_assert(sizeof(ContactWarmStart) == 2 * sizeof(int64_t) + sizeof(double), "warm-start impulses are written as raw records");
 constexpr uint32_t kByteOrderProbe = 0x01020304;
 static_assert(sizeof(Vec3<double>) == 3 * sizeof(double), "positions and velocities are written as raw doubles");
@@ -114,6 +114,8 @@ void writeCheckpoint(const std::string& path, const SimulationCheckpoint& c) {
     w.putArray(c.accelerations);
     w.put(uint64_t(c.contactImpulses.size()));
     w.putArray(c.contactImpulses);
+    w.put(uint64_t(c.contactColours.size()));
+    w.putArray(c.contactColours);
     w.put(fnv1a(w.bytes()));
     std::error_code ec;
     if (std::filesystem::is_regular_file(path, ec)) {
@@ -170,11 +172,21 @@ SimulationCheckpoint readCheckpoint(const std::string& path) {
     }
     if (version >= 3) {
         const uint64_t impulses = r.get<uint64_t>("the contact impulses' count");
-        if (impulses > r.remaining() / sizeof(ContactWarmStart) || r.remaining() != impulses * sizeof(ContactWarmStart))
+        const size_t following = version >= 4 ? sizeof(uint64_t) : 0;  // the colours' count
+        if (r.remaining() < following || (r.remaining() - following) / sizeof(ContactWarmStart) < impulses ||
+            (version == 3 && r.remaining() != impulses * sizeof(ContactWarmStart)))
             r.fail("holds " + std::to_string(r.remaining()) + " bytes of contact impulses, not the " + std::to_string(impulses) +
                    " it announces");
         c.contactImpulses.resize(size_t(impulses));
         r.getArray(c.contactImpulses, "the contact impulses");
+    }
+    if (version >= 4) {
+        const uint64_t colours = r.get<uint64_t>("the contact colours' count");
+        if ((colours != 0 && colours != c.contactImpulses.size()) || r.remaining() != colours)
+            r.fail("holds " + std::to_string(r.remaining()) + " bytes of contact colours, not the " +
+                   std::to_string(colours) + " it announces");
+        c.contactColours.resize(size_t(colours));
+        r.getArray(c.contactColours, "the contact colours");
     }
     return c;
 }

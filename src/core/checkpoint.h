@@ -7,11 +7,12 @@
 // the counters and pressure window since the last observables row, and the adaptive controller's next
 // dt. The backends hold nothing else that a step reads but Verlet's cached accelerations and the
 // contact relaxation's impulses that warm-start the next step (carried when the backend keeps them:
-// Backend::contactWarmStart). The accelerations are
+// Backend::contactWarmStart) with the colours the CUDA backend's next listing may keep
+// (Backend::contactColours). The accelerations are
 // carried when they are not what a force pass at X gives bit for bit (the all-pairs update after
 // collisions, CPU and one GPU, exchanges the old pair forces of the moved particles for new ones:
-// Backend::cachedAccelerations); otherwise they are recomputed from the restored X bit for bit (the force pass has a fixed summation order, and
-// neighbour lists, rebuilt at restore, sum each particle's partners by ascending index), the
+// Backend::cachedAccelerations); otherwise they are recomputed from the restored X bit for bit (the force pass has a
+// fixed summation order, and neighbour lists, rebuilt at restore, sum each particle's partners by ascending index), the
 // thermostat's and placement's random numbers are counter-based on (seed, step, particle), and an
 // fp32 backend's state survives the round trip through double exactly.
 //
@@ -54,6 +55,9 @@ struct SimulationCheckpoint {
     std::vector<Vec3<double>> accelerations;
     // The contact relaxation's warm-start impulses (Backend::contactWarmStart); empty: a cold start.
     std::vector<ContactWarmStart> contactImpulses;
+    // Their Gauss-Seidel colours, one a record (Backend::contactColours); empty: the backend keeps none,
+    // or a checkpoint older than version 4.
+    std::vector<uint8_t> contactColours;
 };
 
 // Writes atomically (temp file and rename); an existing checkpoint at `path` is kept as path.prev

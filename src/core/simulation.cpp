@@ -51,6 +51,7 @@ Simulation::Simulation(Scene scene, std::unique_ptr<Backend> backend, const Simu
         m_driver.restoreAccelerationsValid();
     }
     m_backend->restoreContactWarmStart(c.contactImpulses);
+    if (!c.contactColours.empty()) m_backend->restoreContactColours(c.contactColours);
     m_step = c.step;
     m_time = c.time;
     m_dissipated = c.dissipated;
@@ -84,6 +85,7 @@ SimulationCheckpoint Simulation::checkpoint() const {
     c.dtNext = m_driver.nextDt();
     if (m_driver.accelerationsValid()) c.accelerations = m_backend->cachedAccelerations();
     c.contactImpulses = m_backend->contactWarmStart();
+    c.contactColours = m_backend->contactColours();
     c.pressureTime = m_pressureWindow.time();
     c.pressureKineticTime = m_pressureWindow.kineticTime();
     c.pressureImpulses = m_pressureWindow.impulses();
@@ -104,6 +106,7 @@ void Simulation::applyParameters() {
 
 StepReport Simulation::step() {
     Backend& backend = *m_backend;
+    backend.beginStep(m_step);
     backend.keepSnapshot();
     StepReport report;
     if (m_phaseTiming) backend.markPhase(StepPhase::Integrate);

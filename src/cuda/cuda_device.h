@@ -117,6 +117,9 @@ public:
     void endRelaxation() override;
     std::vector<ContactWarmStart> contactWarmStart() const override;
     void restoreContactWarmStart(const std::vector<ContactWarmStart>& impulses) override;
+    std::vector<uint8_t> contactColours() const override;
+    void restoreContactColours(const std::vector<uint8_t>& colours) override;
+    void beginStep(int64_t step) override { m_stepIndex = step; }
     double contactLiftWork() override;
     ImpulseSums contactImpulses() override;
 
@@ -525,9 +528,15 @@ private:
     DeviceBuffer<uint8_t> m_rowColour;
     // The colours of the warm rows (swapped with m_rowColour as the rows are) and whether their listing
     // was coloured; each own row's colour there (the fill's, for the colouring to keep: a later listing
-    // of a step only).
+    // of a step, and the first listing of a step that does not colour afresh, kFreshColouringSteps).
     DeviceBuffer<uint8_t> m_warmColour, m_prevColour;
     bool m_listingColoured = false, m_warmColoured = false;
+    int64_t m_stepIndex = 0;  // beginStep's: which steps colour afresh
+    // The contacts contactWarmStart gives, and where `colours` is set their colours (contactColours).
+    std::vector<ContactWarmStart> pushingContacts(std::vector<uint8_t>* colours) const;
+    // restoreContactWarmStart's records as rows, three numbers each: the own row (-1: the record was
+    // not usable), the particle and the partner; for restoreContactColours.
+    std::vector<int64_t> m_restoredRows;
     DeviceBuffer<Real> m_rowTarget;
     // The own rows packed in colour order for the sweeps (gpu::ContactArgs::packed*), and each own row's place.
     DeviceBuffer<int32_t> m_packedParticle, m_packedPartner, m_rowRank;
