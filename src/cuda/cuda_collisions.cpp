@@ -26,17 +26,20 @@ namespace {
 // that pushed (the fill takes them, the colouring colours only the rows left: contact_gauss_seidel.cu),
 // but every kFreshColouringSteps-th step colours afresh, counted from the simulation's start
 // (Backend::beginStep), so that a restart does the same; a checkpoint carries the colours
-// (Backend::contactColours). Kept for ever, the same colours in the same order step after step bias
-// the same chains of a settled pile: its 400-ball test pile fell onto its lower layers at 0.0104 a
-// ball a step where 0.0102 is allowed (DenseContact.ASettledPileHoldsEveryLayer, an H200); coloured
-// afresh every 2 / 4 / 8 steps, 0.0076 / 0.0041 / 0.0077 (every step, as before: 0.0069). `corebox
-// bench pile` (an H200, fp32, one call, every step / never / every 2 / 4 / 8 steps): 10^6 balls 47.5
-// / 43.7 / 44.9 / 44.3 / 44.0 ms a frame (the last second 39.9 / 34.4 / 36.5 / 35.3 / 34.6), 10^5
-// balls 11.0 / 10.6 / 10.5 / 10.5 ms (every step / never / 2 / 4), 10^4 5.7 / 5.6 / 5.5 / 5.5, every
-// pile at rest as early, overlaps within 4e-4 of a diameter. Tried and not kept: the colours swept in
-// a new random order each step, kept or fresh, so that no chain is favoured: the test pile fell at
-// 0.0127 and 0.0143 (the greedy colouring's colour 0 holds the most rows; swept first it carries the
-// most support).
+// (Backend::contactColours: of the pushing pairs, the records it carries anyway). Evidence (an H200,
+// fp32). Kept for ever, the same colours in the same order step after step bias the same chains of a
+// settled pile: the 400-ball test pile fell onto its lower layers at 0.0104 a ball a step where 0.0102
+// is allowed (DenseContact.ASettledPileHoldsEveryLayer). A first trial that kept the colours of every
+// pair listed again, pushing or not, coloured afresh every 2 / 4 / 8 steps: the test pile fell at
+// 0.0076 / 0.0041 / 0.0077 (coloured afresh every step, as before: 0.0069); `corebox bench pile` (one
+// call, every step / never / every 2 / 4 / 8 steps) 10^6 balls 47.5 / 43.7 / 44.9 / 44.3 / 44.0 ms a
+// frame (the last second 39.9 / 34.4 / 36.5 / 35.3 / 34.6), 10^5 balls 11.0 / 10.6 / 10.5 / 10.5
+// (every step / never / 2 / 4), 10^4 5.7 / 5.6 / 5.5 / 5.5, every pile at rest as early, overlaps
+// within 4e-4 of a diameter. As kept (pushing pairs only, every 4th step afresh): the test pile 0.0048;
+// 10^6 balls 45.8 ms a frame (the last second 36.6, its listings 10.7 ms a frame against 14.1), 10^5
+// 10.9, 10^4 5.6 (another call). Tried and not kept: the colours swept in a new random order each step,
+// kept or fresh, so that no chain is favoured: the test pile fell at 0.0127 and 0.0143 (the greedy
+// colouring's colour 0 holds the most rows; swept first it carries the most support).
 constexpr int64_t kFreshColouringSteps = 4;
 
 }  // namespace
