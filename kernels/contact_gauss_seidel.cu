@@ -41,11 +41,11 @@
 // against 66.7, 10^5 15.5 against 15.6; the sandbox at 10^5 balls 14.9 and 14.8 against 16.1 (noisy).
 // Across steps too, but for a fresh colouring every few steps (cuda_collisions.cpp:
 // kFreshColouringSteps, with its evidence): the first listing of a step keeps the colours of the pairs
-// that pushed at the end of the last step, which a checkpoint carries (Backend::contactColours); a
-// World edit forgets them, as it forgets the rows. Kept for ever (no fresh colouring), the 10^6-ball
-// pile took 63.1 ms a frame against 68.1, but a settled pile of 400 balls sank onto its lower layers at
-// 0.0152 a ball against the 0.0102 the dense-contact tests allow (the same order of colours every step
-// biases the same chains, where a fresh colouring varies it). Kept from step to step with the sweeps
+// that pushed at the end of the last step, which checkpoints and World edits carry with their impulses
+// (ContactCarryOver). An earlier trial kept them for ever (no fresh colouring, code of its day): the
+// 10^6-ball pile took 63.1 ms a frame against 68.1, but a settled pile of 400 balls sank onto its lower
+// layers at 0.0152 a ball against the 0.0102 the dense-contact tests allow (the same order of colours
+// every step biases the same chains, where a fresh colouring varies it). Kept from step to step with the sweeps
 // taking the colours backwards in every other sweep (symmetric Gauss-Seidel, so that no order is
 // favoured step after step): the piles of 10^5 and 10^6 balls never came to rest (an H200, fp32, 5 s:
 // every listing at the sweep cap, 58 and 65 sweeps a step against 26 and 31, the kinetic energy at 5 s
@@ -185,9 +185,11 @@ __global__ void __launch_bounds__(kBlock) colourRowsKernel(ContactArgs<Real> a, 
     cooperative_groups::grid_group grid = cooperative_groups::this_grid();
     const int64_t first = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     const int64_t stride = int64_t(gridDim.x) * blockDim.x;
-    // A later listing of a step: rows whose pair the step's listing before coloured keep that colour
-    // (ContactArgs::prevColour): no two of them at a particle share one, since they did not there; the
-    // rows left choose among the colours those leave.
+    // A later listing of a step, or a first one that keeps the last step's colours: rows whose pair the
+    // listing before coloured keep that colour (ContactArgs::prevColour): no two of them at a particle
+    // share one, since they did not there (or, restored from a checkpoint or a World edit, since
+    // CudaDevice::restoreContactWarmStart takes only colours that are a colouring); the rows left choose
+    // among the colours those leave.
     bool kept = false;
     if (a.prevColour) {
         for (int64_t s = first; s < rows; s += stride) {

@@ -162,15 +162,13 @@ __global__ void fillContactsKernel(ContactArgs<Real> a) {
         if (a.gaussSeidel) a.target[slot] = target;
         const bool warm = a.warm && (a.gaussSeidel ? !(target > Real(0)) : !isolated);
         // An own row (the pair's lower index, or a wall) keeps its pair's colour from the warm rows,
-        // where their own row was the same pair's and pushed: the rows a checkpoint carries
-        // (CudaDevice::contactColours), so that a restart keeps the same colours.
+        // where their own row was the same pair's (and pushed, where keepPushedColoursOnly).
         const bool recolour = a.warm && a.prevColour && (isWallContact(partner) || partner > i);
         const int64_t warmRow = warm || recolour ? warmRowOf(a, i, partner, warmFrom) : -1;
         a.lambda[slot] = warm && warmRow >= 0 ? a.warmLambda[warmRow] : Real(0);
         a.applied[slot] = a.lambda[slot];
-        if (a.prevColour)
-            a.prevColour[slot] =
-                recolour && warmRow >= 0 && a.warmLambda[warmRow] > Real(0) ? a.warmColour[warmRow] : kUncolouredRow;
+        const bool kept = recolour && warmRow >= 0 && (!a.keepPushedColoursOnly || a.warmLambda[warmRow] > Real(0));
+        if (a.prevColour) a.prevColour[slot] = kept ? a.warmColour[warmRow] : kUncolouredRow;
         ++slot;
     };
     if (a.partnerScratch && count <= kListedPartners) {  // the count's list: no second walk

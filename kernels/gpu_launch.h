@@ -466,11 +466,15 @@ struct ContactArgs {
     const int64_t* warmStart;
     const int64_t* warmPartner;
     const Real* warmLambda;
-    // A later listing of a step (the warm rows are the step's listing before, coloured): those rows'
-    // colours (kUncolouredRow for rows not their pair's own), and per row the colour the fill finds there
-    // for its pair, which the colouring keeps (contact_gauss_seidel.cu). Null otherwise.
+    // A later listing of a step (the warm rows are the step's listing before, coloured), or the first
+    // listing of a step that keeps the last step's colours (cuda_collisions.cpp: kFreshColouringSteps):
+    // the warm rows' colours (kUncolouredRow for rows not their pair's own), and per row the colour the
+    // fill finds there for its pair, which the colouring keeps (contact_gauss_seidel.cu). Null otherwise.
     const uint8_t* warmColour;
     uint8_t* prevColour;
+    // The first listing of a step keeps a colour only where the warm row pushed (warmLambda > 0): the
+    // rows a checkpoint or a World edit carries (ContactCarryOver), so that a restart keeps the same.
+    bool keepPushedColoursOnly;
     // Per listed contact, as lambda: the extrapolated impulse the velocities hold (the accelerated
     // sweeps, contact_relaxation.h: acceleratedImpulse).
     Real* applied;

@@ -147,9 +147,9 @@ void World::Impl::flushEdits() {
         state.species[i] = speciesIndex[i];
     }
     if (sim) {
-        const std::vector<ContactWarmStart> impulses = carriedImpulses(sim->backend().contactWarmStart(), sim->particleCount());
+        const ContactCarryOver contacts = carriedImpulses(sim->backend().contactWarmStart(), sim->particleCount());
         sim->replaceParticles(scene.species, state);
-        sim->backend().restoreContactWarmStart(impulses);
+        sim->backend().restoreContactWarmStart(contacts);
         markSimulationInSync();
         return;
     }
@@ -175,26 +175,26 @@ void World::Impl::markSimulationInSync() {
     for (size_t slot = 0; slot < simIndex.size(); ++slot) simIndex[slot] = int64_t(slot);
 }
 
-std::vector<ContactWarmStart> World::Impl::carriedImpulses(const std::vector<ContactWarmStart>& impulses, int64_t simCount) const {
+ContactCarryOver World::Impl::carriedImpulses(const ContactCarryOver& contacts, int64_t simCount) const {
     std::vector<int64_t> slotOfIndex(size_t(std::max<int64_t>(simCount, 0)), -1);
     for (size_t slot = 0; slot < simIndex.size(); ++slot) {
         const int64_t i = simIndex[slot];
         if (i >= 0 && i < simCount) slotOfIndex[size_t(i)] = int64_t(slot);
     }
     auto slotOf = [&](int64_t i) { return i >= 0 && i < simCount ? slotOfIndex[size_t(i)] : int64_t(-1); };
-    std::vector<ContactWarmStart> carried;
-    carried.reserve(impulses.size());
-    for (const ContactWarmStart& w : impulses) {
+    const bool coloured = contacts.colours.size() == contacts.impulses.size();
+    ContactCarryOver carried;
+    carried.impulses.reserve(contacts.impulses.size());
+    for (size_t k = 0; k < contacts.impulses.size(); ++k) {
+        const ContactWarmStart& w = contacts.impulses[k];
         const int64_t a = slotOf(w.i);
         if (a < 0) continue;
-        if (w.partner < 0) {  // a wall
-            carried.push_back(ContactWarmStart{a, w.partner, w.lambda});
-            continue;
-        }
-        const int64_t b = slotOf(w.partner);
-        if (b < 0) continue;
+        const int64_t b = w.partner < 0 ? w.partner : slotOf(w.partner);  // a wall keeps its code
+        if (w.partner >= 0 && b < 0) continue;
         // A pair once, from its lower index (isUsableWarmStart).
-        carried.push_back(ContactWarmStart{std::min(a, b), std::max(a, b), w.lambda});
+        carried.impulses.push_back(w.partner < 0 ? ContactWarmStart{a, b, w.lambda}
+                                                 : ContactWarmStart{std::min(a, b), std::max(a, b), w.lambda});
+        if (coloured) carried.colours.push_back(contacts.colours[k]);
     }
     return carried;
 }

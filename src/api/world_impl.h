@@ -56,9 +56,10 @@ struct World::Impl {
     // ---- simulation ----
     void flushEdits();  // uploads the edited mirror (and species) to the simulation
     void markSimulationInSync();  // slot k is the simulation's particle k
-    // The simulation's contact impulses (indices of its state, `simCount` particles) for the slots
-    // about to replace that state: contacts whose particles were both kept, at their slots.
-    std::vector<ContactWarmStart> carriedImpulses(const std::vector<ContactWarmStart>& impulses, int64_t simCount) const;
+    // The simulation's contact impulses and their colours (indices of its state, `simCount` particles) for
+    // the slots about to replace that state: contacts whose particles were both kept, at their slots. A
+    // renumbering keeps the colours a colouring (no two contacts of a particle shared one before).
+    ContactCarryOver carriedImpulses(const ContactCarryOver& contacts, int64_t simCount) const;
     void dropSimulation();
     // Applies the live parameters of m_scene (fields, restitution, dt) to the running simulation.
     void applyLiveParameters();

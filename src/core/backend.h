@@ -97,6 +97,15 @@ struct ContactRecord {
 
 // The end-of-step check without a thermostat: the kinetic energy and the health report together (a
 // GPU reads both back at once).
+// What a step's contact phase leaves the next one: the impulses its relaxation ended with, which
+// warm-start the next step's (contact_relaxation.h), and, from a backend that keeps its contacts'
+// Gauss-Seidel colours from step to step (the CUDA backend, between fresh colourings), each record's
+// colour in its listing, one a record (empty from others).
+struct ContactCarryOver {
+    std::vector<ContactWarmStart> impulses;
+    std::vector<uint8_t> colours;
+};
+
 struct StepCheck {
     double kinetic = 0;
     HealthReport health;
@@ -256,20 +265,15 @@ public:
     // a Jacobi one many more. Asked after each listContacts (the CUDA backend falls back to Jacobi for
     // a listing it cannot colour).
     virtual bool relaxesGaussSeidel() const { return false; }
-    // The impulses the last relaxation ended with, which warm-start the next step's: checkpoints carry
-    // them so that a restarted run stays bit-identical. Empty from a backend that does not warm-start
-    // or before anything rested. Setting the state forgets them (indices may mean other particles).
-    virtual std::vector<ContactWarmStart> contactWarmStart() const { return {}; }
-    virtual void restoreContactWarmStart(const std::vector<ContactWarmStart>& /*impulses*/) {}
-    // The Gauss-Seidel colour of each record contactWarmStart() gives, in its order, where the next
-    // step's listing may keep them (the CUDA backend keeps its contacts' colours between fresh
-    // colourings: a checkpoint carries them so that a restart stays bit-identical); empty where the
-    // backend keeps none.
-    virtual std::vector<uint8_t> contactColours() const { return {}; }
-    // Restores those colours, after restoreContactWarmStart with the same records. Colours that cannot
-    // be the records' (another count, a colour out of range, two contacts of a particle sharing one) are
-    // dropped: the next listing colours afresh.
-    virtual void restoreContactColours(const std::vector<uint8_t>& /*colours*/) {}
+    // What the last relaxation leaves the next step's (ContactCarryOver): checkpoints carry it so that a
+    // restarted run stays bit-identical, and World edits carry it over to the particles' new slots.
+    // Empty from a backend that does not warm-start or before anything rested. Setting the state
+    // forgets it (indices may mean other particles). Restoring drops records that cannot be used
+    // (isUsableWarmStart) and all the colours where they are no colouring of the records (another
+    // count, a colour out of range, two contacts of a particle sharing one): the next listing colours
+    // afresh.
+    virtual ContactCarryOver contactWarmStart() const { return {}; }
+    virtual void restoreContactWarmStart(const ContactCarryOver& /*carried*/) {}
     // The step about to run, counted from the simulation's start (Simulation::step; a restart goes on
     // from its checkpoint's): a schedule that repeats every few steps keys on it, so that a restarted
     // run repeats it.

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <stdexcept>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -94,6 +95,10 @@ private:
 }  // namespace
 
 void writeCheckpoint(const std::string& path, const SimulationCheckpoint& c) {
+    if (!c.contactColours.empty() && c.contactColours.size() != c.contactImpulses.size())
+        throw std::invalid_argument("checkpoint '" + path + "': " + std::to_string(c.contactColours.size()) +
+                                    " contact colours for " + std::to_string(c.contactImpulses.size()) +
+                                    " contact impulses");
     Writer w;
     w.bytes().append(kMagic, sizeof(kMagic) - 1);
     w.put(kVersion);
@@ -182,7 +187,10 @@ SimulationCheckpoint readCheckpoint(const std::string& path) {
     }
     if (version >= 4) {
         const uint64_t colours = r.get<uint64_t>("the contact colours' count");
-        if ((colours != 0 && colours != c.contactImpulses.size()) || r.remaining() != colours)
+        if (colours != 0 && colours != c.contactImpulses.size())
+            r.fail("announces " + std::to_string(colours) + " contact colours for " +
+                   std::to_string(c.contactImpulses.size()) + " contact impulses");
+        if (r.remaining() != colours)
             r.fail("holds " + std::to_string(r.remaining()) + " bytes of contact colours, not the " +
                    std::to_string(colours) + " it announces");
         c.contactColours.resize(size_t(colours));

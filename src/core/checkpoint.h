@@ -7,8 +7,7 @@
 // the counters and pressure window since the last observables row, and the adaptive controller's next
 // dt. The backends hold nothing else that a step reads but Verlet's cached accelerations and the
 // contact relaxation's impulses that warm-start the next step (carried when the backend keeps them:
-// Backend::contactWarmStart) with the colours the CUDA backend's next listing may keep
-// (Backend::contactColours). The accelerations are
+// Backend::contactWarmStart) with the colours the CUDA backend's next listing may keep. The accelerations are
 // carried when they are not what a force pass at X gives bit for bit (the all-pairs update after
 // collisions, CPU and one GPU, exchanges the old pair forces of the moved particles for new ones:
 // Backend::cachedAccelerations); otherwise they are recomputed from the restored X bit for bit (the force pass has a
@@ -19,8 +18,9 @@
 // File format (binary, little-endian, doubles as IEEE 754 bits): the magic "corebox checkpoint\n",
 // a format version, a byte-order and size probe, the payload (length-prefixed scene TOML, scalars,
 // then N and the arrays, then the count of cached accelerations, 0 or N, and those, then the count of
-// warm-start impulses and those as (i, partner, lambda); versions 1 and 2 files, without the last
-// parts, are read too), and an FNV-1a 64 hash of everything before it. A file that is truncated,
+// warm-start impulses and those as (i, partner, lambda), then the count of their colours, 0 or one an
+// impulse, and those as bytes; files of versions 1 to 3, without the last parts, are read too), and an
+// FNV-1a 64 hash of everything before it. A file that is truncated,
 // foreign, from another version or damaged is refused with a message naming the file.
 #pragma once
 
@@ -55,8 +55,8 @@ struct SimulationCheckpoint {
     std::vector<Vec3<double>> accelerations;
     // The contact relaxation's warm-start impulses (Backend::contactWarmStart); empty: a cold start.
     std::vector<ContactWarmStart> contactImpulses;
-    // Their Gauss-Seidel colours, one a record (Backend::contactColours); empty: the backend keeps none,
-    // or a checkpoint older than version 4.
+    // Their Gauss-Seidel colours, one a record (ContactCarryOver::colours); empty: the backend keeps
+    // none, or a checkpoint older than version 4.
     std::vector<uint8_t> contactColours;
 };
 

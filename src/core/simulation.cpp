@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "collision_rounds.h"
 #include "device_model.h"
@@ -50,8 +51,7 @@ Simulation::Simulation(Scene scene, std::unique_ptr<Backend> backend, const Simu
         m_backend->restoreAccelerations(c.accelerations);
         m_driver.restoreAccelerationsValid();
     }
-    m_backend->restoreContactWarmStart(c.contactImpulses);
-    if (!c.contactColours.empty()) m_backend->restoreContactColours(c.contactColours);
+    m_backend->restoreContactWarmStart(ContactCarryOver{c.contactImpulses, c.contactColours});
     m_step = c.step;
     m_time = c.time;
     m_dissipated = c.dissipated;
@@ -84,8 +84,9 @@ SimulationCheckpoint Simulation::checkpoint() const {
     c.roundCapHits = m_roundCapHits;
     c.dtNext = m_driver.nextDt();
     if (m_driver.accelerationsValid()) c.accelerations = m_backend->cachedAccelerations();
-    c.contactImpulses = m_backend->contactWarmStart();
-    c.contactColours = m_backend->contactColours();
+    ContactCarryOver contacts = m_backend->contactWarmStart();
+    c.contactImpulses = std::move(contacts.impulses);
+    c.contactColours = std::move(contacts.colours);
     c.pressureTime = m_pressureWindow.time();
     c.pressureKineticTime = m_pressureWindow.kineticTime();
     c.pressureImpulses = m_pressureWindow.impulses();

@@ -344,18 +344,19 @@ public:
 
     bool relaxesGaussSeidel() const override { return true; }
 
-    std::vector<ContactWarmStart> contactWarmStart() const override {
-        std::vector<ContactWarmStart> kept;
+    // No colours: the CPU sweeps its contacts bottom-up, in an order each listing makes afresh.
+    ContactCarryOver contactWarmStart() const override {
+        ContactCarryOver kept;
         for (const Contact& c : m_contacts) {
-            if (c.lambda > Real(0)) kept.push_back(ContactWarmStart{c.i, c.partner, double(c.lambda)});
+            if (c.lambda > Real(0)) kept.impulses.push_back(ContactWarmStart{c.i, c.partner, double(c.lambda)});
         }
         return kept;
     }
 
     // The values were this precision's before the round trip through double: restored exactly.
-    void restoreContactWarmStart(const std::vector<ContactWarmStart>& impulses) override {
+    void restoreContactWarmStart(const ContactCarryOver& carried) override {
         m_contacts.clear();
-        for (const ContactWarmStart& w : impulses) {
+        for (const ContactWarmStart& w : carried.impulses) {
             if (isUsableWarmStart(w, size())) m_contacts.push_back(Contact{w.i, w.partner, 0.0, Real(w.lambda), Real(0)});
         }
     }

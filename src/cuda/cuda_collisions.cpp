@@ -25,13 +25,13 @@ namespace {
 // The first listing of a step keeps the colours the last step's listing gave the pairs it lists again
 // that pushed (the fill takes them, the colouring colours only the rows left: contact_gauss_seidel.cu),
 // but every kFreshColouringSteps-th step colours afresh, counted from the simulation's start
-// (Backend::beginStep), so that a restart does the same; a checkpoint carries the colours
-// (Backend::contactColours: of the pushing pairs, the records it carries anyway). Evidence (an H200,
-// fp32). Kept for ever, the same colours in the same order step after step bias the same chains of a
-// settled pile: the 400-ball test pile fell onto its lower layers at 0.0104 a ball a step where 0.0102
-// is allowed (DenseContact.ASettledPileHoldsEveryLayer). A first trial that kept the colours of every
-// pair listed again, pushing or not, coloured afresh every 2 / 4 / 8 steps: the test pile fell at
-// 0.0076 / 0.0041 / 0.0077 (coloured afresh every step, as before: 0.0069); `corebox bench pile` (one
+// (Backend::beginStep), so that a restart does the same; checkpoints and World edits carry the colours
+// with the impulses (ContactCarryOver: the pushing pairs', the records they carry anyway). Evidence (an
+// H200, fp32), first from a trial that kept the colours of every pair listed again, pushing or not.
+// Kept for ever, the same colours in the same order step after step bias the same chains of a settled
+// pile: the 400-ball test pile fell onto its lower layers at 0.0104 a ball a step where 0.0102 is
+// allowed (DenseContact.ASettledPileHoldsEveryLayer). Coloured afresh every 2 / 4 / 8 steps, it fell at
+// 0.0076 / 0.0041 / 0.0077 (every step, as before: 0.0069); `corebox bench pile` (one
 // call, every step / never / every 2 / 4 / 8 steps) 10^6 balls 47.5 / 43.7 / 44.9 / 44.3 / 44.0 ms a
 // frame (the last second 39.9 / 34.4 / 36.5 / 35.3 / 34.6), 10^5 balls 11.0 / 10.6 / 10.5 / 10.5
 // (every step / never / 2 / 4), 10^4 5.7 / 5.6 / 5.5 / 5.5, every pile at rest as early, overlaps
@@ -700,7 +700,7 @@ gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
     a.warmStart = m_warmStart.data();
     a.warmPartner = m_warmPartner.data();
     a.warmLambda = m_warmLambda.data();
-    a.warmColour = nullptr;  // listContacts gives them to a later listing's fill and colouring
+    a.warmColour = nullptr;  // listContacts gives them to a fill that keeps colours, and its colouring
     a.prevColour = nullptr;
     a.applied = m_contactApplied.data();
     a.gaussSeidel = m_gaussSeidelContacts;
@@ -852,6 +852,7 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     if (recolour) {
         fill.warmColour = m_warmColour.data();
         fill.prevColour = m_prevColour.data();
+        fill.keepPushedColoursOnly = keepAcross;
     }
     gpu::launchFillContacts(fill, s);
     m_warmPending = warm;
@@ -928,10 +929,9 @@ void CudaDevice<Real>::endRelaxation() {
 }
 
 // Each pair once, from its lower index, and the walls: the contacts that end the last relaxation
-// pushing (lambda > 0), from the current rows; where `colours` is set, each one's colour in its listing
-// (none where that listing was not coloured).
+// pushing (lambda > 0), from the current rows, with their colours where that listing was coloured.
 template <class Real>
-std::vector<ContactWarmStart> CudaDevice<Real>::pushingContacts(std::vector<uint8_t>* colours) const {
+ContactCarryOver CudaDevice<Real>::contactWarmStart() const {
     if (!m_listedThisStep || m_n == 0) return {};
     sync();
     std::vector<int64_t> start(size_t(m_n) + 1);
@@ -940,7 +940,7 @@ std::vector<ContactWarmStart> CudaDevice<Real>::pushingContacts(std::vector<uint
     std::vector<int64_t> partner(total);
     std::vector<Real> lambda(total);
     std::vector<uint8_t> colour;
-    const bool coloured = colours && m_listingColoured && m_rowColour.size() >= total;
+    const bool coloured = m_listingColoured && m_rowColour.size() >= total;
     if (total > 0) {
         m_contactPartner.download(partner.data(), total);
         m_contactLambda.download(lambda.data(), total);
@@ -949,62 +949,26 @@ std::vector<ContactWarmStart> CudaDevice<Real>::pushingContacts(std::vector<uint
             m_rowColour.download(colour.data(), total);
         }
     }
-    std::vector<ContactWarmStart> kept;
+    ContactCarryOver kept;
     for (int64_t i = 0; i < m_n; ++i) {
         for (int64_t k = start[size_t(i)]; k < start[size_t(i) + 1]; ++k) {
             const int64_t p = partner[size_t(k)];
             if (!((p < 0 || p > i) && lambda[size_t(k)] > Real(0))) continue;
-            kept.push_back(ContactWarmStart{i, p, double(lambda[size_t(k)])});
-            if (coloured) colours->push_back(colour[size_t(k)]);
+            kept.impulses.push_back(ContactWarmStart{i, p, double(lambda[size_t(k)])});
+            if (coloured) kept.colours.push_back(colour[size_t(k)]);
         }
     }
     return kept;
 }
 
+// Rows as a listing leaves them (both particles of a pair hold it), for the next step's first listing,
+// and the records' colours on their own rows (the rows the next fill looks the pairs up in) where they
+// are a colouring: one a record, every colour in range, no two contacts of a particle sharing one. Else
+// none: the next listing colours afresh. The values were this precision's before the round trip through
+// double: restored exactly.
 template <class Real>
-std::vector<ContactWarmStart> CudaDevice<Real>::contactWarmStart() const {
-    return pushingContacts(nullptr);
-}
-
-template <class Real>
-std::vector<uint8_t> CudaDevice<Real>::contactColours() const {
-    std::vector<uint8_t> colours;
-    pushingContacts(&colours);
-    return colours;
-}
-
-// The colours of the records restoreContactWarmStart put in the rows, on their own rows (the rows the
-// next listing's fill looks them up in), where they are a colouring: every colour in range, no two
-// contacts of a particle sharing one. Else none: the next listing colours afresh.
-template <class Real>
-void CudaDevice<Real>::restoreContactColours(const std::vector<uint8_t>& colours) {
-    const size_t records = m_restoredRows.size() / 3;
-    if (colours.size() != records || records == 0) return;
-    std::vector<unsigned long long> used(size_t(m_n), 0);
-    std::vector<uint8_t> rowColour(m_contactPartner.size(), gpu::kUncolouredRow);
-    for (size_t r = 0; r < records; ++r) {
-        const int64_t row = m_restoredRows[3 * r], i = m_restoredRows[3 * r + 1], p = m_restoredRows[3 * r + 2];
-        if (row < 0) continue;  // a record restoreContactWarmStart could not use
-        const unsigned c = colours[r];
-        if (c >= unsigned(gpu::kMaxContactColours)) return;
-        const unsigned long long bit = 1ull << c;
-        for (int64_t q : {i, p}) {
-            if (q < 0) continue;  // a wall
-            if (used[size_t(q)] & bit) return;
-            used[size_t(q)] |= bit;
-        }
-        rowColour[size_t(row)] = uint8_t(c);
-    }
-    sync();
-    m_rowColour.resize(rowColour.size());
-    if (!rowColour.empty()) m_rowColour.upload(rowColour.data(), rowColour.size());
-    m_listingColoured = true;
-}
-
-// Rows as a listing leaves them (both particles of a pair hold it), for the next step's first listing.
-// The values were this precision's before the round trip through double: restored exactly.
-template <class Real>
-void CudaDevice<Real>::restoreContactWarmStart(const std::vector<ContactWarmStart>& impulses) {
+void CudaDevice<Real>::restoreContactWarmStart(const ContactCarryOver& carried) {
+    const std::vector<ContactWarmStart>& impulses = carried.impulses;
     const size_t n = size_t(m_n);
     auto valid = [&](const ContactWarmStart& w) { return isUsableWarmStart(w, m_n); };
     std::vector<int64_t> start(n + 1, 0);
@@ -1017,16 +981,27 @@ void CudaDevice<Real>::restoreContactWarmStart(const std::vector<ContactWarmStar
     const size_t total = size_t(start[n]);
     std::vector<int64_t> partner(total), slot(start.begin(), start.end() - 1);
     std::vector<Real> lambda(total);
-    m_restoredRows.assign(3 * impulses.size(), -1);
+    bool coloured = carried.colours.size() == impulses.size() && !impulses.empty();
+    std::vector<uint8_t> colour(coloured ? total : 0, gpu::kUncolouredRow);
+    std::vector<unsigned long long> used(coloured ? n : 0, 0);
     for (size_t r = 0; r < impulses.size(); ++r) {
         const ContactWarmStart& w = impulses[r];
         if (!valid(w)) continue;
         size_t k = size_t(slot[size_t(w.i)]++);
-        m_restoredRows[3 * r] = int64_t(k);  // the own row: the one the next fill looks the pair up in
-        m_restoredRows[3 * r + 1] = w.i;
-        m_restoredRows[3 * r + 2] = w.partner;
         partner[k] = w.partner;
         lambda[k] = Real(w.lambda);
+        if (coloured) {
+            const unsigned c = carried.colours[r];
+            const unsigned long long bit = c < unsigned(gpu::kMaxContactColours) ? 1ull << c : 0ull;
+            const bool clash =
+                bit == 0 || (used[size_t(w.i)] & bit) || (w.partner >= 0 && (used[size_t(w.partner)] & bit));
+            coloured = !clash;
+            if (coloured) {
+                used[size_t(w.i)] |= bit;
+                if (w.partner >= 0) used[size_t(w.partner)] |= bit;
+                colour[k] = uint8_t(c);
+            }
+        }
         if (w.partner < 0) continue;
         k = size_t(slot[size_t(w.partner)]++);
         partner[k] = w.i;
@@ -1036,8 +1011,9 @@ void CudaDevice<Real>::restoreContactWarmStart(const std::vector<ContactWarmStar
     m_contactStart.upload(start.data(), start.size());
     m_contactPartner.upload(partner.data(), partner.size());
     m_contactLambda.upload(lambda.data(), lambda.size());
+    if (coloured) m_rowColour.upload(colour.data(), colour.size());
     m_listedThisStep = true;
-    m_listingColoured = false;  // until restoreContactColours gives the records' colours
+    m_listingColoured = coloured;
 }
 
 template <class Real>

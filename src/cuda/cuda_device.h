@@ -115,10 +115,8 @@ public:
     ContactResidual<double> relaxContacts(int sweeps) override;
     RelaxationOutcome relaxListing(const RelaxationPlan& plan) override;
     void endRelaxation() override;
-    std::vector<ContactWarmStart> contactWarmStart() const override;
-    void restoreContactWarmStart(const std::vector<ContactWarmStart>& impulses) override;
-    std::vector<uint8_t> contactColours() const override;
-    void restoreContactColours(const std::vector<uint8_t>& colours) override;
+    ContactCarryOver contactWarmStart() const override;
+    void restoreContactWarmStart(const ContactCarryOver& carried) override;
     void beginStep(int64_t step) override { m_stepIndex = step; }
     double contactLiftWork() override;
     ImpulseSums contactImpulses() override;
@@ -532,11 +530,6 @@ private:
     DeviceBuffer<uint8_t> m_warmColour, m_prevColour;
     bool m_listingColoured = false, m_warmColoured = false;
     int64_t m_stepIndex = 0;  // beginStep's: which steps colour afresh
-    // The contacts contactWarmStart gives, and where `colours` is set their colours (contactColours).
-    std::vector<ContactWarmStart> pushingContacts(std::vector<uint8_t>* colours) const;
-    // restoreContactWarmStart's records as rows, three numbers each: the own row (-1: the record was
-    // not usable), the particle and the partner; for restoreContactColours.
-    std::vector<int64_t> m_restoredRows;
     DeviceBuffer<Real> m_rowTarget;
     // The own rows packed in colour order for the sweeps (gpu::ContactArgs::packed*), and each own row's place.
     DeviceBuffer<int32_t> m_packedParticle, m_packedPartner, m_rowRank;

@@ -592,9 +592,10 @@ std::vector<Vec3d> heapAfterAFrame(World& w, ParticleId first) {
 }
 
 // Edits upload the whole state, and a backend forgets the contact impulses that warm-start its next
-// contact phase when handed a state; the world carries them over to the particles' new slots. Adding a
-// ball far away then changes nothing of the heap's next frame, bit for bit; removing one, which moves
-// the last slot into its place, changes only the order of the work (checked on the CPU, below).
+// contact phase when handed a state; the world carries them over to the particles' new slots, with the
+// colours the CUDA backend keeps between fresh colourings (ContactCarryOver). Adding a ball far away
+// then changes nothing of the heap's next frame, bit for bit; removing one, which moves the last slot
+// into its place, changes only the order of the work (checked on the CPU, below).
 TEST_P(WorldTest, EditsKeepARestingHeapsContactImpulses) {
     WorldDef d = def();
     d.boxSize = Vec3d{6, 30, 6};
@@ -603,6 +604,7 @@ TEST_P(WorldTest, EditsKeepARestingHeapsContactImpulses) {
         if (!w) return w;
         addAll(*w, heapBalls(far));
         for (int f = 0; f < 90; ++f) w->advance(1.0 / 60.0);
+        w->step();  // 361 steps: the step after the edit keeps the last step's colours (every 4th colours afresh)
         return w;
     };
     std::unique_ptr<World> plain = settled(false);

@@ -4,9 +4,13 @@
 // not a checkpoint at all is refused with a message. Every test runs on each backend present.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <stdexcept>
 #include <string>
 
 #include "checkpoint.h"
@@ -204,19 +208,93 @@ TEST_P(Restart, ARestartedPileIsBitIdenticalWithItsWarmStart) {
 }
 
 TEST_P(Restart, ColoursThatAreNoColouringAreDropped) {
-    // Colours in a checkpoint that cannot be its contacts' (two contacts of a particle sharing one) are
-    // dropped, not swept with (a race on the GPU): the restart colours afresh, as one from a checkpoint
-    // that carries no colours does, bit for bit.
+    // Colours in a checkpoint that cannot be its contacts' (two contacts of a particle sharing one, or a
+    // colour beyond the 64 there are) are dropped, not swept with (a race on the GPU): the restart colours
+    // afresh, as one from a checkpoint that carries no colours does, bit for bit.
     const Scene scene = pileScene();
     Simulation sim(scene, makeTestBackend(backendName(), Precision::Fp64), makeInitialState(scene));
     for (int s = 0; s < 721; ++s) sim.step();
-    SimulationCheckpoint clashing = sim.checkpoint(), colourless = clashing;
-    ASSERT_GT(clashing.contactImpulses.size(), 300u);
-    clashing.contactColours.assign(clashing.contactImpulses.size(), 0);
+    SimulationCheckpoint colourless = sim.checkpoint();
+    ASSERT_GT(colourless.contactImpulses.size(), 300u);
     colourless.contactColours.clear();
-    Simulation a(scene, makeTestBackend(backendName(), Precision::Fp64), clashing);
-    Simulation b(scene, makeTestBackend(backendName(), Precision::Fp64), colourless);
-    expectTheSameRun(a, b, 8);
+    for (uint8_t colour : {uint8_t(0), uint8_t(200)}) {
+        SimulationCheckpoint bad = colourless;
+        bad.contactColours.assign(bad.contactImpulses.size(), colour);
+        Simulation a(scene, makeTestBackend(backendName(), Precision::Fp64), bad);
+        Simulation b(scene, makeTestBackend(backendName(), Precision::Fp64), colourless);
+        SCOPED_TRACE("every colour " + std::to_string(int(colour)));
+        expectTheSameRun(a, b, 8);
+    }
+}
+
+namespace {
+
+uint64_t fnv1a(const std::string& bytes) {
+    uint64_t hash = 1469598103934665603ull;
+    for (unsigned char c : bytes) {
+        hash ^= c;
+        hash *= 1099511628211ull;
+    }
+    return hash;
+}
+
+std::string fileBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+void writeBytes(const std::string& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
+
+}  // namespace
+
+TEST(CheckpointFile, ContactColoursRoundTripAndVersion3FilesAreStillRead) {
+    // Version 4 appends the contact impulses' colours (a count, 0 or one an impulse, and a byte each)
+    // after the impulses; a version 3 file ends with the impulses and reads back with no colours.
+    SimulationCheckpoint c;
+    c.sceneToml = "[box]\nsize = [4, 4, 4]\n";
+    c.step = 7;
+    c.state.resize(3);
+    c.contactImpulses = {ContactWarmStart{0, 1, 0.5}, ContactWarmStart{1, -3, 0.25}};
+    c.contactColours = {2, 5};
+    const std::string path = scratchPath("colours");
+    writeCheckpoint(path, c);
+    SimulationCheckpoint read = readCheckpoint(path);
+    ASSERT_EQ(read.contactImpulses.size(), 2u);
+    EXPECT_EQ(read.contactImpulses[1].partner, -3);
+    EXPECT_EQ(read.contactColours, c.contactColours);
+
+    // The same file as version 3 wrote it: no colours' count and colours, the version field 3.
+    std::string bytes = fileBytes(path);
+    const size_t magic = std::string("corebox checkpoint\n").size();
+    std::string v3 = bytes.substr(0, bytes.size() - sizeof(uint64_t) - sizeof(uint64_t) - c.contactColours.size());
+    const uint32_t three = 3;
+    std::memcpy(&v3[magic], &three, sizeof three);
+    const uint64_t hash = fnv1a(v3);
+    v3.append(reinterpret_cast<const char*>(&hash), sizeof hash);
+    writeBytes(path, v3);
+    read = readCheckpoint(path);
+    EXPECT_EQ(read.contactImpulses.size(), 2u);
+    EXPECT_TRUE(read.contactColours.empty());
+
+    // A colours' count that is neither 0 nor one an impulse is refused by the reader and the writer.
+    std::string wrong = bytes.substr(0, bytes.size() - sizeof(uint64_t));
+    const uint64_t three64 = 3;
+    std::memcpy(&wrong[wrong.size() - c.contactColours.size() - sizeof(uint64_t)], &three64, sizeof three64);
+    wrong.push_back('\x01');
+    const uint64_t wrongHash = fnv1a(wrong);
+    wrong.append(reinterpret_cast<const char*>(&wrongHash), sizeof wrongHash);
+    writeBytes(path, wrong);
+    try {
+        (void)readCheckpoint(path);
+        ADD_FAILURE() << "a colours' count of 3 for 2 impulses was read";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("announces 3 contact colours for 2 contact impulses"), std::string::npos)
+            << e.what();
+    }
+    c.contactColours.push_back(1);
+    EXPECT_THROW(writeCheckpoint(path, c), std::invalid_argument);
+    std::filesystem::remove(path);
+    std::filesystem::remove(path + ".prev");
 }
 
 TEST_P(Restart, TruncatedDamagedAndForeignFilesAreRefused) {

@@ -200,7 +200,7 @@ TEST_P(DenseContact, AListingAgainInAStepCarriesTheStepsImpulses) {
     ASSERT_GE(report.contactListings, 2) << "the deep overlap did not list again: the test tests nothing";
     const int64_t floorCode = -1 - (2 * 1 + 0);  // axis y, side 0
     double floorPush = 0;
-    for (const ContactWarmStart& w : sim->backend().contactWarmStart()) {
+    for (const ContactWarmStart& w : sim->backend().contactWarmStart().impulses) {
         if (w.i == 0 && w.partner == floorCode) floorPush = w.lambda;  // per unit mass, m = 1
     }
     const double weightImpulse = count * 9.81 * scene.integrator.dt;
