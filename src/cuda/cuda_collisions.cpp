@@ -35,9 +35,10 @@ namespace {
 // call, every step / never / every 2 / 4 / 8 steps) 10^6 balls 47.5 / 43.7 / 44.9 / 44.3 / 44.0 ms a
 // frame (the last second 39.9 / 34.4 / 36.5 / 35.3 / 34.6), 10^5 balls 11.0 / 10.6 / 10.5 / 10.5
 // (every step / never / 2 / 4), 10^4 5.7 / 5.6 / 5.5 / 5.5, every pile at rest as early, overlaps
-// within 4e-4 of a diameter. As kept (pushing pairs only, every 4th step afresh): the test pile 0.0048;
-// 10^6 balls 45.8 ms a frame (the last second 36.6, its listings 10.7 ms a frame against 14.1), 10^5
-// 10.9, 10^4 5.6 (another call). Tried and not kept: the colours swept in a new random order each step,
+// within 4e-4 of a diameter. As kept (the first listing of a step keeps the pushing pairs' colours, a
+// later one every pair's, every 4th step afresh): the test pile 0.0048; 10^6 balls 44.5 ms a frame (the
+// last second 35.9, its listings 10.5 ms a frame against 14.1), 10^5 10.7, 10^4 5.5 (another call).
+// Tried and not kept: the colours swept in a new random order each step,
 // kept or fresh, so that no chain is favoured: the test pile fell at 0.0127 and 0.0143 (the greedy
 // colouring's colour 0 holds the most rows; swept first it carries the most support).
 constexpr int64_t kFreshColouringSteps = 4;
