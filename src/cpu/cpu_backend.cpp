@@ -574,12 +574,19 @@ public:
         if (!fromCandidates) buildContactGrid(resting.gap);
         const Vec3<double> up = vec3Cast<double>(upOf(m_gravity));
         // Each pair once, from its lower index: counted, offsets, then filled in place (no allocation
-        // per particle in this per-step path).
+        // per particle in this per-step path). The count keeps up to kListedPartners partners a particle,
+        // which the fill copies instead of walking the cells (or the candidates) again.
         auto ownContact = [&](int64_t i, int64_t partner) { return partner < 0 || partner > i; };
         m_contactStart.assign(size_t(n) + 1, 0);
+        m_listedPartners.resize(size_t(n) * kListedPartners);
         parallelFor(m_threads, n, [&](int64_t i) {
             int64_t count = 0;
-            forEachContactOf(i, rest, fromCandidates, [&](int64_t partner) { count += ownContact(i, partner); });
+            int64_t* listed = &m_listedPartners[size_t(i) * kListedPartners];
+            forEachContactOf(i, rest, fromCandidates, [&](int64_t partner) {
+                if (!ownContact(i, partner)) return;
+                if (count < kListedPartners) listed[count] = partner;
+                ++count;
+            });
             m_contactStart[size_t(i) + 1] = count;
         });
         for (int64_t i = 0; i < n; ++i) m_contactStart[size_t(i) + 1] += m_contactStart[size_t(i)];
@@ -588,13 +595,20 @@ public:
         parallelFor(m_threads, n, [&](int64_t i) {
             int64_t slot = m_contactStart[size_t(i)];
             const double height = dot(up, vec3Cast<double>(m_x[size_t(i)]));
-            forEachContactOf(i, rest, fromCandidates, [&](int64_t partner) {
+            auto fill = [&](int64_t partner) {
                 if (!ownContact(i, partner)) return;
                 const Real lambda = warmLambdaOf(i, partner);
                 Contact c{i, partner, height, lambda, Real(0), m_firstListing ? Real(0) : lambda};
                 if (partner >= 0) c.height = std::min(c.height, dot(up, vec3Cast<double>(m_x[size_t(partner)])));
                 m_contacts[size_t(slot++)] = c;
-            });
+            };
+            const int64_t count = m_contactStart[size_t(i) + 1] - m_contactStart[size_t(i)];
+            if (count <= kListedPartners) {
+                const int64_t* listed = &m_listedPartners[size_t(i) * kListedPartners];
+                for (int64_t c = 0; c < count; ++c) fill(listed[c]);
+            } else {
+                forEachContactOf(i, rest, fromCandidates, fill);
+            }
             // By partner: the same list whether the candidates or the grid were walked (the order
             // breaks the sweep order's ties, so a restart, which builds its candidates afresh, stays
             // bit-identical).
@@ -1235,6 +1249,9 @@ private:
 
     std::vector<int64_t> m_contactStart;  // per particle: its first contact in m_contacts before sorting
     std::vector<Contact> m_contacts;      // bottom-up
+    // listContacts' count: up to kListedPartners own partners a particle, for its fill.
+    static constexpr int64_t kListedPartners = 16;
+    std::vector<int64_t> m_listedPartners;
     std::vector<int32_t> m_contactCount;  // listed contacts per particle (setBounceTargets)
     std::vector<Vec3<Real>> m_xListed;
     // Warm start: the last step's impulses by particle (keepWarmStart), taken by the step's first listing.
