@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cmath>
 
 #include "collision_resolution.h"
@@ -578,13 +579,14 @@ public:
         // which the fill copies instead of walking the cells (or the candidates) again.
         auto ownContact = [&](int64_t i, int64_t partner) { return partner < 0 || partner > i; };
         m_contactStart.assign(size_t(n) + 1, 0);
-        m_listedPartners.resize(size_t(n) * kListedPartners);
+        const bool keepsPartners = n <= INT32_MAX;  // partners and wall codes as 32-bit numbers
+        if (keepsPartners) m_listedPartners.resize(size_t(n) * kListedPartners);
         parallelFor(m_threads, n, [&](int64_t i) {
             int64_t count = 0;
-            int64_t* listed = &m_listedPartners[size_t(i) * kListedPartners];
+            int32_t* listed = keepsPartners ? &m_listedPartners[size_t(i) * kListedPartners] : nullptr;
             forEachContactOf(i, rest, fromCandidates, [&](int64_t partner) {
                 if (!ownContact(i, partner)) return;
-                if (count < kListedPartners) listed[count] = partner;
+                if (listed && count < kListedPartners) listed[count] = int32_t(partner);
                 ++count;
             });
             m_contactStart[size_t(i) + 1] = count;
@@ -603,9 +605,9 @@ public:
                 m_contacts[size_t(slot++)] = c;
             };
             const int64_t count = m_contactStart[size_t(i) + 1] - m_contactStart[size_t(i)];
-            if (count <= kListedPartners) {
-                const int64_t* listed = &m_listedPartners[size_t(i) * kListedPartners];
-                for (int64_t c = 0; c < count; ++c) fill(listed[c]);
+            if (keepsPartners && count <= kListedPartners) {
+                const int32_t* listed = &m_listedPartners[size_t(i) * kListedPartners];
+                for (int64_t c = 0; c < count; ++c) fill(int64_t(listed[c]));
             } else {
                 forEachContactOf(i, rest, fromCandidates, fill);
             }
@@ -1251,7 +1253,7 @@ private:
     std::vector<Contact> m_contacts;      // bottom-up
     // listContacts' count: up to kListedPartners own partners a particle, for its fill.
     static constexpr int64_t kListedPartners = 16;
-    std::vector<int64_t> m_listedPartners;
+    std::vector<int32_t> m_listedPartners;
     std::vector<int32_t> m_contactCount;  // listed contacts per particle (setBounceTargets)
     std::vector<Vec3<Real>> m_xListed;
     // Warm start: the last step's impulses by particle (keepWarmStart), taken by the step's first listing.
