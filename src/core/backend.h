@@ -95,8 +95,6 @@ struct ContactRecord {
     double speed = 0;          // normal approach speed at contact [sigma / tau]
 };
 
-// The end-of-step check without a thermostat: the kinetic energy and the health report together (a
-// GPU reads both back at once).
 // What a step's contact phase leaves the next one: the impulses its relaxation ended with, which
 // warm-start the next step's (contact_relaxation.h), and, from a backend that keeps its contacts'
 // Gauss-Seidel colours from step to step (the CUDA backend, between fresh colourings), each record's
@@ -106,6 +104,8 @@ struct ContactCarryOver {
     std::vector<uint8_t> colours;
 };
 
+// The end-of-step check without a thermostat: the kinetic energy and the health report together (a
+// GPU reads both back at once).
 struct StepCheck {
     double kinetic = 0;
     HealthReport health;

@@ -24,15 +24,6 @@ static_assert(sizeof(ContactWarmStart) == 2 * sizeof(int64_t) + sizeof(double), 
 constexpr uint32_t kByteOrderProbe = 0x01020304;
 static_assert(sizeof(Vec3<double>) == 3 * sizeof(double), "positions and velocities are written as raw doubles");
 
-uint64_t fnv1a(const std::string& bytes) {
-    uint64_t hash = 1469598103934665603ull;
-    for (unsigned char c : bytes) {
-        hash ^= c;
-        hash *= 1099511628211ull;
-    }
-    return hash;
-}
-
 class Writer {
 public:
     template <class T>
@@ -94,6 +85,15 @@ private:
 
 }  // namespace
 
+uint64_t checkpointChecksum(const std::string& bytes) {
+    uint64_t hash = 1469598103934665603ull;
+    for (unsigned char c : bytes) {
+        hash ^= c;
+        hash *= 1099511628211ull;
+    }
+    return hash;
+}
+
 void writeCheckpoint(const std::string& path, const SimulationCheckpoint& c) {
     if (!c.contactColours.empty() && c.contactColours.size() != c.contactImpulses.size())
         throw std::invalid_argument("checkpoint '" + path + "': " + std::to_string(c.contactColours.size()) +
@@ -121,7 +121,7 @@ void writeCheckpoint(const std::string& path, const SimulationCheckpoint& c) {
     w.putArray(c.contactImpulses);
     w.put(uint64_t(c.contactColours.size()));
     w.putArray(c.contactColours);
-    w.put(fnv1a(w.bytes()));
+    w.put(checkpointChecksum(w.bytes()));
     std::error_code ec;
     if (std::filesystem::is_regular_file(path, ec)) {
         std::filesystem::rename(path, path + ".prev", ec);
@@ -148,7 +148,8 @@ SimulationCheckpoint readCheckpoint(const std::string& path) {
         r.fail("written on a machine with another byte order or number format");
     uint64_t stored = 0;
     std::memcpy(&stored, bytes.data() + end, sizeof(stored));
-    if (fnv1a(bytes.substr(0, end)) != stored) r.fail("truncated or damaged (its checksum does not match)");
+    if (checkpointChecksum(bytes.substr(0, end)) != stored)
+        r.fail("truncated or damaged (its checksum does not match)");
 
     SimulationCheckpoint c;
     c.sceneToml = r.getString("the scene");

@@ -60,6 +60,9 @@ struct SimulationCheckpoint {
     std::vector<uint8_t> contactColours;
 };
 
+// The FNV-1a 64 hash a checkpoint file ends with, of every byte before it.
+uint64_t checkpointChecksum(const std::string& bytes);
+
 // Writes atomically (temp file and rename); an existing checkpoint at `path` is kept as path.prev
 // first, so a crash while writing never leaves the run without one. Throws InputError.
 void writeCheckpoint(const std::string& path, const SimulationCheckpoint& checkpoint);

@@ -229,15 +229,6 @@ TEST_P(Restart, ColoursThatAreNoColouringAreDropped) {
 
 namespace {
 
-uint64_t fnv1a(const std::string& bytes) {
-    uint64_t hash = 1469598103934665603ull;
-    for (unsigned char c : bytes) {
-        hash ^= c;
-        hash *= 1099511628211ull;
-    }
-    return hash;
-}
-
 std::string fileBytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -269,7 +260,7 @@ TEST(CheckpointFile, ContactColoursRoundTripAndVersion3FilesAreStillRead) {
     std::string v3 = bytes.substr(0, bytes.size() - sizeof(uint64_t) - sizeof(uint64_t) - c.contactColours.size());
     const uint32_t three = 3;
     std::memcpy(&v3[magic], &three, sizeof three);
-    const uint64_t hash = fnv1a(v3);
+    const uint64_t hash = checkpointChecksum(v3);
     v3.append(reinterpret_cast<const char*>(&hash), sizeof hash);
     writeBytes(path, v3);
     read = readCheckpoint(path);
@@ -281,7 +272,7 @@ TEST(CheckpointFile, ContactColoursRoundTripAndVersion3FilesAreStillRead) {
     const uint64_t three64 = 3;
     std::memcpy(&wrong[wrong.size() - c.contactColours.size() - sizeof(uint64_t)], &three64, sizeof three64);
     wrong.push_back('\x01');
-    const uint64_t wrongHash = fnv1a(wrong);
+    const uint64_t wrongHash = checkpointChecksum(wrong);
     wrong.append(reinterpret_cast<const char*>(&wrongHash), sizeof wrongHash);
     writeBytes(path, wrong);
     try {
