@@ -121,29 +121,42 @@ __device__ bool beats(int64_t a, int64_t b) {
     return pa > pb || (pa == pb && a < b);
 }
 
-// Particle i's rows: their particle, their pair's own row, uncoloured; returns the deepest overlap of its
-// own rows at the listed positions.
+// Particle i's rows: their particle, their pair's own row, and the colour the listing before gave the
+// pair where it keeps it (ContactArgs::prevColour; uncoloured otherwise); the kept colours' mask into
+// *used, their highest plus one into *colours. Returns the deepest overlap of its own rows at the listed
+// positions.
 template <class Real>
-__device__ Real prepareRowsOf(const ContactArgs<Real>& a, int64_t i) {
+__device__ Real prepareRowsOf(const ContactArgs<Real>& a, int64_t i, uint8_t* candidate, unsigned long long* used,
+                              unsigned* colours) {
     const int si = a.p.species[i];
     const Real ai = a.table.radius[si];
     const Vec3<Real> xi = a.p.x[i];
     Real deepest = 0;
+    unsigned long long mask = 0;
     for (int64_t s = a.contactStart[i]; s < a.contactStart[i + 1]; ++s) {
         const int64_t p = a.partner[s];
         a.rowParticle[s] = i;
-        a.colour[s] = kUncoloured;
+        int64_t own = s;
         if (!isOwnRow(i, p)) {
-            int64_t m = -1;
             for (int64_t t = a.contactStart[p]; t < a.contactStart[p + 1]; ++t) {
-                if (a.partner[t] == i) m = t;
+                if (a.partner[t] == i) own = t;
             }
             // Every pair is listed from both sides (pairContactActive is symmetric in i and j, bit for
             // bit); were it not, the row would be nobody's and its pair not relaxed.
-            a.mirror[s] = m >= 0 ? m : s;
-            continue;
         }
-        a.mirror[s] = s;
+        a.mirror[s] = own;
+        // A kept colour is written on the pair's own row, and joins the masks of both its particles
+        // through the rows each has of the pair (the fill keeps colours of own rows only, so a row that
+        // is nobody's keeps none).
+        const uint8_t kept = a.prevColour ? a.prevColour[own] : kUncoloured;
+        if (kept != kUncoloured) {
+            mask |= 1ull << kept;
+            *colours = max(*colours, unsigned(kept) + 1u);
+        }
+        a.colour[s] = own == s ? kept : kUncoloured;
+        if (own != s) continue;
+        candidate[s] = kept;
+        if (!isOwnRow(i, p)) continue;
         Real overlap = 0;
         if (isWallContact(p)) {
             const int code = int(-1 - p);
@@ -154,24 +167,34 @@ __device__ Real prepareRowsOf(const ContactArgs<Real>& a, int64_t i) {
         }
         if (overlap > deepest) deepest = overlap;
     }
+    *used = mask;
     return deepest;
 }
 
-// Per row: its particle and the pair's own row, uncoloured; per particle: no colour yet. The deepest
+// Per row: its particle, the pair's own row, its kept colour or none; per particle: the mask of its
+// kept colours (the rows left choose among the colours those leave: colourRowsKernel). The deepest
 // overlap of the own rows at the listed positions (ContactResidual::overlap) into *deepest (double
-// bits). Particles in index order, so that a warp writes neighbouring rows (in cell order, the
-// 10^6-ball pile's took 1.2 ms instead of 0.43 on an H200).
+// bits); the colours kept into words[0], one atomic a warp. Particles in index order, so that a warp
+// writes neighbouring rows (in cell order, the 10^6-ball pile's took 1.2 ms instead of 0.43 on an H200).
+// The kept colours were a pass of the colouring kernel over every row before: three atomics a kept
+// row, one of them on words[0] by every row of the grid (a settled 10^6-ball pile keeps most of its
+// few million rows' colours); the colouring kernel took 0.99 ms a listing of the settled 10^6-ball
+// pile (an H200, fp32, kernel times from CUPTI). Here, with the winners' words[0] one atomic a warp:
+// the same colours and bits (the sandbox example's state hash at 10^5 balls unchanged), `corebox bench
+// pile` 10^6 balls 43.4 ms a frame against 44.9 (the last second 34.4 against 36.2), 10^5 10.6 against
+// 10.8.
 template <class Real>
-__global__ void prepareRowsKernel(ContactArgs<Real> a, unsigned long long* used, unsigned long long* deepest) {
+__global__ void prepareRowsKernel(ContactArgs<Real> a, uint8_t* candidate, unsigned long long* used,
+                                  unsigned int* words, unsigned long long* deepest) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     double overlap = 0;
-    if (i < a.p.n) {
-        used[i] = 0;
-        overlap = double(prepareRowsOf(a, i));
-    }
+    unsigned colours = 0;
+    if (i < a.p.n) overlap = double(prepareRowsOf(a, i, candidate, used + i, &colours));
     double none = 0;
     warpMax(none, overlap);  // every lane: the warp's shuffles
+    colours = __reduce_max_sync(0xffffffffu, colours);
     if (threadIdx.x % 32 == 0 && overlap > 0) atomicMaxNonNegative(deepest, overlap);
+    if (threadIdx.x % 32 == 0 && colours > 0) atomicMax(&words[0], colours);
 }
 
 // The rounds of the colouring (design note above), in one cooperative launch: round 0 over every own
@@ -185,26 +208,12 @@ __global__ void __launch_bounds__(kBlock) colourRowsKernel(ContactArgs<Real> a, 
     cooperative_groups::grid_group grid = cooperative_groups::this_grid();
     const int64_t first = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     const int64_t stride = int64_t(gridDim.x) * blockDim.x;
-    // A later listing of a step, or a first one that keeps the last step's colours: rows whose pair the
-    // listing before coloured keep that colour (ContactArgs::prevColour): no two of them at a particle
-    // share one, since they did not there (or, restored from a checkpoint or a World edit, since
-    // CudaDevice::restoreContactWarmStart takes only colours that are a colouring); the rows left choose
-    // among the colours those leave.
-    bool kept = false;
-    if (a.prevColour) {
-        for (int64_t s = first; s < rows; s += stride) {
-            const uint8_t c = a.prevColour[s];
-            if (c == kUncoloured || a.mirror[s] != s) continue;
-            const int64_t i = a.rowParticle[s], p = a.partner[s];
-            a.colour[s] = c;
-            candidate[s] = c;
-            atomicMax(&words[0], unsigned(c) + 1);
-            atomicOr(&used[i], 1ull << c);
-            if (!isWallContact(p)) atomicOr(&used[p], 1ull << c);
-        }
-        kept = true;
-        grid.sync();
-    }
+    // A later listing of a step, or a first one that keeps the last step's colours: the rows whose pair
+    // the listing before coloured have that colour already (prepareRowsKernel): no two of them at a
+    // particle share one, since they did not there (or, restored from a checkpoint or a World edit,
+    // since CudaDevice::restoreContactWarmStart takes only colours that are a colouring).
+    const bool kept = a.prevColour != nullptr;
+    unsigned colours = 0;  // this thread's winners' highest colour plus one, into words[0] as the kernel ends
     for (int round = 0;; ++round) {
         const int32_t* list = lists + (round % 2) * rows;
         int32_t* next = lists + ((round + 1) % 2) * rows;
@@ -260,7 +269,7 @@ __global__ void __launch_bounds__(kBlock) colourRowsKernel(ContactArgs<Real> a, 
             }
             if (wins) {
                 a.colour[s] = c;
-                atomicMax(&words[0], unsigned(c) + 1);
+                colours = max(colours, unsigned(c) + 1u);
                 atomicOr(&used[i], 1ull << c);
                 if (!isWallContact(p)) atomicOr(&used[p], 1ull << c);
             } else {
@@ -268,8 +277,10 @@ __global__ void __launch_bounds__(kBlock) colourRowsKernel(ContactArgs<Real> a, 
             }
         }
         grid.sync();
-        if (__ldcg(&words[2 + (round + 1) % 2]) == 0 || __ldcg(&words[1]) != 0) return;
+        if (__ldcg(&words[2 + (round + 1) % 2]) == 0 || __ldcg(&words[1]) != 0) break;  // every thread alike
     }
+    colours = __reduce_max_sync(0xffffffffu, colours);
+    if (threadIdx.x % 32 == 0 && colours > 0) atomicMax(&words[0], colours);
 }
 
 // Sort keys: an own row's colour; every other row after them.
@@ -478,11 +489,11 @@ bool launchColourContacts(const ContactArgs<Real>& a, int64_t rows, void* scratc
     if (e != cudaSuccess) throw DeviceError(std::string("contact colouring words: ") + cudaGetErrorString(e));
     e = cudaMemsetAsync(deepest, 0, sizeof(unsigned long long), stream);
     if (e != cudaSuccess) throw DeviceError(std::string("contact colouring: ") + cudaGetErrorString(e));
-    prepareRowsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, c.used, deepest);
-    checkLaunch("contact row kernel");
     // The candidates of rows never looked at (not own) stay out of every contest.
     e = cudaMemsetAsync(c.candidate, kUncoloured, size_t(rows), stream);
     if (e != cudaSuccess) throw DeviceError(std::string("contact colouring: ") + cudaGetErrorString(e));
+    prepareRowsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, c.candidate, c.used, words, deepest);
+    checkLaunch("contact row kernel");
     ContactArgs<Real> args = a;
     unsigned long long* used = c.used;
     uint8_t* candidate = c.candidate;
