@@ -298,19 +298,33 @@ struct ContactResidual {
 // The schedule of one listing's relaxation (collision_rounds.cpp), the same wherever it runs
 // (Backend::relaxListing on the host, relaxListingKernel on the GPU): the first sweep alone (its overlap
 // says whether the positions moved far enough to list again), then batches of `batch` sweeps, the
-// residual checked at the end of each, until it is within both tolerances or `maxSweeps` ran.
+// residual checked at the end of each, until it is within both tolerances or the cap ran: `maxSweeps`,
+// or `relistSweeps` where the first sweep's overlap is at least `relistOverlap` (the listing is listed
+// again, and that listing's sweeps go on from where these leave the contacts).
 struct RelaxationPlan {
     int maxSweeps = 1;
     int batch = 1;
     double speedTolerance = 0;    // [sigma / tau]
     double overlapTolerance = 0;  // fraction of a contact distance
+    double relistOverlap = 1e300;  // fraction of a contact distance (never, by default)
+    int relistSweeps = 1 << 30;
     COREBOX_HD bool converged(const ContactResidual<double>& r) const {
         return r.speedChange <= speedTolerance && r.overlap <= overlapTolerance;
     }
-    // Whether the residual is looked at after `done` sweeps: after the first and at each batch's end.
-    COREBOX_HD bool checkedAfter(int done) const { return done == 1 || (done - 1) % batch == 0 || done >= maxSweeps; }
-    // Whether the relaxation goes on after a check that saw `last`.
-    COREBOX_HD bool continuesAfter(int done, const ContactResidual<double>& last) const { return done < maxSweeps && !converged(last); }
+    // The sweeps at most, given the first sweep's overlap.
+    COREBOX_HD int sweepCap(double firstOverlap) const {
+        return firstOverlap >= relistOverlap && relistSweeps < maxSweeps ? relistSweeps : maxSweeps;
+    }
+    // Whether the residual is looked at after `done` sweeps: after the first, at each batch's end and at
+    // either cap.
+    COREBOX_HD bool checkedAfter(int done) const {
+        return done == 1 || (done - 1) % batch == 0 || done >= maxSweeps || done == relistSweeps;
+    }
+    // Whether the relaxation goes on after a check that saw `last`, the first sweep having seen
+    // `firstOverlap`.
+    COREBOX_HD bool continuesAfter(int done, const ContactResidual<double>& last, double firstOverlap) const {
+        return done < sweepCap(firstOverlap) && !converged(last);
+    }
 };
 
 struct RelaxationOutcome {

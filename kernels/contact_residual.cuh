@@ -64,7 +64,10 @@ __device__ inline void addBlockResidual(double speed, double overlap, unsigned l
 __device__ inline bool checkListingResidual(const RelaxationPlan& plan, int done, int& checks, unsigned long long* slot,
                                             unsigned long long* words, bool leader) {
     const ContactResidual<double> residual{__longlong_as_double((long long)__ldcg(slot)), __longlong_as_double((long long)__ldcg(slot + 1))};
-    const bool stop = !plan.continuesAfter(done, residual);
+    // The first sweep's overlap: this check's, or what the first check left in words[5] (read after the
+    // barriers since).
+    const double firstOverlap = done == 1 ? residual.overlap : __longlong_as_double((long long)__ldcg(words + 5));
+    const bool stop = !plan.continuesAfter(done, residual, firstOverlap);
     ++checks;
     if (leader) {
         unsigned long long* next = words + 2 * (checks % 2);

@@ -302,8 +302,8 @@ public:
         RelaxationOutcome outcome;
         outcome.first = outcome.last = relaxContacts(1);
         outcome.sweeps = 1;
-        while (plan.continuesAfter(outcome.sweeps, outcome.last)) {
-            const int batch = std::min(plan.batch, plan.maxSweeps - outcome.sweeps);
+        while (plan.continuesAfter(outcome.sweeps, outcome.last, outcome.first.overlap)) {
+            const int batch = std::min(plan.batch, plan.sweepCap(outcome.first.overlap) - outcome.sweeps);
             outcome.last = relaxContacts(batch);
             outcome.sweeps += batch;
         }

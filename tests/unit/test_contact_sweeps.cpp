@@ -194,10 +194,28 @@ TEST(ContactSweeps, ThePlanLooksAfterTheFirstSweepAndAtTheEndOfEachBatch) {
     for (int done = 1; done <= 20; ++done)
         if (plan.checkedAfter(done)) checks.push_back(done);
     EXPECT_EQ(checks, (std::vector<int>{1, 9, 17, 20}));  // the last batch cut short by the cap
-    EXPECT_TRUE(plan.continuesAfter(9, ContactResidual<double>{0.2, 0}));
-    EXPECT_TRUE(plan.continuesAfter(9, ContactResidual<double>{0, 2e-3}));
-    EXPECT_FALSE(plan.continuesAfter(9, ContactResidual<double>{0.1, 1e-3}));  // within both: done
-    EXPECT_FALSE(plan.continuesAfter(20, ContactResidual<double>{1, 1}));      // the cap
+    EXPECT_TRUE(plan.continuesAfter(9, ContactResidual<double>{0.2, 0}, 0.5));
+    EXPECT_TRUE(plan.continuesAfter(9, ContactResidual<double>{0, 2e-3}, 0.5));
+    EXPECT_FALSE(plan.continuesAfter(9, ContactResidual<double>{0.1, 1e-3}, 0.5));  // within both: done
+    EXPECT_FALSE(plan.continuesAfter(20, ContactResidual<double>{1, 1}, 0.5));      // the cap
+}
+
+TEST(ContactSweeps, AListingThatIsListedAgainStopsAtItsOwnCap) {
+    RelaxationPlan plan{20, 8, 0.1, 1e-3};
+    plan.relistOverlap = 0.02;
+    plan.relistSweeps = 5;
+    std::vector<int> checks;
+    for (int done = 1; done <= 20; ++done)
+        if (plan.checkedAfter(done)) checks.push_back(done);
+    EXPECT_EQ(checks, (std::vector<int>{1, 5, 9, 17, 20}));
+    const ContactResidual<double> far{1, 1};
+    EXPECT_EQ(plan.sweepCap(0.02), 5);
+    EXPECT_EQ(plan.sweepCap(0.0199), 20);
+    EXPECT_TRUE(plan.continuesAfter(4, far, 0.03));
+    EXPECT_FALSE(plan.continuesAfter(5, far, 0.03));  // deep at the first sweep: listed again after 5
+    EXPECT_TRUE(plan.continuesAfter(5, far, 0.01));   // shallow: the whole cap
+    plan.relistSweeps = 40;                           // above the cap: the cap
+    EXPECT_EQ(plan.sweepCap(0.5), 20);
 }
 
 }  // namespace
