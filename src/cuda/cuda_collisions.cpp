@@ -439,7 +439,15 @@ void CudaDevice<Real>::applyEvents() {
 // extra rounds' launches (their cell-list builds skipped, below), one too short a read-back. Tried and
 // not kept: eight after a round of more than kTailAfterEvents events (a landing's rounds, to the cap):
 // the same bits, the sandbox at 10^5 balls (an H200, fp32, one call) 15.3 and 15.7 ms a frame against
-// 15.8 and 14.9, its impact rounds 5.07 against 5.14 and 5.25.
+// 15.8 and 14.9, its impact rounds 5.07 against 5.14 and 5.25. Tried and not kept either: the next
+// batch queued before the wait for the one before after a round of more than kTailAfterEvents events,
+// gated on that batch's last round, so that the device goes on while the host reads (each round's
+// counts and each batch's log count read into places of their own): the same bits as a round a wait in
+// a landing of 8,000 balls with the contact log on and off, but no gain (an H200, fp32): the sandbox at
+// 10^5 balls 12.3 and 12.1 ms a frame against 12.1, its landing's impact rounds 14.9 ms a frame against
+// 14.9; `corebox bench pile` 10^6 balls 42.0 against 41.5, 10^5 10.4 against 10.3. A landing runs to
+// the round cap step after step, so its first batch is the whole cap and there is no wait to hide; its
+// rounds are the device's (the sandbox's: 58 us a round, the search 35 of them, CUPTI's kernel times).
 // Cell lists skipped. A round's build (then a radix sort of every particle's cell key, now a counting
 // sort: device_cell_list.h; a third of the kernel time of the sandbox example's landing, ncu) makes the
 // same arrays as the last build wherever no particle changed cell since, the arrays depending on the
