@@ -69,19 +69,30 @@ COREBOX_HD inline bool isBetter(const CollisionEvent& a, const CollisionEvent& b
 }
 COREBOX_HD inline int64_t wallCode(int axis, int side) { return -1 - (2 * axis + side); }
 
-// Offers the pair (i, j) to i's best event when the two overlap in an impact of this step.
+// The rewind time of the pair (i, j)'s impact of this step (its event's key), or -1 where the two do not
+// overlap in one. The same bits for (j, i): every term is a sum of products of two differences that
+// both change sign (and a fused multiply-add of two negated factors is the same as of the factors).
 template <class Real>
-COREBOX_HD inline void considerPair(Vec3<Real> xi, Vec3<Real> vi, Real ai, Vec3<Real> xj, Vec3<Real> vj, Real aj, int64_t j,
-                                    ImpactWindow<Real> window, CollisionEvent& best) {
+COREBOX_HD inline Real pairImpactRewind(Vec3<Real> xi, Vec3<Real> vi, Real ai, Vec3<Real> xj, Vec3<Real> vj, Real aj,
+                                        ImpactWindow<Real> window) {
     const Real d = ai + aj;
     const Vec3<Real> r = xi - xj;
     const Real r2 = norm2(r);
-    if (r2 >= d * d * (Real(1) - contactSlack<Real>())) return;
+    if (r2 >= d * d * (Real(1) - contactSlack<Real>())) return Real(-1);
     const Vec3<Real> v = vi - vj;
     const Real s = contactRewindTime(r, v, d);
-    if (s < Real(0) || s > window.maxRewind) return;  // separating, or not begun within this step
-    const Real vn = dot(r, v);                          // |r| times the normal speed, < 0 here
-    if (vn * vn < window.restingSpeed * window.restingSpeed * r2) return;  // a resting contact
+    if (s < Real(0) || s > window.maxRewind) return Real(-1);  // separating, or not begun within this step
+    const Real vn = dot(r, v);                                 // |r| times the normal speed, < 0 here
+    if (vn * vn < window.restingSpeed * window.restingSpeed * r2) return Real(-1);  // a resting contact
+    return s;
+}
+
+// Offers the pair (i, j) to i's best event when the two overlap in an impact of this step.
+template <class Real>
+COREBOX_HD inline void considerPair(Vec3<Real> xi, Vec3<Real> vi, Real ai, Vec3<Real> xj, Vec3<Real> vj, Real aj,
+                                    int64_t j, ImpactWindow<Real> window, CollisionEvent& best) {
+    const Real s = pairImpactRewind(xi, vi, ai, xj, vj, aj, window);
+    if (!(s >= Real(0))) return;  // none (a rewind that is not a number never was the earliest either)
     const CollisionEvent e{double(s), j};
     if (isBetter(e, best)) best = e;
 }

@@ -418,6 +418,14 @@ void launchOpenStage(const StageOpenArgs& args, cudaStream_t stream);
 // over the listed rows, ForceArgs::rowIndex).
 template <class Real>
 void launchFindEvents(const CollisionArgs<Real>& args, cudaStream_t stream);
+// A round after a stage's first, in fp32, as launchFindEvents finds it: only the particles active in the
+// round before (CollisionArgs::active) search, and offer each inactive neighbour they meet the pair's
+// event through offered[] (n words, zero, and left zero); then the offered events are kept, counted and
+// listed as the search lists its own. The inactive particles walk no cells (collision_kernels.cu).
+void launchScatteredSearch(const CollisionArgs<float>& args, unsigned long long* offered, cudaStream_t stream);
+// Whether launchFindEvents walks a thread a particle at n particles (neighbour_walk.cuh: searchGroupFor),
+// as the scattered search always does: where it gives a particle several lanes, its particles are few.
+bool searchWalksAlone(int64_t n);
 // Marks the particles whose search can find an event this round (CollisionArgs::walker): an inactive
 // particle meets only active ones, which all lie within the cells around it, so a particle with no
 // active one in its cells keeps the no-event its last search left. Gated as the search.

@@ -217,6 +217,8 @@ private:
     gpu::CollisionArgs<Real> collisionArgs();
     bool narrowsSearch(int round) const;
     void narrowSearch(gpu::CollisionArgs<Real>& a, int round, const unsigned int* lastCount, cudaStream_t s);
+    bool scattersSearch(int round) const;
+    void searchRound(gpu::CollisionArgs<Real>& a, int round, const unsigned int* lastCount, cudaStream_t s);
     void beginWarmStart();  // beginCollisions: the last listing's rows become the warm start
     void swapListingIntoWarmRows();  // the last listing's rows into m_warm*, for the next listing's fill
     // Room for `records` contact log records, keeping those written so far (at most m_logBound).
@@ -482,6 +484,9 @@ private:
     // cleared by the search that reads it).
     DeviceBuffer<int32_t> m_activeLists;
     DeviceBuffer<unsigned char> m_walker;
+    DeviceBuffer<unsigned long long>
+        m_offeredEvents;            // the scattered search's offers (searchRound): zero between rounds
+    bool m_scatteredSearch = true;  // CudaBackendOptions::scatteredSearch
     int m_searchRound = 0;  // the host-driven rounds' count this stage (findEvents)
     // Narrowed impact searches from this many particles (narrowSearch; CudaBackendOptions::narrowedSearchFrom).
     static constexpr int64_t kNarrowedSearchMin = int64_t(1) << 19;
