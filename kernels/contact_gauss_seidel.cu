@@ -142,7 +142,8 @@ __device__ Real prepareRowsOf(const ContactArgs<Real>& a, int64_t i, uint8_t* ca
                 if (a.partner[t] == i) own = t;
             }
             // Every pair is listed from both sides (pairContactActive is symmetric in i and j, bit for
-            // bit); were it not, the row would be nobody's and its pair not relaxed.
+            // bit); were it not, the row would stand as its pair's own row (mirror[s] = s), relaxed from
+            // this side alone.
         }
         a.mirror[s] = own;
         // A kept colour is written on the pair's own row, and joins the masks of both its particles
@@ -199,7 +200,8 @@ __global__ void prepareRowsKernel(ContactArgs<Real> a, uint8_t* candidate, unsig
 
 // The rounds of the colouring (design note above), in one cooperative launch: round 0 over every own
 // row, each later one over the rows the round before left uncoloured: lists[0 .. rows) and lists[rows ..
-// 2 rows) in turn, their lengths in words[2 + round % 2]. words: [0] colours used, [1] failed. A
+// 2 rows) in turn, their lengths in words[2 + round % 2]. words: [0] colours used, [1] failed (a row found
+// every colour taken: each round marks words[4 + round % 2], the end says words[1]). A
 // coloured row's candidate stays its colour, which is in both its particles' masks, so no row of
 // theirs left uncoloured can want it again: it needs no mark to leave the contest.
 template <class Real>
@@ -239,7 +241,7 @@ __global__ void __launch_bounds__(kBlock) colourRowsKernel(ContactArgs<Real> a, 
             }
             if (~taken == 0ull) {
                 candidate[s] = kUncoloured;
-                words[1] = 1;
+                words[4 + round % 2] = 1;  // this round's own slot: below
             } else {
                 candidate[s] = uint8_t(__ffsll((long long)~taken) - 1);
             }
@@ -277,7 +279,12 @@ __global__ void __launch_bounds__(kBlock) colourRowsKernel(ContactArgs<Real> a, 
             }
         }
         grid.sync();
-        if (__ldcg(&words[2 + (round + 1) % 2]) == 0 || __ldcg(&words[1]) != 0) break;  // every thread alike
+        // Every thread alike. A round's failure has a slot of its own: a thread on into the next round's
+        // candidates could otherwise mark that round failed before a slower one read this round's
+        // mark, and the slower one would leave while the rest waited at the next barrier.
+        const bool failed = __ldcg(&words[4 + round % 2]) != 0;
+        if (failed && first == 0) words[1] = 1;
+        if (__ldcg(&words[2 + (round + 1) % 2]) == 0 || failed) break;
     }
     colours = __reduce_max_sync(0xffffffffu, colours);
     if (threadIdx.x % 32 == 0 && colours > 0) atomicMax(&words[0], colours);
@@ -394,9 +401,10 @@ __global__ void __launch_bounds__(kBlock) gaussSeidelListingKernel(ContactArgs<R
     const int64_t first = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     const int64_t stride = int64_t(gridDim.x) * blockDim.x;
     int done = 0, checks = 0;
+    double firstOverlap = 0;  // the first sweep's, from its check on
     for (;;) {
         unsigned long long* slot = words + 2 * (checks % 2);
-        const bool measured = plan.checkedAfter(done + 1);
+        const bool measured = plan.checkedAfter(done + 1, firstOverlap);
         ContactResidual<Real> r{0, 0};
         for (int c = 0; c < colours; ++c) {
             const int64_t end = a.colourStart[c + 1];
@@ -408,7 +416,7 @@ __global__ void __launch_bounds__(kBlock) gaussSeidelListingKernel(ContactArgs<R
         addBlockResidual(double(r.speedChange), double(r.overlap), slot);
         grid.sync();
         // The other slot is written again only after a colour's barrier: no barrier needed here.
-        if (checkListingResidual(plan, done, checks, slot, words, first == 0)) return;
+        if (checkListingResidual(plan, done, checks, slot, words, first == 0, &firstOverlap)) return;
     }
 }
 

@@ -282,10 +282,11 @@ __global__ void __launch_bounds__(kBlock) relaxListingKernel(ContactArgs<Real> a
     const int64_t stride = int64_t(gridDim.x) * blockDim.x;
     const int64_t n = a.p.n;
     int done = 0, checks = 0;
+    double firstOverlap = 0;  // the first sweep's, from its check on
     for (;;) {
         unsigned long long* slot = words + 2 * (checks % 2);
         const Real beta = sweepMomentum<Real>(done);
-        const bool measured = plan.checkedAfter(done + 1);
+        const bool measured = plan.checkedAfter(done + 1, firstOverlap);
         double speed = 0, overlap = 0;
         for (int64_t i = first; i < n; i += stride) {
             const ContactResidual<Real> r = sweepParticle(a, i, beta);
@@ -299,7 +300,7 @@ __global__ void __launch_bounds__(kBlock) relaxListingKernel(ContactArgs<Real> a
             a.p.x[i] += a.dx[i];
         }
         ++done;
-        const bool stop = measured && checkListingResidual(plan, done, checks, slot, words, first == 0);
+        const bool stop = measured && checkListingResidual(plan, done, checks, slot, words, first == 0, &firstOverlap);
         grid.sync();
         if (stop) return;
     }

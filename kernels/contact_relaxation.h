@@ -315,10 +315,10 @@ struct RelaxationPlan {
     COREBOX_HD int sweepCap(double firstOverlap) const {
         return firstOverlap >= relistOverlap && relistSweeps < maxSweeps ? relistSweeps : maxSweeps;
     }
-    // Whether the residual is looked at after `done` sweeps: after the first, at each batch's end and at
-    // either cap.
-    COREBOX_HD bool checkedAfter(int done) const {
-        return done == 1 || (done - 1) % batch == 0 || done >= maxSweeps || done == relistSweeps;
+    // Whether the residual is looked at after `done` sweeps, the first sweep having seen `firstOverlap`
+    // (not read for the first): after the first, at each batch's end and at the cap.
+    COREBOX_HD bool checkedAfter(int done, double firstOverlap) const {
+        return done == 1 || (done - 1) % batch == 0 || done >= sweepCap(firstOverlap);
     }
     // Whether the relaxation goes on after a check that saw `last`, the first sweep having seen
     // `firstOverlap`.

@@ -60,14 +60,14 @@ __device__ inline void addBlockResidual(double speed, double overlap, unsigned l
 // every thread reads the residual of `slot` (the grid barrier after addBlockResidual made it whole)
 // and decides alike whether to stop; the leader (thread 0 of the grid) clears the other slot for the
 // next check (read at the check before) and records the outcome in words: [4..5] the first sweep's
-// residual, [6..7] the last's (double bits), [8] the sweeps run. Returns whether the relaxation stops.
+// residual, [6..7] the last's (double bits), [8] the sweeps run. Every thread keeps the first sweep's
+// overlap in *firstOverlap (set at the first check; RelaxationPlan::sweepCap reads it). Returns whether
+// the relaxation stops.
 __device__ inline bool checkListingResidual(const RelaxationPlan& plan, int done, int& checks, unsigned long long* slot,
-                                            unsigned long long* words, bool leader) {
+                                            unsigned long long* words, bool leader, double* firstOverlap) {
     const ContactResidual<double> residual{__longlong_as_double((long long)__ldcg(slot)), __longlong_as_double((long long)__ldcg(slot + 1))};
-    // The first sweep's overlap: this check's, or what the first check left in words[5] (read after the
-    // barriers since).
-    const double firstOverlap = done == 1 ? residual.overlap : __longlong_as_double((long long)__ldcg(words + 5));
-    const bool stop = !plan.continuesAfter(done, residual, firstOverlap);
+    if (done == 1) *firstOverlap = residual.overlap;
+    const bool stop = !plan.continuesAfter(done, residual, *firstOverlap);
     ++checks;
     if (leader) {
         unsigned long long* next = words + 2 * (checks % 2);

@@ -151,6 +151,7 @@ void resolveCollisions(Backend& backend, const CollisionSettings& settings, Step
         }
         const RelaxationOutcome relaxed = backend.relaxListing(plan);
         residual = relaxed.last;
+        // Counted against the sweep cap: a listing stopped at kRelistSweeps is listed again, not left.
         if (relaxed.sweeps >= maxSweeps) {
             report.contactCappedSpeed += residual.speedChange > plan.speedTolerance;
             report.contactCappedOverlap += residual.overlap > plan.overlapTolerance;

@@ -43,9 +43,10 @@ struct CudaBackendOptions {
     // to the particles near the last round's active ones (cuda_collisions.cpp: narrowSearch); -1: the
     // default (kNarrowedSearchMin), 0: always, a huge count: never (the same bits, for comparison).
     int64_t narrowedSearchFrom = -1;
-    // A round of fp32 impact searches that would be narrowed (narrowedSearchFrom) is made by the last
-    // round's active particles alone, which offer their inactive neighbours the pairs' events
-    // (cuda_collisions.cpp: searchRound); false: narrowed searches (the same bits, for comparison and tests).
+    // A round of fp32 impact searches that would be narrowed (narrowedSearchFrom) and walks a thread a
+    // particle (more than 32,768 particles) is made by the last round's active particles alone, which
+    // offer their inactive neighbours the pairs' events (cuda_collisions.cpp: searchRound); false:
+    // narrowed searches (the same bits, for comparison and tests).
     bool scatteredSearch = true;
     // The impact rounds queued in batches (fusedSteps) skip a round's cell-list build where the rounds
     // since the last build moved no particle out of its cell (cuda_collisions.cpp: runImpactRounds);

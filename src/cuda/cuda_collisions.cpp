@@ -130,7 +130,6 @@ void CudaDevice<Real>::searchRound(gpu::CollisionArgs<Real>& a, int round, const
                                    cudaStream_t s) {
     if constexpr (std::is_same<Real, float>::value) {
         if (scattersSearch(round)) {
-            a.activeOut = nullptr;  // read by narrowed searches only, which a stage that scatters does not make
             gpu::launchScatteredSearch(a, m_offeredEvents.data(), s);
             return;
         }
@@ -235,7 +234,7 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
         m_walker.resize(n);
         cudaCheck(cudaMemsetAsync(m_walker.data(), 0, n, stream()), "memset");
     }
-    if (m_offeredEvents.size() != n) {  // a new count of particles: no offers yet
+    if (scattersSearch(1) && m_offeredEvents.size() != n) {  // a new count of particles: no offers yet
         m_offeredEvents.resize(n);
         cudaCheck(cudaMemsetAsync(m_offeredEvents.data(), 0, n * sizeof(unsigned long long), stream()), "memset");
     }

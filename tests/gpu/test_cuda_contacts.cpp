@@ -18,6 +18,7 @@
 #include <utility>
 
 #include "gpu_fixture.h"
+#include "gpu_launch.h"
 #include "initial_conditions.h"
 #include "simulation.h"
 #include "state_hash.h"
@@ -328,6 +329,7 @@ TEST(CudaContacts, ScatteredSearchesGiveTheBitsOfSearchesByEveryParticle) {
     Scene scene = deepPile(Precision::Fp32);
     scene.box.size = {40.0, 40.0, 60.0};
     scene.species[0].count = 40000;
+    ASSERT_TRUE(gpu::searchWalksAlone(scene.species[0].count)) << "the scattered search needs a thread a particle";
     for (bool fused : {true, false}) {
         for (bool log : {false, true}) {
             const ImpactOutcome everyone = run(scene, false, fused, log), scattered = run(scene, true, fused, log);

@@ -192,7 +192,7 @@ TEST(ContactSweeps, ThePlanLooksAfterTheFirstSweepAndAtTheEndOfEachBatch) {
     const RelaxationPlan plan{20, 8, 0.1, 1e-3};
     std::vector<int> checks;
     for (int done = 1; done <= 20; ++done)
-        if (plan.checkedAfter(done)) checks.push_back(done);
+        if (plan.checkedAfter(done, 0.5)) checks.push_back(done);
     EXPECT_EQ(checks, (std::vector<int>{1, 9, 17, 20}));  // the last batch cut short by the cap
     EXPECT_TRUE(plan.continuesAfter(9, ContactResidual<double>{0.2, 0}, 0.5));
     EXPECT_TRUE(plan.continuesAfter(9, ContactResidual<double>{0, 2e-3}, 0.5));
@@ -204,10 +204,13 @@ TEST(ContactSweeps, AListingThatIsListedAgainStopsAtItsOwnCap) {
     RelaxationPlan plan{20, 8, 0.1, 1e-3};
     plan.relistOverlap = 0.02;
     plan.relistSweeps = 5;
-    std::vector<int> checks;
-    for (int done = 1; done <= 20; ++done)
-        if (plan.checkedAfter(done)) checks.push_back(done);
-    EXPECT_EQ(checks, (std::vector<int>{1, 5, 9, 17, 20}));
+    std::vector<int> deep, shallow;
+    for (int done = 1; done <= plan.sweepCap(0.03); ++done)
+        if (plan.checkedAfter(done, 0.03)) deep.push_back(done);
+    for (int done = 1; done <= plan.sweepCap(0.01); ++done)
+        if (plan.checkedAfter(done, 0.01)) shallow.push_back(done);
+    EXPECT_EQ(deep, (std::vector<int>{1, 5}));             // deep at the first sweep: checked at its cap
+    EXPECT_EQ(shallow, (std::vector<int>{1, 9, 17, 20}));  // as without the relisting cap
     const ContactResidual<double> far{1, 1};
     EXPECT_EQ(plan.sweepCap(0.02), 5);
     EXPECT_EQ(plan.sweepCap(0.0199), 20);
