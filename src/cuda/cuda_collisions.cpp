@@ -113,12 +113,14 @@ void CudaDevice<Real>::narrowSearch(gpu::CollisionArgs<Real>& a, int round, cons
 // it is scattered instead: the last round's active particles alone search and offer their inactive
 // neighbours the pairs' events (gpu::launchScatteredSearch), with no marks; else every particle searches,
 // or those near an active one (narrowSearch, gpu::launchFindEvents). The same bits each way
-// (tests/gpu/test_cuda_contacts.cpp). Measured on an H200 (fp32, kernel times from CUPTI): at 10^6 balls
-// a landing round's search took 66 us against 106 (the marks 22, the narrowed search 84), a settled
-// pile's 23 against 67; `corebox bench pile` 10^6 balls 39.9 ms a frame against 41.4 to 42.0 the same
-// day (the last second 34.0 against 34.4 to 34.6). Not below the narrowing's 2^19 particles, where every
-// particle searched: the sandbox example at 10^5 balls took 12.7 ms a frame against 12.1 to 12.3 (a
-// landing's rounds keep most particles active), the 10^5-ball pile 10.4 against 10.3.
+// (tests/gpu/test_cuda_contacts.cpp). Measured on an H200 (fp32, kernel times from CUPTI,
+// scripts/kernel-times): at 10^6 balls a landing's later round searched in 77 us (66 the scatter, 11 the
+// offers) against 101 (22 the marks, 79 the narrowed search), a settled pile's in 27 against 39 (a
+// stage's first search, by every particle, about 310 us either way); `corebox bench pile` 10^6 balls
+// 39.9 ms a frame against 41.4 to 42.0 the same day (the last second 34.0 against 34.4 to 34.6). Not
+// below the narrowing's 2^19 particles, where every particle searched: the sandbox example at 10^5 balls
+// took 12.7 ms a frame against 12.1 to 12.3 (a landing's rounds keep most particles active), the
+// 10^5-ball pile 10.4 against 10.3.
 template <class Real>
 bool CudaDevice<Real>::scattersSearch(int round) const {
     return std::is_same<Real, float>::value && m_scatteredSearch && narrowsSearch(round) &&
