@@ -484,8 +484,8 @@ private:
     // cleared by the search that reads it).
     DeviceBuffer<int32_t> m_activeLists;
     DeviceBuffer<unsigned char> m_walker;
-    DeviceBuffer<unsigned long long>
-        m_offeredEvents;            // the scattered search's offers (searchRound): zero between rounds
+    // The scattered search's offers (searchRound): zero between rounds.
+    DeviceBuffer<unsigned long long> m_offeredEvents;
     bool m_scatteredSearch = true;  // CudaBackendOptions::scatteredSearch
     int m_searchRound = 0;  // the host-driven rounds' count this stage (findEvents)
     // Narrowed impact searches from this many particles (narrowSearch; CudaBackendOptions::narrowedSearchFrom).

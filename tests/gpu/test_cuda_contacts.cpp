@@ -92,6 +92,12 @@ void expectSameImpacts(const ImpactOutcome& a, const ImpactOutcome& reference, c
     EXPECT_EQ(a.dissipated, reference.dissipated) << where << ": the dissipated energy";
 }
 
+// And the same contact log.
+void expectSameLog(const ImpactOutcome& a, const ImpactOutcome& reference, const std::string& where) {
+    EXPECT_EQ(a.records, reference.records) << where << ": the log's records";
+    EXPECT_EQ(a.logHash, reference.logHash) << where << ": the log";
+}
+
 // Table 1's model (bench table1): `count` Lennard-Jones particles with hard cores of radius 0.56 at
 // number density 0.5, all pairs, RK4, here with restitution 0.8 so that the impacts dissipate: at 1234,
 // a dozen impacts a step in two or three rounds.
@@ -299,8 +305,7 @@ TEST(CudaContacts, SearchesNarrowedToTheActiveParticlesGiveTheBitsOfFullOnes) {
                 const std::string where = std::string(precisionName(p)) + (fused ? ", rounds in batches" : ", a round a wait") +
                                           (log ? ", contact log on" : "");
                 expectSameImpacts(narrowed, full, where);
-                EXPECT_EQ(narrowed.records, full.records) << where << ": the log's records";
-                EXPECT_EQ(narrowed.logHash, full.logHash) << where << ": the log";
+                expectSameLog(narrowed, full, where);
                 EXPECT_GT(full.rounds, 2 * 360) << where << ": rounds beyond the first of a step";
                 if (log) {
                     EXPECT_EQ(full.records, full.pairs + full.walls) << where << ": a record an impact";
@@ -336,8 +341,7 @@ TEST(CudaContacts, ScatteredSearchesGiveTheBitsOfSearchesByEveryParticle) {
             const std::string where =
                 std::string(fused ? "rounds in batches" : "a round a wait") + (log ? ", contact log on" : "");
             expectSameImpacts(scattered, everyone, where);
-            EXPECT_EQ(scattered.records, everyone.records) << where << ": the log's records";
-            EXPECT_EQ(scattered.logHash, everyone.logHash) << where << ": the log";
+            expectSameLog(scattered, everyone, where);
             EXPECT_GT(everyone.rounds, 2 * 240) << where << ": rounds beyond the first of a step";
             EXPECT_GT(everyone.pairs, 40000) << where << ": the balls met";
             std::printf("%s: %lld impacts in %lld rounds\n", where.c_str(),
