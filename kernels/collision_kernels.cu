@@ -19,12 +19,14 @@
 namespace corebox::gpu {
 namespace {
 
-__global__ void openStageKernel(StageOpenArgs a) {
+template <class Real>
+__global__ void openStageKernel(StageOpenArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i < 3) a.kindCounts[i] = 0;
     if (i < a.zeroCount) a.zero[i] = 0;
     if (i >= a.n) return;
-    if (a.active) a.active[i] = 1;
+    if (a.active) a.active[i] = startsActive(a.v[i], a.restingSpeed) ? 1 : 0;
+    if (a.events) a.events[i] = noEvent();
     if (!a.flagged[i]) return;
     for (int r = 0; r < a.rowCount; ++r) a.rows[size_t(r) * size_t(a.n) + size_t(i)] = 0;
     a.flagged[i] = 0;
@@ -305,7 +307,8 @@ __global__ void stageWallsKernel(CollisionArgs<Real> a, const Vec3<Real>* accele
 
 }  // namespace
 
-void launchOpenStage(const StageOpenArgs& a, cudaStream_t stream) {
+template <class Real>
+void launchOpenStage(const StageOpenArgs<Real>& a, cudaStream_t stream) {
     const int64_t threads = std::max<int64_t>({a.n, a.zeroCount, 3});
     openStageKernel<<<blocksFor(threads), kBlock, 0, stream>>>(a);
     checkLaunch("open stage kernel");
@@ -360,13 +363,14 @@ void launchStageWalls(const CollisionArgs<Real>& a, const Vec3<Real>* accelerati
     checkLaunch("stage walls kernel");
 }
 
-#define COREBOX_INSTANTIATE(Real)                                                                                  \
-    template void launchResolveWallImpacts<Real>(const CollisionArgs<Real>&, const Vec3<Real>*, Real, const Vec3<Real>*, Real, unsigned int*, \
-                                                 cudaStream_t);                                                                   \
-    template void launchStageWalls<Real>(const CollisionArgs<Real>&, const Vec3<Real>*, Real, const Vec3<Real>*, Real,              \
-                                         const StageOpening<Real>&, cudaStream_t);                                                                   \
-    template void launchFindEvents<Real>(const CollisionArgs<Real>&, cudaStream_t);                                \
-    template void launchMarkSearchers<Real>(const CollisionArgs<Real>&, cudaStream_t);                             \
+#define COREBOX_INSTANTIATE(Real)                                                                                      \
+    template void launchResolveWallImpacts<Real>(const CollisionArgs<Real>&, const Vec3<Real>*, Real,                  \
+                                                 const Vec3<Real>*, Real, unsigned int*, cudaStream_t);                \
+    template void launchStageWalls<Real>(const CollisionArgs<Real>&, const Vec3<Real>*, Real, const Vec3<Real>*, Real, \
+                                         const StageOpening<Real>&, cudaStream_t);                                     \
+    template void launchOpenStage<Real>(const StageOpenArgs<Real>&, cudaStream_t);                                     \
+    template void launchFindEvents<Real>(const CollisionArgs<Real>&, cudaStream_t);                                    \
+    template void launchMarkSearchers<Real>(const CollisionArgs<Real>&, cudaStream_t);                                 \
     template void launchResolve<Real>(const CollisionArgs<Real>&, cudaStream_t);
 COREBOX_INSTANTIATE(float)
 COREBOX_INSTANTIATE(double)

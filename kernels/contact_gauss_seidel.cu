@@ -326,9 +326,9 @@ __global__ void packRowsKernel(ContactArgs<Real> a, int64_t rows) {
     a.rowRank[s] = int32_t(e);
 }
 
-// One contact's Gauss-Seidel update from its packed own row e: the velocity level (stopPairContact,
-// stopWallContact: over-relaxed towards the row's target, lambda >= 0), then the position level
-// (separatePair, a wall's full depth), as the CPU's passes do them; the impulse given goes to the
+// One contact's Gauss-Seidel update from its packed own row e: the velocity level, then the position
+// level (relaxPairContact; stopWallContact and a wall's full depth), as the CPU's sweeps do them (each
+// pair's mass terms computed once for both levels, pairMassesOf); the impulse given goes to the
 // owner's rows (impulse_sums.h): a wall's momentum at once, a pair's r . J into the packed row.
 template <class Real>
 __device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidual<Real>& r) {
@@ -365,10 +365,9 @@ __device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidu
     const PackedBody<Real> bxj = xBody(a, p), bvj = vBody(a, p);
     const Real mj = bvj.w, d = ai + bxj.w;
     Vec3<Real> xj = vec3Of(bxj), vj = vec3Of(bvj);
-    const Vec3<Real> rij = xi - xj;
-    const Real dist = realSqrt(norm2(rij));
-    if (!(dist > Real(0))) return;  // coincident centres carry no direction
-    stopPairContact(vi, vj, mi, mj, (Real(1) / dist) * rij, a.packedTarget[e], lambda, r, a.omega);
+    Real dist;
+    const bool moved =
+        relaxPairContact(xi, xj, vi, vj, pairMassesOf(mi, mj), d, a.up, a.packedTarget[e], lambda, r, a.omega, dist);
     const Real impulse = lambda - before;
     if (impulse != Real(0)) {
         a.packedLambda[e] = lambda;
@@ -376,7 +375,7 @@ __device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidu
         vBody(a, i) = packed(vi, mi);
         vBody(a, p) = packed(vj, mj);
     }
-    if (separatePair(xi, xj, mi, mj, d, a.up, r)) {
+    if (moved) {
         xBody(a, i) = packed(xi, ai);
         xBody(a, p) = packed(xj, bxj.w);
     }

@@ -401,8 +401,16 @@ struct CollisionArgs {
 // = 1 where active is set; where flagged[i], rows[r * n + i] = 0 for r < rowCount and flagged[i] = 0
 // (the impact rows only the last stage's particles with events wrote); kindCounts[0..2] = 0; and
 // zero[0 .. zeroCount) = 0 (the rounds' counters).
+// A stage's opening (one launch): the first round's active flags (startsActive of each velocity v, at
+// the resting speed), the impact rows of the particles flagged by the last stage, the kind counts and the
+// `zero` words cleared; with `events`, every particle's event cleared to none (a first round whose
+// inactive particles do not search, the scattered search, leaves theirs as they are).
+template <class Real>
 struct StageOpenArgs {
     char* active;
+    const Vec3<Real>* v;
+    Real restingSpeed;
+    CollisionEvent* events;
     double* rows;
     int rowCount;
     int64_t n;
@@ -411,15 +419,17 @@ struct StageOpenArgs {
     unsigned int* zero;
     int64_t zeroCount;
 };
-void launchOpenStage(const StageOpenArgs& args, cudaStream_t stream);
+template <class Real>
+void launchOpenStage(const StageOpenArgs<Real>& args, cudaStream_t stream);
 // Each particle's earliest event (all neighbours when active, else only active ones); counts the
 // particles with an event into counters[1], and lists those that still need a contact acceleration
 // (counted in counters[0]; marked as having one: the caller computes them next, by a force pass
 // over the listed rows, ForceArgs::rowIndex).
 template <class Real>
 void launchFindEvents(const CollisionArgs<Real>& args, cudaStream_t stream);
-// A round after a stage's first, in fp32, as launchFindEvents finds it: only the particles active in the
-// round before (CollisionArgs::active) search, and offer each inactive neighbour they meet the pair's
+// A round in fp32, as launchFindEvents finds it: only the active particles (CollisionArgs::active: in a
+// stage's first round the movers, collision_resolution.h startsActive; later, those with an event in the
+// round before) search, and offer each inactive neighbour they meet the pair's
 // event through offered[] (n words, zero, and left zero); then the offered events are kept, counted and
 // listed as the search lists its own. The inactive particles walk no cells (collision_kernels.cu).
 void launchScatteredSearch(const CollisionArgs<float>& args, unsigned long long* offered, cudaStream_t stream);

@@ -28,7 +28,8 @@ template <class Real>
 class CpuBackendImpl final : public Backend {
 public:
     explicit CpuBackendImpl(const CpuBackendOptions& options)
-        : m_threads(options.threads > 0 ? options.threads : omp_get_max_threads()) {}
+        : m_threads(options.threads > 0 ? options.threads : omp_get_max_threads()),
+          m_moversFirst(options.moversFirst) {}
 
     // ---- identity ----
     std::string name() const override { return "cpu"; }
@@ -285,7 +286,11 @@ public:
         const size_t n = m_x.size();
         m_window = ImpactWindow<Real>{Real(window.maxRewind), Real(window.restingSpeed)};
         m_events.assign(n, noEvent());
-        m_active.assign(n, 1);
+        // The first round's active particles: the movers (startsActive), the same events as every particle.
+        m_active.resize(n);
+        parallelFor(m_threads, int64_t(n), [&](int64_t i) {
+            m_active[size_t(i)] = !m_moversFirst || startsActive(m_v[size_t(i)], m_window.restingSpeed) ? 1 : 0;
+        });
         clearImpactRows(n);
         m_contactAcceleration.resize(n);
         m_hasContactAcceleration.assign(n, 0);
@@ -669,6 +674,7 @@ public:
     // part of this relaxation, so the kinetic energy the core measured after the listing still
     // brackets the whole velocity level.
     void applyWarmStart() {
+        fillPairMassTable();
         for (const Contact& c : m_contacts) {
             if (!(c.lambda > Real(0))) continue;
             const size_t i = size_t(c.i);
@@ -681,14 +687,28 @@ public:
             const Vec3<Real> rij = m_x[i] - m_x[j];
             const Real dist = std::sqrt(norm2(rij));
             if (!(dist > Real(0))) continue;
-            applyPairImpulse(m_v[i], m_v[j], m_mass[size_t(m_species[i])], m_mass[size_t(m_species[j])], (Real(1) / dist) * rij, c.lambda);
+            applyPairImpulse(m_v[i], m_v[j], pairMasses(i, j), (Real(1) / dist) * rij, c.lambda);
         }
+    }
+
+    // The mass terms of every pair of species (contact_relaxation.h: PairMasses), so that a sweep
+    // multiplies where it divided.
+    void fillPairMassTable() {
+        const size_t s = m_mass.size();
+        m_pairMassTable.resize(s * s);
+        for (size_t a = 0; a < s; ++a)
+            for (size_t b = 0; b < s; ++b) m_pairMassTable[a * s + b] = pairMassesOf(m_mass[a], m_mass[b]);
+    }
+
+    const PairMasses<Real>& pairMasses(size_t i, size_t j) const {
+        return m_pairMassTable[size_t(m_species[i]) * m_mass.size() + size_t(m_species[j])];
     }
 
     ContactResidual<double> relaxContacts(int sweeps) override {
         m_nearValid = false;  // the sweeps move particles
         ContactResidual<Real> r{0, 0};
         const Vec3<Real> up = upOf(m_gravity);
+        fillPairMassTable();
         if (m_warmPending) applyWarmStart();
         m_warmPending = false;
         const Real omega = Real(kGaussSeidelOverRelaxation);
@@ -696,23 +716,10 @@ public:
             r = ContactResidual<Real>{0, 0};
             for (Contact& c : m_contacts) {
                 const size_t i = size_t(c.i);
-                if (isWallContact(c.partner)) {
-                    const int code = int(-1 - c.partner), axis = code / 2;
-                    stopWallContact(m_v[i][axis], code % 2 == 0 ? Real(1) : Real(-1), c.target, c.lambda, r, omega);
-                    continue;
-                }
-                const size_t j = size_t(c.partner);
-                const Vec3<Real> rij = m_x[i] - m_x[j];
-                const Real dist = std::sqrt(norm2(rij));
-                if (!(dist > Real(0))) continue;
-                stopPairContact(m_v[i], m_v[j], m_mass[size_t(m_species[i])], m_mass[size_t(m_species[j])], (Real(1) / dist) * rij, c.target,
-                                c.lambda, r, omega);
-            }
-            for (const Contact& c : m_contacts) {
-                const size_t i = size_t(c.i);
                 const Real ai = m_radius[size_t(m_species[i])];
                 if (isWallContact(c.partner)) {
                     const int code = int(-1 - c.partner), axis = code / 2, side = code % 2;
+                    stopWallContact(m_v[i][axis], side == 0 ? Real(1) : Real(-1), c.target, c.lambda, r, omega);
                     const Real depth = wallDepth(m_x[i][axis], ai, m_boxLength[axis], side);
                     if (!(depth > Real(0))) continue;
                     r.overlap = std::max(r.overlap, depth / (Real(2) * ai));
@@ -720,8 +727,9 @@ public:
                     continue;
                 }
                 const size_t j = size_t(c.partner);
-                separatePair(m_x[i], m_x[j], m_mass[size_t(m_species[i])], m_mass[size_t(m_species[j])], ai + m_radius[size_t(m_species[j])],
-                             up, r);
+                Real dist;
+                relaxPairContact(m_x[i], m_x[j], m_v[i], m_v[j], pairMasses(i, j), ai + m_radius[size_t(m_species[j])],
+                                 up, c.target, c.lambda, r, omega, dist);
             }
         }
         return ContactResidual<double>{double(r.speedChange), double(r.overlap)};
@@ -1173,6 +1181,7 @@ private:
     std::vector<char> m_active;
     std::vector<char> m_lookers;  // findEvents: the particles that may have an event this round
     int m_round = 0;              // findEvents calls this step
+    bool m_moversFirst = true;    // CpuBackendOptions::moversFirst
     // Candidate lists of a dense step's rounds (buildCandidates): the partners of particle i are
     // m_candidates[m_candidateStart[i] .. m_candidateStart[i + 1]), listed at m_xCandidates.
     // The margin, of the largest diameter: wider lists are longer to read, narrower ones are made again
@@ -1251,6 +1260,7 @@ private:
 
     std::vector<int64_t> m_contactStart;  // per particle: its first contact in m_contacts before sorting
     std::vector<Contact> m_contacts;      // bottom-up
+    std::vector<PairMasses<Real>> m_pairMassTable;  // by species i * species count + species j
     // listContacts' count: up to kListedPartners own partners a particle, for its fill.
     static constexpr int64_t kListedPartners = 16;
     std::vector<int32_t> m_listedPartners;

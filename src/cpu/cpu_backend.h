@@ -21,6 +21,9 @@ namespace corebox {
 struct CpuBackendOptions {
     Precision precision = Precision::Fp64;
     int threads = 0;  // 0: all hardware threads (or OMP_NUM_THREADS)
+    // A stage's first impact round searches from the particles fast enough for an impact
+    // (collision_resolution.h: startsActive); false: from every particle (the same bits, for tests).
+    bool moversFirst = true;
 };
 
 std::unique_ptr<Backend> makeCpuBackend(const CpuBackendOptions& options);

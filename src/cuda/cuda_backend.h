@@ -48,6 +48,10 @@ struct CudaBackendOptions {
     // offer their inactive neighbours the pairs' events (cuda_collisions.cpp: searchRound); false:
     // narrowed searches (the same bits, for comparison and tests).
     bool scatteredSearch = true;
+    // A stage's first impact round searches from the particles fast enough for an impact
+    // (collision_resolution.h: startsActive), scattered where the later rounds are; false: every
+    // particle searches (the same bits, for comparison and tests).
+    bool moversFirst = true;
     // The impact rounds queued in batches (fusedSteps) skip a round's cell-list build where the rounds
     // since the last build moved no particle out of its cell (cuda_collisions.cpp: runImpactRounds);
     // false: every round builds (the same bits, for comparison and tests).

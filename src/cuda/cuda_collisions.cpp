@@ -121,10 +121,15 @@ void CudaDevice<Real>::narrowSearch(gpu::CollisionArgs<Real>& a, int round, cons
 // below the narrowing's 2^19 particles, where every particle searched: the sandbox example at 10^5 balls
 // took 12.7 ms a frame against 12.1 to 12.3 (a landing's rounds keep most particles active), the
 // 10^5-ball pile 10.4 against 10.3.
+// A stage's first round scatters too where the later ones would, when not every particle starts active
+// (under gravity: startsActive): a settled pile's few movers search, not every ball.
 template <class Real>
 bool CudaDevice<Real>::scattersSearch(int round) const {
-    return std::is_same<Real, float>::value && m_scatteredSearch && narrowsSearch(round) &&
-           gpu::searchWalksAlone(m_n) && m_n < INT32_MAX;
+    const bool few =
+        round > 0 ? narrowsSearch(round)
+                  : m_moversFirst && !m_pairsClear && m_n >= m_narrowedSearchFrom && m_window.restingSpeed > Real(0);
+    return std::is_same<Real, float>::value && m_scatteredSearch && few && gpu::searchWalksAlone(m_n) &&
+           m_n < INT32_MAX;
 }
 
 template <class Real>
@@ -275,9 +280,19 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
         cudaCheck(cudaMemsetAsync(m_hasContactAcceleration.data(), 0, n, s), "memset");
     }
     m_impactRowsN = m_n;
-    const gpu::StageOpenArgs open{m_wallsAtOnce ? nullptr : m_active.data(), m_impactRows.data(), kImpulseRows + 1, m_n,
-                                  m_hasContactAcceleration.data(), stepWords()->kindCounts, m_roundCounters.data(),
-                                  int64_t(m_roundCounters.size())};
+    // The first round's active particles: the movers (startsActive). Where that round scatters, the
+    // others search nothing, so their events start cleared.
+    const gpu::StageOpenArgs<Real> open{m_wallsAtOnce ? nullptr : m_active.data(),
+                                        home().v.data(),
+                                        m_moversFirst ? m_window.restingSpeed : Real(0),
+                                        !m_wallsAtOnce && scattersSearch(0) ? m_events.data() : nullptr,
+                                        m_impactRows.data(),
+                                        kImpulseRows + 1,
+                                        m_n,
+                                        m_hasContactAcceleration.data(),
+                                        stepWords()->kindCounts,
+                                        m_roundCounters.data(),
+                                        int64_t(m_roundCounters.size())};
     gpu::launchOpenStage(open, s);
     m_roundCountersZeroed = m_roundCounters.size() > 0;
     m_logging = m_logContacts;

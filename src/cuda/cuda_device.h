@@ -487,6 +487,7 @@ private:
     // The scattered search's offers (searchRound): zero between rounds.
     DeviceBuffer<unsigned long long> m_offeredEvents;
     bool m_scatteredSearch = true;  // CudaBackendOptions::scatteredSearch
+    bool m_moversFirst = true;      // CudaBackendOptions::moversFirst
     int m_searchRound = 0;  // the host-driven rounds' count this stage (findEvents)
     // Narrowed impact searches from this many particles (narrowSearch; CudaBackendOptions::narrowedSearchFrom).
     static constexpr int64_t kNarrowedSearchMin = int64_t(1) << 19;

@@ -315,6 +315,37 @@ TEST(CudaContacts, SearchesNarrowedToTheActiveParticlesGiveTheBitsOfFullOnes) {
     }
 }
 
+TEST(CudaContacts, FirstRoundsFromTheMoversGiveTheBitsOfEveryParticle) {
+    // A stage's first impact round searches from the particles fast enough for an impact (collision_
+    // resolution.h: startsActive), scattered in fp32 where later rounds are (cuda_collisions.cpp:
+    // scattersSearch), against every particle searching: the same state, impacts, rounds, dissipation
+    // and contact log. Piles dropped and landing: the settled balls at the bottom start their stages
+    // inactive.
+    COREBOX_REQUIRE_GPU();
+    auto run = [](const Scene& scene, bool moversFirst, bool log) {
+        CudaBackendOptions options;
+        options.precision = scene.integrator.precision;
+        options.moversFirst = moversFirst;
+        options.narrowedSearchFrom = 0;  // fp32: the first round scattered too
+        return runImpacts(scene, options, 360, log);
+    };
+    for (Precision p : {Precision::Fp32, Precision::Fp64}) {
+        Scene scene = deepPile(p);
+        scene.box.size = {40.0, 40.0, 60.0};
+        scene.species[0].count = p == Precision::Fp32 ? 40000 : 8000;
+        if (p == Precision::Fp32) {
+            ASSERT_TRUE(gpu::searchWalksAlone(scene.species[0].count)) << "scattering needs a thread a particle";
+        }
+        for (bool log : {false, true}) {
+            const ImpactOutcome everyone = run(scene, false, log), movers = run(scene, true, log);
+            const std::string where = std::string(precisionName(p)) + (log ? ", contact log on" : "");
+            expectSameImpacts(movers, everyone, where);
+            expectSameLog(movers, everyone, where);
+            EXPECT_GT(everyone.pairs, scene.species[0].count) << where << ": the balls met";
+        }
+    }
+}
+
 TEST(CudaContacts, ScatteredSearchesGiveTheBitsOfSearchesByEveryParticle) {
     // In fp32, a round after a stage's first that would be narrowed is searched by the last round's
     // active particles alone, which offer their inactive neighbours the pairs' events (cuda_collisions.cpp:

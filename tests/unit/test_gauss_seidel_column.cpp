@@ -56,7 +56,8 @@ struct GaussSeidelColumn {
         for (size_t k = 1; k < v.size(); ++k) {
             // The CPU's contact (i, partner > i): the lower ball is i, the normal from the upper to it.
             const Vec3<double> rij = x[k - 1] - x[k];
-            stopPairContact(v[k - 1], v[k], mass, mass, (1.0 / std::sqrt(norm2(rij))) * rij, 0.0, lambda[k], r, omega);
+            stopPairContact(v[k - 1], v[k], pairMassesOf(mass, mass), (1.0 / std::sqrt(norm2(rij))) * rij, 0.0,
+                            lambda[k], r, omega);
             afterUpdate();
         }
         return r;
@@ -107,7 +108,7 @@ TEST(GaussSeidelColumn, ABouncingTargetIsReachedExactlyNotOverRelaxed) {
     Vec3<double> vi{0, 1, 0}, vj{0, -1, 0};
     double lambda = 0;
     ContactResidual<double> r{0, 0};
-    stopPairContact(vi, vj, 1.0, 1.0, Vec3<double>{0, -1, 0}, 1.0, lambda, r, kGaussSeidelOverRelaxation);
+    stopPairContact(vi, vj, pairMassesOf(1.0, 1.0), Vec3<double>{0, -1, 0}, 1.0, lambda, r, kGaussSeidelOverRelaxation);
     EXPECT_NEAR(vi[1], -0.5, 1e-15);
     EXPECT_NEAR(vj[1], 0.5, 1e-15);
     double w = -2, wallLambda = 0;
