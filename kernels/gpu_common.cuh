@@ -27,6 +27,17 @@ inline int multiprocessorCount() {
     return count;
 }
 
+// L2 bytes of the current device, asked once per process.
+inline size_t l2CacheBytes() {
+    static const size_t bytes = [] {
+        int device = 0, l2 = 0;
+        cudaGetDevice(&device);
+        cudaDeviceGetAttribute(&l2, cudaDevAttrL2CacheSize, device);
+        return size_t(l2 > 0 ? l2 : 0);
+    }();
+    return bytes;
+}
+
 // Blocks of kBlock threads of `kernel` that can be resident at once on the current device (what a
 // cooperative launch may use), 0 where the device has no cooperative launch.
 template <class Kernel>

@@ -526,6 +526,7 @@ struct ContactArgs {
     // cells again (a particle with more walks them again).
     int32_t* partnerScratch;
     Real omega;            // over-relaxation of the stopping updates (kGaussSeidelOverRelaxation)
+    bool streamRows = false;  // the Gauss-Seidel sweeps stream their packed rows (contact_gauss_seidel.cu)
 };
 
 // The colour of an own row not coloured yet, and of every row that is not own.

@@ -122,7 +122,10 @@ void CudaDevice<Real>::narrowSearch(gpu::CollisionArgs<Real>& a, int round, cons
 // took 12.7 ms a frame against 12.1 to 12.3 (a landing's rounds keep most particles active), the
 // 10^5-ball pile 10.4 against 10.3.
 // A stage's first round scatters too where the later ones would, when not every particle starts active
-// (under gravity: startsActive): a settled pile's few movers search, not every ball.
+// (under gravity: startsActive): a settled pile's few movers search, not every ball. An H200, fp32, the
+// settled 10^6-ball pile (CUPTI kernel times): 42 us a round on average over a step's 7 rounds against
+// 67 with the first by every particle (about 310 us); `corebox bench pile` 3.3 ms a frame in its
+// impacts against 3.8 over the settled frames, 39.8 ms a frame against 39.7 to 40.1 over the 5 s.
 template <class Real>
 bool CudaDevice<Real>::scattersSearch(int round) const {
     const bool few =
