@@ -122,12 +122,12 @@ __device__ inline CollisionEvent unpackedEvent(unsigned long long word) {
     return CollisionEvent{double(key), int64_t(0xFFFFFFFFull - (word & 0xFFFFFFFFull)) - 1};
 }
 
-// Each particle active in the round before: its earliest event among every neighbour and the walls, as
-// findEventsKernel finds it, and for each inactive neighbour it overlaps in an impact, the pair's event
-// offered to that neighbour's word (atomicMax: the same earliest whatever the order). An inactive
-// particle meets only active ones, and the pair's key is the same bits from either side
-// (pairImpactRewind), so the words hold what the inactive particles' own searches would find; they walk
-// no cells. Threads take the particles in the cell list's order, as findEventsKernel does: a warp's
+// Each active particle (with an event in the round before; in a stage's first round, fast enough for an
+// impact): its earliest event among every neighbour and the walls, as findEventsKernel finds it, and for
+// each inactive neighbour it overlaps in an impact, the pair's event offered to that neighbour's word
+// (atomicMax: the same earliest whatever the order). An inactive particle meets only active ones, and the pair's key is
+// the same bits from either side (pairImpactRewind), so the words hold what the inactive particles' own searches would
+// find; they walk no cells. Threads take the particles in the cell list's order, as findEventsKernel does: a warp's
 // walks overlap in the caches, and a warp of inactive particles ends at once (from the last round's list
 // of active particles instead, the sandbox example at 10^5 balls took 14 ms a frame against 12).
 __global__ void scatterEventsKernel(CollisionArgs<float> a, unsigned long long* offered) {
@@ -151,7 +151,8 @@ __global__ void scatterEventsKernel(CollisionArgs<float> a, unsigned long long* 
 }
 
 // The inactive particles' offered events (an inactive particle has no wall event: it did not move since
-// the round that found it none), their words cleared for the next round.
+// the round that found it none, or in a stage's first round it is too slow for one), their words
+// cleared for the next round.
 __global__ void collectOfferedEventsKernel(CollisionArgs<float> a, unsigned long long* offered) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.p.n || (a.gate && *a.gate == 0u)) return;

@@ -576,8 +576,9 @@ bool launchGaussSeidelListing(const ContactArgs<Real>& a, const std::vector<int3
     // streaming them made the sandbox example's contact phase slower (4.8 ms a frame against 4.5).
     // Tried and not kept: the bodies kept in L2 by an access-policy window (persisting lines): the sweeps
     // took 3.96 ms, but the set-aside L2 made the listing's kernels two to three times slower (the pile
-    // 56.8 ms a frame against 41.1); blocks of 1024 and 512 threads instead of 256 (fewer blocks at each
-    // grid barrier): 4.70 and 4.60 ms against 4.58.
+    // 56.8 ms a frame against 41.1, both under the kernel-time tracer); blocks of 1024 and 512 threads
+    // instead of 256 (fewer blocks at each grid barrier), rows not streamed: 4.70 and 4.60 ms against
+    // 4.58 in the same call.
     const size_t rowBytes = size_t(colourStart.back()) * (2 * sizeof(int32_t) + 2 * sizeof(Real) + sizeof(double));
     args.streamRows = rowBytes + 2 * size_t(a.p.n) * sizeof(PackedBody<Real>) > l2CacheBytes();
     RelaxationPlan schedule = plan;

@@ -534,7 +534,8 @@ COREBOX_HD inline Real stepFactor(Real target, Real omega) {
 
 // Joins the speed change |impulse| / mu of an update to the residual's largest. Most updates of a sweep
 // change less than the largest so far: their division is skipped where |impulse| is plainly below
-// speedChange mu (a margin of 1% against rounding: the largest is the same bits as dividing every one).
+// speedChange mu (a margin of 1% against rounding: the largest is the same bits as dividing every one,
+// but where speedChange mu is subnormal).
 template <class Real>
 COREBOX_HD inline void noteSpeedChange(ContactResidual<Real>& residual, Real impulse, Real mu) {
     const Real magnitude = impulse < Real(0) ? -impulse : impulse;

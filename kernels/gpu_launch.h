@@ -397,14 +397,12 @@ struct CollisionArgs {
     CellSplit<Real> cellSplit;
     unsigned int* cellsMoved;
 };
-// A collision stage opened in one launch (CudaDevice::beginCollisions): for every particle i, active[i]
-// = 1 where active is set; where flagged[i], rows[r * n + i] = 0 for r < rowCount and flagged[i] = 0
+// A collision stage opened in one launch (CudaDevice::beginCollisions): for every particle i, where
+// active is set, active[i] = startsActive(v[i], restingSpeed) (the first round's active particles);
+// with `events`, events[i] = none (a scattered first round, whose inactive particles do not search,
+// leaves theirs as they are); where flagged[i], rows[r * n + i] = 0 for r < rowCount and flagged[i] = 0
 // (the impact rows only the last stage's particles with events wrote); kindCounts[0..2] = 0; and
 // zero[0 .. zeroCount) = 0 (the rounds' counters).
-// A stage's opening (one launch): the first round's active flags (startsActive of each velocity v, at
-// the resting speed), the impact rows of the particles flagged by the last stage, the kind counts and the
-// `zero` words cleared; with `events`, every particle's event cleared to none (a first round whose
-// inactive particles do not search, the scattered search, leaves theirs as they are).
 template <class Real>
 struct StageOpenArgs {
     char* active;

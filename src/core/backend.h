@@ -112,8 +112,9 @@ struct StepCheck {
 };
 
 // Which particles look for events in a round: the active ones (those with an event in the previous
-// round, plus every particle in the first round) against all neighbours, the others only against
-// active neighbours; or every particle against every neighbour (the final check after the cap).
+// round; in a stage's first round those fast enough for an impact, collision_resolution.h startsActive)
+// against all neighbours, the others only against active neighbours; or every particle against every
+// neighbour (the final check after the cap).
 enum class EventScope { Active, All };
 
 // Phases of a step, marked by the orchestration so that a backend can time them its own way (host
@@ -221,7 +222,8 @@ public:
     // what it found.
     virtual StageScreen screenStage(const ImpactWindow<double>& /*window*/, double /*contactGap*/) { return StageScreen::Full; }
     // ---- a posteriori collision stage, 1: impact rounds (DESIGN.md sec. 2) ----
-    // Every particle active; counts and losses zeroed. The window says which overlaps are impacts of
+    // The first round's active particles those fast enough for an impact (startsActive: the same events as
+    // every particle active); counts and losses zeroed. The window says which overlaps are impacts of
     // this step (collision_resolution.h).
     virtual void beginCollisions(const ImpactWindow<double>& window) = 0;
     // After screenStage said WallsOnly and beginCollisions: resolves every wall impact of the stage at

@@ -375,11 +375,11 @@ public:
         if (++m_round >= 3 || m_candidatesValid) return findEventsAmongCandidates();
         // Cells also wide enough for the pairs within the resting gap bound (earliestEvent's `near`).
         buildContactGrid(double(m_nearGap));
-        // After the first round few particles are active. An inactive particle had no event in the
-        // previous round and has not changed since, so it can only have one with an active particle in
-        // its walk (cell_list.h: walks are symmetric): only the active particles and their grid
-        // neighbours look (the same events as every particle looking, without walking the whole fluid
-        // again).
+        // Few particles are active after the first round, and in a settled pile in the first (startsActive).
+        // An inactive particle had no event in the previous round and has not changed since (or is too slow
+        // for an impact with another such), so it can only have one with an active particle in its walk (cell_list.h:
+        // walks are symmetric): only the active particles and their grid neighbours look (the same events as every
+        // particle looking, without walking the whole fluid again).
         const int64_t active = int64_t(std::count(m_active.begin(), m_active.end(), char(1)));
         if (4 * active >= n) {
             // In the grid's order: consecutive particles walk overlapping cells (cache reuse).
@@ -673,8 +673,7 @@ public:
     // Applies the warm-start impulses the first listing of the step took over (contact_relaxation.h):
     // part of this relaxation, so the kinetic energy the core measured after the listing still
     // brackets the whole velocity level.
-    void applyWarmStart() {
-        fillPairMassTable();
+    void applyWarmStart() {  // from relaxContacts, which filled the pair-mass table
         for (const Contact& c : m_contacts) {
             if (!(c.lambda > Real(0))) continue;
             const size_t i = size_t(c.i);
@@ -1032,8 +1031,9 @@ private:
     // Earliest event of particle i against its grid neighbours: an active particle looks at every
     // neighbour, an inactive one only at active neighbours (two inactive particles cannot have
     // started to overlap). `near` says whether a partner or a wall is within the resting gap bound
-    // (listContacts skips its walk when no particle is): set afresh by an active particle; an
-    // inactive one only adds what its active neighbours bring (its other pairs have not moved).
+    // (listContacts skips its walk when no particle is): set afresh by an active particle, and by every
+    // particle that walks in a stage's first round; an inactive one of a later round only adds what its
+    // active neighbours bring (its other pairs have not moved).
     CollisionEvent earliestEvent(int64_t i, char& near) const {
         return earliestEventAmong(i, near, [&](auto&& fn) { m_grid.forNeighbours(m_x[size_t(i)], radiusOf(i), fn); });
     }
@@ -1052,14 +1052,20 @@ private:
         const bool checkAll = m_active[size_t(i)] != 0;
         const Vec3<Real> xi = m_x[size_t(i)], vi = m_v[size_t(i)];
         const Real ai = m_radius[size_t(m_species[size_t(i)])];
-        bool close = !checkAll && near != 0;
+        // `near` found afresh: an active particle's, and in a stage's first round (only the movers
+        // active, startsActive) every walking particle's, over every neighbour it walks, so that the
+        // listing can still skip a step where nothing is near.
+        const bool afresh = checkAll || m_round == 1;
+        bool close = !afresh && near != 0;
         forNeighbours([&](int64_t j) {
-            if (j == i || !(checkAll || m_active[size_t(j)])) return;
+            if (j == i) return;
+            const bool looks = checkAll || m_active[size_t(j)];
+            if (!looks && !afresh) return;
             const Vec3<Real> xj = m_x[size_t(j)];
             const Real aj = m_radius[size_t(m_species[size_t(j)])];
             const Real reach = ai + aj + m_nearGap;
             close = close || norm2(xi - xj) < reach * reach;
-            considerPair(xi, vi, ai, xj, m_v[size_t(j)], aj, j, m_window, best);
+            if (looks) considerPair(xi, vi, ai, xj, m_v[size_t(j)], aj, j, m_window, best);
         });
         considerWalls(xi, vi, ai, m_boxLength, m_window, best);
         near = close || nearAWall(xi, ai) ? 1 : 0;

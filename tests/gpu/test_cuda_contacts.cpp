@@ -13,10 +13,12 @@
 #include <cmath>
 
 #include <cstdio>
+#include <random>
 #include <string>
 #include <tuple>
 #include <utility>
 
+#include "collision_rounds.h"
 #include "gpu_fixture.h"
 #include "gpu_launch.h"
 #include "initial_conditions.h"
@@ -59,13 +61,15 @@ Scene deepPile(Precision precision) {
 // records and an FNV-1a hash of them (particles and round).
 struct ImpactOutcome {
     uint64_t hash = 0;
-    int64_t pairs = 0, walls = 0, rounds = 0, records = 0;
+    int64_t pairs = 0, walls = 0, rounds = 0, records = 0, capHits = 0;
+    int64_t slowAtEnd = 0;  // particles slower than 0.4 times the resting speed after the last step
     double dissipated = 0;
     uint64_t logHash = 1469598103934665603ull;
 };
 
-ImpactOutcome runImpacts(const Scene& scene, const CudaBackendOptions& options, int steps, bool log) {
-    Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
+ImpactOutcome runImpactsFrom(const Scene& scene, const ParticleState& start, const CudaBackendOptions& options,
+                             int steps, bool log) {
+    Simulation sim(scene, makeCudaBackend(options), start);
     sim.backend().setContactLog(log, 0.0);
     ImpactOutcome o;
     for (int k = 0; k < steps; ++k) {
@@ -73,6 +77,7 @@ ImpactOutcome runImpacts(const Scene& scene, const CudaBackendOptions& options, 
         o.pairs += r.pairCollisions;
         o.walls += r.wallCollisions;
         o.rounds += r.rounds;
+        o.capHits += r.roundCapHit ? 1 : 0;
         for (const ContactRecord& c : sim.backend().contactLog()) {
             ++o.records;
             for (int64_t v : {c.a, c.b, int64_t(c.round)}) o.logHash = (o.logHash ^ uint64_t(v)) * 1099511628211ull;
@@ -80,7 +85,13 @@ ImpactOutcome runImpacts(const Scene& scene, const CudaBackendOptions& options, 
     }
     o.hash = stateHash(sim.state());
     o.dissipated = sim.observe().dissipated;
+    const double resting = collisionSettingsFor(scene.interaction, scene.integrator.dt, 0.0).restingSpeed;
+    for (const Vec3<double>& v : sim.state().velocity) o.slowAtEnd += norm2(v) < 0.16 * resting * resting ? 1 : 0;
     return o;
+}
+
+ImpactOutcome runImpacts(const Scene& scene, const CudaBackendOptions& options, int steps, bool log) {
+    return runImpactsFrom(scene, makeInitialState(scene), options, steps, log);
 }
 
 // The same state, impacts, rounds and dissipation.
@@ -89,6 +100,7 @@ void expectSameImpacts(const ImpactOutcome& a, const ImpactOutcome& reference, c
     EXPECT_EQ(a.pairs, reference.pairs) << where << ": the pair impacts";
     EXPECT_EQ(a.walls, reference.walls) << where << ": the wall impacts";
     EXPECT_EQ(a.rounds, reference.rounds) << where << ": the rounds";
+    EXPECT_EQ(a.capHits, reference.capHits) << where << ": the steps at the round cap";
     EXPECT_EQ(a.dissipated, reference.dissipated) << where << ": the dissipated energy";
 }
 
@@ -318,31 +330,67 @@ TEST(CudaContacts, SearchesNarrowedToTheActiveParticlesGiveTheBitsOfFullOnes) {
 TEST(CudaContacts, FirstRoundsFromTheMoversGiveTheBitsOfEveryParticle) {
     // A stage's first impact round searches from the particles fast enough for an impact (collision_
     // resolution.h: startsActive), scattered in fp32 where later rounds are (cuda_collisions.cpp:
-    // scattersSearch), against every particle searching: the same state, impacts, rounds, dissipation
-    // and contact log. Piles dropped and landing: the settled balls at the bottom start their stages
-    // inactive.
+    // scattersSearch), against every particle searching: the same state, impacts, rounds, steps at the
+    // round cap, dissipation and contact log, with the rounds queued in batches and one at a time.
+    // 1. A floor of balls at rest, touching, and a few hundred balls thrown down onto it: the floor's
+    //    balls start every stage inactive, and the impacts they take come from the movers' searches (in
+    //    fp32 as offers).
+    // 2. A pile dropped and landing, the dense case.
     COREBOX_REQUIRE_GPU();
-    auto run = [](const Scene& scene, bool moversFirst, bool log) {
-        CudaBackendOptions options;
-        options.precision = scene.integrator.precision;
-        options.moversFirst = moversFirst;
-        options.narrowedSearchFrom = 0;  // fp32: the first round scattered too
-        return runImpacts(scene, options, 360, log);
+    auto options = [](Precision p, bool moversFirst, bool fused) {
+        CudaBackendOptions o;
+        o.precision = p;
+        o.fusedSteps = fused;
+        o.moversFirst = moversFirst;
+        o.narrowedSearchFrom = 0;  // fp32: the first round scattered too
+        return o;
     };
     for (Precision p : {Precision::Fp32, Precision::Fp64}) {
+        const int side = p == Precision::Fp32 ? 200 : 90;  // fp32: enough balls for a thread a particle
+        const int thrown = 400;
         Scene scene = deepPile(p);
-        scene.box.size =
-            p == Precision::Fp32 ? std::array<double, 3>{40.0, 40.0, 60.0} : std::array<double, 3>{20.0, 20.0, 60.0};
-        scene.species[0].count = p == Precision::Fp32 ? 40000 : 8000;
+        scene.box.size = {double(side), double(side), 12.0};
+        scene.species[0].count = side * side + thrown;
         if (p == Precision::Fp32) {
             ASSERT_TRUE(gpu::searchWalksAlone(scene.species[0].count)) << "scattering needs a thread a particle";
         }
+        ParticleState start;
+        start.resize(size_t(scene.species[0].count));
+        std::mt19937 random(5);
+        std::uniform_real_distribution<double> across(1.0, side - 1.0), height(3.0, 11.0), sideways(-1.0, 1.0);
+        for (int k = 0; k < side * side; ++k) start.position[size_t(k)] = {0.5 + k % side, 0.5 + k / side, 0.5};
+        for (int k = side * side; k < scene.species[0].count; ++k) {
+            start.position[size_t(k)] = {across(random), across(random), height(random)};
+            start.velocity[size_t(k)] = {sideways(random), sideways(random), -4.0};
+        }
+        for (bool fused : {true, false}) {
+            for (bool log : {false, true}) {
+                const ImpactOutcome everyone = runImpactsFrom(scene, start, options(p, false, fused), 120, log);
+                const ImpactOutcome movers = runImpactsFrom(scene, start, options(p, true, fused), 120, log);
+                const std::string where = std::string(precisionName(p)) + ", a floor" +
+                                          (fused ? ", rounds in batches" : ", a round a wait") +
+                                          (log ? ", contact log on" : "");
+                expectSameImpacts(movers, everyone, where);
+                expectSameLog(movers, everyone, where);
+                EXPECT_GT(everyone.pairs, thrown) << where << ": the thrown balls met the floor's";
+                EXPECT_GT(everyone.slowAtEnd, side * side * 9 / 10)
+                    << where << ": the floor's balls start their stages inactive";
+                std::printf("%s: %lld impacts in %lld rounds, %lld of %lld balls slow at the end\n", where.c_str(),
+                            (long long)(everyone.pairs + everyone.walls), (long long)everyone.rounds,
+                            (long long)everyone.slowAtEnd, (long long)scene.species[0].count);
+            }
+        }
+        Scene pile = deepPile(p);
+        pile.box.size =
+            p == Precision::Fp32 ? std::array<double, 3>{40.0, 40.0, 60.0} : std::array<double, 3>{20.0, 20.0, 60.0};
+        pile.species[0].count = p == Precision::Fp32 ? 40000 : 8000;
         for (bool log : {false, true}) {
-            const ImpactOutcome everyone = run(scene, false, log), movers = run(scene, true, log);
-            const std::string where = std::string(precisionName(p)) + (log ? ", contact log on" : "");
+            const ImpactOutcome everyone = runImpacts(pile, options(p, false, true), 360, log);
+            const ImpactOutcome movers = runImpacts(pile, options(p, true, true), 360, log);
+            const std::string where = std::string(precisionName(p)) + ", a pile" + (log ? ", contact log on" : "");
             expectSameImpacts(movers, everyone, where);
             expectSameLog(movers, everyone, where);
-            EXPECT_GT(everyone.pairs, scene.species[0].count) << where << ": the balls met";
+            EXPECT_GT(everyone.pairs, pile.species[0].count) << where << ": the balls met";
         }
     }
 }

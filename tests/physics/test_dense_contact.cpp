@@ -20,6 +20,7 @@
 #include <cmath>
 #include <random>
 
+#include "collision_rounds.h"
 #include "cpu_backend.h"
 #include "physics_fixtures.h"
 #include "pressure.h"
@@ -312,6 +313,7 @@ TEST(DenseContactCpu, FirstRoundsFromTheMoversFindWhatEveryParticleFinds) {
     struct Outcome {
         uint64_t hash;
         int64_t pairs = 0, walls = 0, rounds = 0;
+        int64_t slowAtEnd = 0;  // balls slower than 0.4 times the resting speed after the last step
         double dissipated;
     };
     auto run = [](bool moversFirst) {
@@ -329,6 +331,8 @@ TEST(DenseContactCpu, FirstRoundsFromTheMoversFindWhatEveryParticleFinds) {
         }
         o.hash = stateHash(sim.state());
         o.dissipated = sim.observe().dissipated;
+        const double resting = collisionSettingsFor(scene.interaction, scene.integrator.dt, 0.0).restingSpeed;
+        for (const Vec3<double>& v : sim.state().velocity) o.slowAtEnd += norm2(v) < 0.16 * resting * resting ? 1 : 0;
         return o;
     };
     const Outcome movers = run(true), everyone = run(false);
@@ -338,6 +342,7 @@ TEST(DenseContactCpu, FirstRoundsFromTheMoversFindWhatEveryParticleFinds) {
     EXPECT_EQ(movers.rounds, everyone.rounds);
     EXPECT_EQ(movers.dissipated, everyone.dissipated);
     EXPECT_GT(everyone.pairs, 4000) << "the balls met";
+    EXPECT_GT(everyone.slowAtEnd, 200) << "the settled balls start their stages inactive";
 }
 
 TEST_P(DenseContact, TheScenesSweepCapBoundsEveryListing) {
