@@ -335,7 +335,8 @@ TEST(CudaContacts, FirstRoundsFromTheMoversGiveTheBitsOfEveryParticle) {
     // 1. A floor of balls at rest, touching, and a few hundred balls thrown down onto it: the floor's
     //    balls start every stage inactive, and the impacts they take come from the movers' searches (in
     //    fp32 as offers).
-    // 2. A pile dropped and landing, the dense case.
+    // 2. A pile dropped and landing, the dense case; and with the rounds capped, so that steps end at the
+    //    cap and its final check runs.
     COREBOX_REQUIRE_GPU();
     auto options = [](Precision p, bool moversFirst, bool fused) {
         CudaBackendOptions o;
@@ -391,6 +392,18 @@ TEST(CudaContacts, FirstRoundsFromTheMoversGiveTheBitsOfEveryParticle) {
             expectSameImpacts(movers, everyone, where);
             expectSameLog(movers, everyone, where);
             EXPECT_GT(everyone.pairs, pile.species[0].count) << where << ": the balls met";
+        }
+        // The same pile with the rounds capped at 3: steps end at the cap, whose final check searches from
+        // every particle (in fp32 scattered, every particle active).
+        pile.interaction.maxCollisionRounds = 3;
+        for (bool fused : {true, false}) {
+            const ImpactOutcome everyone = runImpacts(pile, options(p, false, fused), 240, false);
+            const ImpactOutcome movers = runImpacts(pile, options(p, true, fused), 240, false);
+            const std::string where =
+                std::string(precisionName(p)) + ", a pile, 3 rounds a step" + (fused ? "" : ", a round a wait");
+            expectSameImpacts(movers, everyone, where);
+            EXPECT_GT(everyone.capHits, 10) << where << ": steps at the round cap";
+            std::printf("%s: %lld steps of 240 at the cap\n", where.c_str(), (long long)everyone.capHits);
         }
     }
 }
