@@ -360,9 +360,9 @@ __device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidu
     // same bits as writing every body back, but for the sign of a zero: adding a zero impulse turned a
     // velocity component of -0 into +0, which is now left -0 (the same motion; a state hash sees it).
     if (isWallContact(p)) {
-        const int code = int(-1 - p), axis = code / 2, side = code % 2;
-        const Real inward = side == 0 ? Real(1) : Real(-1);
-        stopWallContact(vi[axis], inward, rowLoad(a, a.packedTarget + e), lambda, r, a.omega);
+        const int code = int(-1 - p), axis = code / 2;
+        const bool moved = relaxWallContact(xi[axis], vi[axis], code % 2, ai, a.box[axis],
+                                            rowLoad(a, a.packedTarget + e), lambda, r, a.omega);
         const Real push = lambda - before;  // per unit mass
         if (push != Real(0)) {
             rowStore(a, a.packedLambda + e, lambda);
@@ -370,12 +370,7 @@ __device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidu
             if (atWallCentre(xi, ai, a.box, axis)) a.impulses[size_t(kWallCount + code) * n + size_t(i)] += double(mi) * double(push);
             vBody(a, i) = packed(vi, mi);
         }
-        const Real depth = wallDepth(xi[axis], ai, a.box[axis], side);
-        if (depth > Real(0)) {
-            if (depth / (Real(2) * ai) > r.overlap) r.overlap = depth / (Real(2) * ai);
-            xi[axis] += inward * depth;
-            xBody(a, i) = packed(xi, ai);
-        }
+        if (moved) xBody(a, i) = packed(xi, ai);
         return;
     }
     const PackedBody<Real> bxj = xBody(a, p), bvj = vBody(a, p);

@@ -202,7 +202,7 @@ COREBOX_HD inline Real sweepMomentum(int k) {
 
 // The mass terms of a pair contact's Gauss-Seidel updates, the same in every sweep: computed once (the
 // CPU: per pair of species; the GPU: per row, for both levels), so that a sweep multiplies where it
-// divided. With relaxPairContact's one line of centres a contact and noteSpeedChange, the CPU's pair
+// divided. With relaxPairContact's one line of centres a contact and noteLargestRatio, the CPU's pair
 // update went from eight divisions and two square roots to two and one. It gained less than that
 // suggests: the sandbox example at 2,000 balls (2-core EPYC, fp64, one world thread, two runs each)
 // spent 6.8 ms a frame in its contact phase against 7.2, and `corebox bench pile --n 2000 --threads 1`
@@ -532,16 +532,15 @@ COREBOX_HD inline Real stepFactor(Real target, Real omega) {
     return target == Real(0) ? omega : Real(1);
 }
 
-// Joins the speed change |impulse| / mu of an update to the residual's largest. Most updates of a sweep
-// change less than the largest so far: their division is skipped where |impulse| is plainly below
-// speedChange mu (a margin of 1% against rounding: the largest is the same bits as dividing every one,
-// but where speedChange mu is subnormal).
+// Joins value / scale (scale > 0) to `largest`, the residual's largest so far. Most updates of a sweep
+// are below it: their division is skipped where value is plainly below largest * scale (a margin of 1%
+// against rounding: the largest is the same bits as dividing every one, but where largest * scale is
+// subnormal).
 template <class Real>
-COREBOX_HD inline void noteSpeedChange(ContactResidual<Real>& residual, Real impulse, Real mu) {
-    const Real magnitude = impulse < Real(0) ? -impulse : impulse;
-    if (!(magnitude > Real(0.99) * (residual.speedChange * mu))) return;
-    const Real change = magnitude / mu;
-    if (change > residual.speedChange) residual.speedChange = change;
+COREBOX_HD inline void noteLargestRatio(Real& largest, Real value, Real scale) {
+    if (!(value > Real(0.99) * (largest * scale))) return;
+    const Real ratio = value / scale;
+    if (ratio > largest) largest = ratio;
 }
 
 // Moves the normal speed of particles i, j along n (from j to i) towards `target` >= 0 as far as
@@ -551,7 +550,7 @@ COREBOX_HD inline void stopPairContact(Vec3<Real>& vi, Vec3<Real>& vj, const Pai
                                        Real target, Real& lambda, ContactResidual<Real>& residual, Real omega) {
     const Real vn = dot(vi - vj, n);
     const Real impulse = accumulateImpulse(lambda, stepFactor(target, omega) * m.mu * (target - vn));
-    noteSpeedChange(residual, impulse, m.mu);
+    noteLargestRatio(residual.speedChange, impulse < Real(0) ? -impulse : impulse, m.mu);
     applyPairImpulse(vi, vj, m, n, impulse);
 }
 
@@ -563,6 +562,22 @@ COREBOX_HD inline void stopWallContact(Real& v, Real inward, Real target, Real& 
     const Real change = push < Real(0) ? -push : push;
     if (change > residual.speedChange) residual.speedChange = change;
     v += push * inward;
+}
+
+// One wall contact's Gauss-Seidel update, the CPU's sweeps as the GPU's rows: the velocity level
+// (stopWallContact, `side` 0 the low wall), then the position level (the particle pushed out by its
+// depth beyond the contact slack). `x` and `v` are the particle's coordinate and velocity on the wall's
+// axis; returns whether the position moved.
+template <class Real>
+COREBOX_HD inline bool relaxWallContact(Real& x, Real& v, int side, Real radius, Real boxLength, Real target,
+                                        Real& lambda, ContactResidual<Real>& residual, Real omega) {
+    const Real inward = side == 0 ? Real(1) : Real(-1);
+    stopWallContact(v, inward, target, lambda, residual, omega);
+    const Real depth = wallDepth(x, radius, boxLength, side);
+    if (!(depth > Real(0))) return false;
+    noteLargestRatio(residual.overlap, depth, Real(2) * radius);
+    x += inward * depth;
+    return true;
 }
 
 // One pair contact's Gauss-Seidel update on one line of centres: the velocity level (stopPairContact),
@@ -584,8 +599,7 @@ COREBOX_HD inline bool relaxPairContact(Vec3<Real>& xi, Vec3<Real>& xj, Vec3<Rea
     stopPairContact(vi, vj, m, n, target, lambda, residual, omega);
     const Real gap = contactGap(d, dist);
     if (!(gap > Real(0))) return false;
-    if (gap > Real(0.99) * (residual.overlap * d) && gap / d > residual.overlap)
-        residual.overlap = gap / d;  // as noteSpeedChange
+    noteLargestRatio(residual.overlap, gap, d);
     const Real share = overlapShare(m.shareJ, n, up);
     xi += (gap * share) * n;
     xj -= (gap * (Real(1) - share)) * n;

@@ -49,6 +49,7 @@ public:
             m_invMass[k] = Real(1.0 / model.mass[k]);
             m_radius[k] = Real(model.radius[k]);
         }
+        fillPairMassTable();
         m_gravity = vec3Cast<Real>(model.gravity);
         m_field.clear();
         for (const Vec3<double>& g : model.acceleration) m_field.push_back(vec3Cast<Real>(g));
@@ -673,7 +674,7 @@ public:
     // Applies the warm-start impulses the first listing of the step took over (contact_relaxation.h):
     // part of this relaxation, so the kinetic energy the core measured after the listing still
     // brackets the whole velocity level.
-    void applyWarmStart() {  // from relaxContacts, which filled the pair-mass table
+    void applyWarmStart() {
         for (const Contact& c : m_contacts) {
             if (!(c.lambda > Real(0))) continue;
             const size_t i = size_t(c.i);
@@ -691,7 +692,7 @@ public:
     }
 
     // The mass terms of every pair of species (contact_relaxation.h: PairMasses), so that a sweep
-    // multiplies where it divided.
+    // multiplies where it divided; made with the model.
     void fillPairMassTable() {
         const size_t s = m_mass.size();
         m_pairMassTable.resize(s * s);
@@ -707,7 +708,6 @@ public:
         m_nearValid = false;  // the sweeps move particles
         ContactResidual<Real> r{0, 0};
         const Vec3<Real> up = upOf(m_gravity);
-        fillPairMassTable();
         if (m_warmPending) applyWarmStart();
         m_warmPending = false;
         const Real omega = Real(kGaussSeidelOverRelaxation);
@@ -717,12 +717,9 @@ public:
                 const size_t i = size_t(c.i);
                 const Real ai = m_radius[size_t(m_species[i])];
                 if (isWallContact(c.partner)) {
-                    const int code = int(-1 - c.partner), axis = code / 2, side = code % 2;
-                    stopWallContact(m_v[i][axis], side == 0 ? Real(1) : Real(-1), c.target, c.lambda, r, omega);
-                    const Real depth = wallDepth(m_x[i][axis], ai, m_boxLength[axis], side);
-                    if (!(depth > Real(0))) continue;
-                    r.overlap = std::max(r.overlap, depth / (Real(2) * ai));
-                    m_x[i][axis] += side == 0 ? depth : -depth;
+                    const int code = int(-1 - c.partner), axis = code / 2;
+                    relaxWallContact(m_x[i][axis], m_v[i][axis], code % 2, ai, m_boxLength[axis], c.target, c.lambda, r,
+                                     omega);
                     continue;
                 }
                 const size_t j = size_t(c.partner);

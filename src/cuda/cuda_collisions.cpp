@@ -95,7 +95,14 @@ gpu::CollisionArgs<Real> CudaDevice<Real>::collisionArgs() {
 // --backend cuda --scripted`) 40.9 ms of simulation a frame against 38.7. Hence from 2^19 particles.
 template <class Real>
 bool CudaDevice<Real>::narrowsSearch(int round) const {
-    return round > 0 && !m_pairsClear && m_n >= m_narrowedSearchFrom;
+    return round > 0 && narrowableStage();
+}
+
+// Whether this stage's searches may look from a few particles (narrowed or scattered): pairs to find, and
+// enough particles.
+template <class Real>
+bool CudaDevice<Real>::narrowableStage() const {
+    return !m_pairsClear && m_n >= m_narrowedSearchFrom;
 }
 
 template <class Real>
@@ -128,9 +135,7 @@ void CudaDevice<Real>::narrowSearch(gpu::CollisionArgs<Real>& a, int round, cons
 // impacts against 3.8 over the settled frames, 39.8 ms a frame against 39.7 to 40.1 over the 5 s.
 template <class Real>
 bool CudaDevice<Real>::scattersSearch(int round) const {
-    const bool few =
-        round > 0 ? narrowsSearch(round)
-                  : m_moversFirst && !m_pairsClear && m_n >= m_narrowedSearchFrom && m_window.restingSpeed > Real(0);
+    const bool few = narrowableStage() && (round > 0 || (m_moversFirst && m_window.restingSpeed > Real(0)));
     return std::is_same<Real, float>::value && m_scatteredSearch && few && gpu::searchWalksAlone(m_n) &&
            m_n < INT32_MAX;
 }

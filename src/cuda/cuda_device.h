@@ -216,6 +216,7 @@ private:
     static CollisionTally tallyOf(const unsigned long long kindCounts[2], const std::vector<double>& rowSums);
     gpu::CollisionArgs<Real> collisionArgs();
     bool narrowsSearch(int round) const;
+    bool narrowableStage() const;
     void narrowSearch(gpu::CollisionArgs<Real>& a, int round, const unsigned int* lastCount, cudaStream_t s);
     bool scattersSearch(int round) const;
     void searchRound(gpu::CollisionArgs<Real>& a, int round, const unsigned int* lastCount, cudaStream_t s);
