@@ -198,16 +198,10 @@ __device__ void flagCellChange(const CollisionArgs<Real>& a, int64_t i, const Ve
         *a.cellsMoved = 1u;
 }
 
-// Resolves the mutual-earliest events, and leaves a particle active for the next round when it had an
-// event (resolved now or still pending): the resolution reads no active flag, so the next search's
-// flags are set here rather than by a launch of their own.
+// Particle i's part of the resolution of the mutual-earliest events (its event e, valid): the pair by
+// its lower index (as the CPU), or its wall.
 template <class Real>
-__global__ void resolveKernel(CollisionArgs<Real> a) {
-    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i >= a.p.n || (a.gate && *a.gate == 0u)) return;
-    const CollisionEvent e = a.events[i];
-    a.active[i] = isValid(e);
-    if (!isValid(e)) return;
+__device__ void resolveEventOf(const CollisionArgs<Real>& a, int64_t i, const CollisionEvent& e) {
     const int si = a.p.species[i];
     int kind = kNoCollision;
     double loss = 0, impulse = 0;
@@ -237,6 +231,33 @@ __global__ void resolveKernel(CollisionArgs<Real> a) {
     recordImpact(a, i, kind, loss, impulse, impulseRow, atCentre);
     if (kind != kNoCollision && logged && loggedImpact(detail, a.logMinImpulse))
         a.log[atomicAdd(a.logCount, 1u)] = ImpactRecord<Real>{i, e.partner, a.logRound, detail};
+}
+
+// Resolves the mutual-earliest events, and leaves a particle active for the next round when it had an
+// event (resolved now or still pending): the resolution reads no active flag, so the next search's
+// flags are set here rather than by a launch of their own. A thread a particle, or with `listed` a
+// thread an entry of this round's list of the particles with events (activeOut, counters[1] long), after
+// clearActiveKernel: the flags are then that list's, as a thread a particle leaves them. One kernel for
+// both, so that the resolution is the same instructions either way (in a kernel of its own the fp64
+// resolution of the Lennard-Jones fluid with hard cores contracted into other fused multiply-adds, and
+// its bits differed from the rounds' one by one: tests/gpu/test_cuda_contacts.cpp).
+template <class Real>
+__global__ void resolveKernel(CollisionArgs<Real> a, bool listed) {
+    const int64_t t = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if ((a.gate && *a.gate == 0u) || t >= (listed ? int64_t(a.counters[1]) : a.p.n)) return;
+    const int64_t i = listed ? int64_t(a.activeOut[t]) : t;
+    const CollisionEvent e = a.events[i];
+    a.active[i] = isValid(e);
+    if (isValid(e)) resolveEventOf(a, i, e);
+}
+
+// The round before's active flags (its list, activeIn) cleared: a particle with an event this round is
+// set again by the listed resolution, which runs after.
+template <class Real>
+__global__ void clearActiveKernel(CollisionArgs<Real> a) {
+    const int64_t t = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if ((a.gate && *a.gate == 0u) || t >= int64_t(*a.activeInCount)) return;
+    a.active[a.activeIn[t]] = 0;
 }
 
 // Walls only: particle i's wall impacts in turn (launchResolveWallImpacts).
@@ -344,8 +365,17 @@ void launchMarkSearchers(const CollisionArgs<Real>& a, cudaStream_t stream) {
 
 template <class Real>
 void launchResolve(const CollisionArgs<Real>& a, cudaStream_t stream) {
-    resolveKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+    resolveKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, false);
     checkLaunch("resolve kernel");
+}
+
+template <class Real>
+void launchResolveListed(const CollisionArgs<Real>& a, cudaStream_t stream) {
+    if (a.p.n == 0) return;
+    clearActiveKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+    checkLaunch("active flags kernel");
+    resolveKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, true);
+    checkLaunch("listed resolve kernel");
 }
 
 template <class Real>
@@ -372,7 +402,8 @@ void launchStageWalls(const CollisionArgs<Real>& a, const Vec3<Real>* accelerati
     template void launchOpenStage<Real>(const StageOpenArgs<Real>&, cudaStream_t);                                     \
     template void launchFindEvents<Real>(const CollisionArgs<Real>&, cudaStream_t);                                    \
     template void launchMarkSearchers<Real>(const CollisionArgs<Real>&, cudaStream_t);                                 \
-    template void launchResolve<Real>(const CollisionArgs<Real>&, cudaStream_t);
+    template void launchResolve<Real>(const CollisionArgs<Real>&, cudaStream_t);                                       \
+    template void launchResolveListed<Real>(const CollisionArgs<Real>&, cudaStream_t);
 COREBOX_INSTANTIATE(float)
 COREBOX_INSTANTIATE(double)
 #undef COREBOX_INSTANTIATE

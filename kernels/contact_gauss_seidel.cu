@@ -71,6 +71,17 @@
 // SM could hold, and the sweeps waiting on L2 and on the colours' barriers): __launch_bounds__(kBlock, 6)
 // and (kBlock, 5) made the 10^6-ball pile 109.0 and 100.1 ms a frame against 96.4 (the same call, an
 // H200, fp32; the last second 64.0 and 55.5 against 53.7): more blocks make each barrier dearer.
+// Two rows a thread with both rows' loads issued before either update (gaussSeidelListingKernel; 110
+// registers in fp32 against 64, so half the resident blocks and the same loads in flight an SM, half the
+// blocks at each barrier): the same bits; the settled 10^6-ball pile's listings 4.25 ms against 4.46
+// (an H200, fp32, CUPTI kernel times, `corebox bench pile`, its sweeps 4.24 s against 4.46 over the 5 s).
+// Where the time goes (ncu, a settled listing of that pile, 16 sweeps in 4.30 ms): L2 at 65% of its
+// peak, L1 hits 51%, the warps stalled half the time on loads and a third at the colours' barriers. The
+// barriers' share, measured: the same sweeps with the barriers left out (wrong: a row may then read a body
+// a row of the colour before has yet to write; here the pile ended with other bits and overlaps of 0.14%
+// of a diameter) took 3.27 ms a settled listing against 4.46. A schedule that waits per particle instead
+// of per colour (each row once both its particles' rows of lower colours are done) keeps the bits and
+// could take part of that; not tried.
 //
 // Why not Jacobi: a Jacobi sweep carries support one layer of a pile, a fraction 1 / max(k_i, k_j) of
 // it at a time; Gauss-Seidel in any order that visits each contact once carries it much further, and
@@ -342,18 +353,43 @@ __global__ void packRowsKernel(ContactArgs<Real> a, int64_t rows) {
     a.rowRank[s] = int32_t(e);
 }
 
-// One contact's Gauss-Seidel update from its packed own row e: the velocity level, then the position
-// level (relaxPairContact; stopWallContact and a wall's full depth), as the CPU's sweeps do them (each
-// pair's mass terms computed once for both levels, pairMassesOf); the impulse given goes to the
-// owner's rows (impulse_sums.h): a wall's momentum at once, a pair's r . J into the packed row.
+// What a sweep reads of a packed own row and of its particles before it updates them (loadOwnRow), so
+// that a thread can have two rows' loads in flight before it computes either (gaussSeidelListingKernel).
 template <class Real>
-__device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidual<Real>& r) {
-    const int64_t i = rowLoad(a, a.packedParticle + e), p = rowLoad(a, a.packedPartner + e);
+struct LoadedRow {
+    int64_t e, i, p;
+    PackedBody<Real> xi, vi, xj, vj;  // xj, vj: a pair's partner (not read for a wall)
+    Real lambda, target;
+};
+
+template <class Real>
+__device__ inline LoadedRow<Real> loadOwnRow(const ContactArgs<Real>& a, int64_t e) {
+    LoadedRow<Real> w;
+    w.e = e;
+    w.i = rowLoad(a, a.packedParticle + e);
+    w.p = rowLoad(a, a.packedPartner + e);
+    w.lambda = rowLoad(a, a.packedLambda + e);
+    w.target = rowLoad(a, a.packedTarget + e);
+    w.xi = xBody(a, w.i);
+    w.vi = vBody(a, w.i);
+    if (!isWallContact(w.p)) {
+        w.xj = xBody(a, w.p);
+        w.vj = vBody(a, w.p);
+    }
+    return w;
+}
+
+// One contact's Gauss-Seidel update from its packed own row as loadOwnRow read it: the velocity level,
+// then the position level (relaxPairContact; stopWallContact and a wall's full depth), as the CPU's
+// sweeps do them (each pair's mass terms computed once for both levels, pairMassesOf); the impulse given
+// goes to the owner's rows (impulse_sums.h): a wall's momentum at once, a pair's r . J into the packed row.
+template <class Real>
+__device__ void relaxLoadedRow(const ContactArgs<Real>& a, const LoadedRow<Real>& w, ContactResidual<Real>& r) {
+    const int64_t e = w.e, i = w.i, p = w.p;
     const size_t n = size_t(a.p.n);
-    const PackedBody<Real> bxi = xBody(a, i), bvi = vBody(a, i);
-    const Real mi = bvi.w, ai = bxi.w;
-    Vec3<Real> xi = vec3Of(bxi), vi = vec3Of(bvi);
-    Real lambda = rowLoad(a, a.packedLambda + e);
+    const Real mi = w.vi.w, ai = w.xi.w;
+    Vec3<Real> xi = vec3Of(w.xi), vi = vec3Of(w.vi);
+    Real lambda = w.lambda;
     const Real before = lambda;
     // A body is written back only where it changed (stores are L2 traffic, and a settled pile's rows
     // often push nothing): a zero impulse adds zero to the velocity, a pair apart moves no position. The
@@ -361,8 +397,8 @@ __device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidu
     // velocity component of -0 into +0, which is now left -0 (the same motion; a state hash sees it).
     if (isWallContact(p)) {
         const int code = int(-1 - p), axis = code / 2;
-        const bool moved = relaxWallContact(xi[axis], vi[axis], code % 2, ai, a.box[axis],
-                                            rowLoad(a, a.packedTarget + e), lambda, r, a.omega);
+        const bool moved =
+            relaxWallContact(xi[axis], vi[axis], code % 2, ai, a.box[axis], w.target, lambda, r, a.omega);
         const Real push = lambda - before;  // per unit mass
         if (push != Real(0)) {
             rowStore(a, a.packedLambda + e, lambda);
@@ -373,12 +409,11 @@ __device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidu
         if (moved) xBody(a, i) = packed(xi, ai);
         return;
     }
-    const PackedBody<Real> bxj = xBody(a, p), bvj = vBody(a, p);
-    const Real mj = bvj.w, d = ai + bxj.w;
-    Vec3<Real> xj = vec3Of(bxj), vj = vec3Of(bvj);
+    const Real mj = w.vj.w, d = ai + w.xj.w;
+    Vec3<Real> xj = vec3Of(w.xj), vj = vec3Of(w.vj);
     Real dist;
-    const bool moved = relaxPairContact(xi, xj, vi, vj, pairMassesOf(mi, mj), d, a.up, rowLoad(a, a.packedTarget + e),
-                                        lambda, r, a.omega, dist);
+    const bool moved =
+        relaxPairContact(xi, xj, vi, vj, pairMassesOf(mi, mj), d, a.up, w.target, lambda, r, a.omega, dist);
     const Real impulse = lambda - before;
     if (impulse != Real(0)) {
         rowStore(a, a.packedLambda + e, lambda);
@@ -388,8 +423,13 @@ __device__ void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidu
     }
     if (moved) {
         xBody(a, i) = packed(xi, ai);
-        xBody(a, p) = packed(xj, bxj.w);
+        xBody(a, p) = packed(xj, w.xj.w);
     }
+}
+
+template <class Real>
+__device__ inline void relaxOwnRow(const ContactArgs<Real>& a, int64_t e, ContactResidual<Real>& r) {
+    relaxLoadedRow(a, loadOwnRow(a, e), r);
 }
 
 // One colour's contacts, a thread each; with `measure`, their residual (every thread of the grid calls
@@ -418,7 +458,16 @@ __global__ void __launch_bounds__(kBlock) gaussSeidelListingKernel(ContactArgs<R
         ContactResidual<Real> r{0, 0};
         for (int c = 0; c < colours; ++c) {
             const int64_t end = a.colourStart[c + 1];
-            for (int64_t e = a.colourStart[c] + first; e < end; e += stride) relaxOwnRow(a, e, r);
+            // Two rows a thread at a time, both read before either is updated: a colour's rows share no
+            // particle, so the second's reads see what they would after the first's writes (the same
+            // bits), and a thread has twice the loads in flight.
+            int64_t e = a.colourStart[c] + first;
+            for (; e + stride < end; e += 2 * stride) {
+                const LoadedRow<Real> w0 = loadOwnRow(a, e), w1 = loadOwnRow(a, e + stride);
+                relaxLoadedRow(a, w0, r);
+                relaxLoadedRow(a, w1, r);
+            }
+            if (e < end) relaxOwnRow(a, e, r);
             grid.sync();
         }
         ++done;

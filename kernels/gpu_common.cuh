@@ -63,6 +63,14 @@ __device__ inline unsigned int warpAggregatedIncrement(unsigned int* counter) {
     return base + unsigned(__popc(together & ((1u << lane) - 1u)));
 }
 
+// atomicAdd(total, value) for each calling thread, one atomic a warp: the threads that call together add
+// their sum (each value below 2^32 / 32). A sum of integers: the same in any order.
+__device__ inline void warpAggregatedAdd(unsigned long long* total, unsigned int value) {
+    const unsigned int together = __activemask();
+    const unsigned int sum = __reduce_add_sync(together, value);
+    if (int(threadIdx.x % 32) == __ffs(int(together)) - 1 && sum > 0u) atomicAdd(total, (unsigned long long)sum);
+}
+
 // StageGate (gpu_launch.h): whether a gated launch does its work.
 __device__ inline bool gateOpen(const StageGate& g) {
     const bool open = g.runAheadOf ? runAheadOpen(*g.runAheadOf, g.freshLists) : !g.stage || ((g.stages >> *g.stage) & 1u) != 0u;

@@ -444,6 +444,12 @@ void launchMarkSearchers(const CollisionArgs<Real>& args, cudaStream_t stream);
 // event this round (the next search's flags).
 template <class Real>
 void launchResolve(const CollisionArgs<Real>& args, cudaStream_t stream);
+// The same from this round's list of the particles with events (activeOut, counters[1] of them, as the
+// search listed them) instead of a thread a particle, after the flags of the round before's list
+// (activeIn, *activeInCount) are cleared: the same events, bits and flags where the active flags are that
+// list's (the round before resolved with either). Gated as launchResolve.
+template <class Real>
+void launchResolveListed(const CollisionArgs<Real>& args, cudaStream_t stream);
 // Walls only (no pair can meet in this stage, CudaDevice::screenStage): every particle resolves its wall
 // impacts one after another, earliest first, as the rounds would one a round (particles do not meet,
 // so each particle's sequence is the rounds' sequence), with `acceleration` the end-of-step

@@ -507,6 +507,15 @@ void CudaDevice<Real>::applyEvents() {
 // 14.9; `corebox bench pile` 10^6 balls 42.0 against 41.5, 10^5 10.4 against 10.3. A landing runs to
 // the round cap step after step, so its first batch is the whole cap and there is no wait to hide; its
 // rounds are the device's (the sandbox's: 58 us a round, the search 35 of them, CUPTI's kernel times).
+// A round after the first resolves from its list of the particles with events (gpu::launchResolveListed)
+// where the searches may look from a few particles (narrowableStage: 2^19 particles and more), not a
+// thread a particle: a landing's round of 10^5 events gave each warp of the particle-wide launch about 4
+// of them (ncu, an H200, fp32, the 10^6-ball pile: 103 us for such a round's resolution, L2 at 20% of its
+// peak). The same bits (tests/gpu/test_cuda_contacts.cpp: narrowed and not). An H200, fp32, CUPTI kernel
+// times: that pile's resolutions 430 ms over the 5 s (343 resolving, 87 clearing the flags) against 707;
+// `corebox bench pile` (two calls of each, alternating) 10^6 balls 38.02 and 38.33 ms a frame against 38.78
+// and 38.89, the landing's frames (60 to 140) 65.4 and 66.0 against 67.9. Not below: at 10^5 balls (the
+// sandbox example) a round's resolution and clearing took 8.1 us against 6.1 for a thread a particle.
 // Cell lists skipped. A round's build (then a radix sort of every particle's cell key, now a counting
 // sort: device_cell_list.h; a third of the kernel time of the sandbox example's landing, ncu) makes the
 // same arrays as the last build wherever no particle changed cell since, the arrays depending on the
@@ -584,13 +593,22 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
             a.logRound = m_logRound + (r - first);  // every round before r in the batch found events, or r does nothing
             a.counters = m_roundCounters.data() + 2 * r;
             a.gate = r > first ? a.counters - 1 : nullptr;  // the round before (known to have found events when r == first)
+            a.activeOut =
+                m_activeLists.data() + size_t(r % 2) * size_t(m_n);  // every round lists its particles with events
             searchRound(a, r, r > 0 ? a.counters - 1 : nullptr, s);
             if (m_model.anyPairForce) {
                 f.rowCount = a.counters;  // this round's new rows; none where the search was gated off
                 gpu::launchForces(f, s);
             }
             a.gate = a.counters + 1;  // this round's events
-            gpu::launchResolve(a, s);
+            if (r > 0 &&
+                narrowableStage()) {  // from the list (below), the round before's flags (its list) cleared first
+                a.activeIn = m_activeLists.data() + size_t((r + 1) % 2) * size_t(m_n);
+                a.activeInCount = a.counters - 1;
+                gpu::launchResolveListed(a, s);
+            } else {  // the stage's first flags are every particle's (startsActive)
+                gpu::launchResolve(a, s);
+            }
         }
         unsigned int* counts = m_hostRoundCounts.resize(2 * size_t(queued) + 1);
         cudaCheck(cudaMemcpyAsync(counts, m_roundCounters.data() + 2 * first, 2 * size_t(queued) * sizeof(unsigned int),
