@@ -71,17 +71,18 @@
 // SM could hold, and the sweeps waiting on L2 and on the colours' barriers): __launch_bounds__(kBlock, 6)
 // and (kBlock, 5) made the 10^6-ball pile 109.0 and 100.1 ms a frame against 96.4 (the same call, an
 // H200, fp32; the last second 64.0 and 55.5 against 53.7): more blocks make each barrier dearer.
-// Two rows a thread with both rows' loads issued before either update (gaussSeidelListingKernel; 110
-// registers in fp32 against 64, so half the resident blocks and the same loads in flight an SM, half the
-// blocks at each barrier): the same bits; the settled 10^6-ball pile's listings 4.25 ms against 4.46
-// (an H200, fp32, CUPTI kernel times, `corebox bench pile`, its sweeps 4.24 s against 4.46 over the 5 s).
+// Two rows a thread with both rows' loads issued before either update (gaussSeidelListingKernel; 102
+// registers in fp32 against 64, 159 in fp64 against 117, so about half the resident blocks and the same
+// loads in flight an SM, half the blocks at each barrier): the same bits; the settled 10^6-ball pile's
+// listings 4.25 ms against 4.46 (an H200, fp32, CUPTI kernel times, `corebox bench pile`, its sweeps
+// 4.24 s against 4.46 over the 5 s; fp64 not compared on one machine).
 // Where the time goes (ncu, a settled listing of that pile, 16 sweeps in 4.30 ms): L2 at 65% of its
 // peak, L1 hits 51%, the warps stalled half the time on loads and a third at the colours' barriers. The
-// barriers' share, measured: the same sweeps with the barriers left out (wrong: a row may then read a body
-// a row of the colour before has yet to write; here the pile ended with other bits and overlaps of 0.14%
-// of a diameter) took 3.27 ms a settled listing against 4.46. A schedule that waits per particle instead
-// of per colour (each row once both its particles' rows of lower colours are done) keeps the bits and
-// could take part of that; not tried.
+// barriers' share, measured: the same sweeps (a row a thread) with the barriers left out (wrong: a row may
+// then read a body a row of the colour before has yet to write; here the pile ended with other bits and
+// overlaps of 0.14% of a diameter) took 3.27 ms a settled listing against 4.46. A schedule that waits per particle
+// instead of per colour (each row once both its particles' rows of lower colours are done) keeps the bits and could
+// take part of that; not tried.
 //
 // Why not Jacobi: a Jacobi sweep carries support one layer of a pile, a fraction 1 / max(k_i, k_j) of
 // it at a time; Gauss-Seidel in any order that visits each contact once carries it much further, and
@@ -358,7 +359,8 @@ __global__ void packRowsKernel(ContactArgs<Real> a, int64_t rows) {
 template <class Real>
 struct LoadedRow {
     int64_t e, i, p;
-    PackedBody<Real> xi, vi, xj, vj;  // xj, vj: a pair's partner (not read for a wall)
+    PackedBody<Real> xi, vi, xj, vj;  // xj, vj: a pair's partner (neither set nor read for a wall: zeroing
+                                      // them there took fp64 from 159 registers to 128 with spills)
     Real lambda, target;
 };
 
@@ -629,7 +631,8 @@ bool launchGaussSeidelListing(const ContactArgs<Real>& a, const std::vector<int3
     void* params[] = {&args, &colours, &schedule, &words};
     // A thread a row of the largest colour, no more than fit: the barriers cost more with more blocks
     // (a thread a particle instead: the 10^5-ball pile 38.3 ms a frame against 34.1, an H200, fp32).
-    const int64_t blocks = std::min<int64_t>(resident, std::max<int64_t>(1, blocksFor(largest)));
+    int64_t blocks = std::min<int64_t>(resident, std::max<int64_t>(1, blocksFor(largest)));
+    if (a.sweepBlocks > 0) blocks = std::min<int64_t>(blocks, a.sweepBlocks);
     launchPackBodies(a, stream);
     const cudaError_t e = cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(gaussSeidelListingKernel<Real>), dim3(unsigned(blocks)),
                                                       dim3(kBlock), params, 0, stream);

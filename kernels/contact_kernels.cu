@@ -88,7 +88,7 @@ __global__ void countContactsKernel(ContactArgs<Real> a, unsigned long long* tot
     a.contactStart[i + 1] = count;
     // The total, one atomic a warp: an atomic a particle queued every particle with a contact on one address
     // (an H200, fp32, CUPTI kernel times: the sandbox example at 10^5 balls, whose counts behind the impact
-    // rounds take a total, 68.1 us a count against 34.9, its GPU busy 2210 ms against 2122; the same bits).
+    // rounds take a total, 34.9 us a count against 68.1, its GPU busy 2122 ms against 2210; the same bits).
     if (total) warpAggregatedAdd(total, unsigned(count));
 }
 

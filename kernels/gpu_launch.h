@@ -386,7 +386,9 @@ struct CollisionArgs {
     // A round after the first (launchMarkSearchers): walker[i] = 1 for every particle within the cells
     // around a particle of activeIn[0 .. *activeInCount) (the round before's activeOut and count); the
     // search then skips every particle left unmarked (and clears the marks it reads). Null: every
-    // particle searches.
+    // particle searches. launchResolveListed clears the active flags of that list. Both rely on a
+    // particle that does not search keeping the no-event of its last search (every particle with an
+    // event this round is in activeOut).
     unsigned char* walker;
     const int32_t* activeIn;
     const unsigned int* activeInCount;
@@ -531,6 +533,7 @@ struct ContactArgs {
     int32_t* partnerScratch;
     Real omega;            // over-relaxation of the stopping updates (kGaussSeidelOverRelaxation)
     bool streamRows = false;  // the Gauss-Seidel sweeps stream their packed rows (contact_gauss_seidel.cu)
+    int sweepBlocks = 0;      // tests: at most this many blocks for a listing's sweeps in one launch (0: as fit)
 };
 
 // The colour of an own row not coloured yet, and of every row that is not own.

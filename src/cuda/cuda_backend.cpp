@@ -71,6 +71,7 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
     if (options.narrowedSearchFrom >= 0) m_narrowedSearchFrom = options.narrowedSearchFrom;
     m_skipUnmovedCellBuilds = options.skipUnmovedCellBuilds;
     m_scatteredSearch = options.scatteredSearch;
+    m_sweepBlocks = options.sweepBlocks;
     m_moversFirst = options.moversFirst;
     const bool peerAccess = peerAccessProblem(devicesOf(options), options.peerAccessDenied).empty();
     m_pairsOnceAcross = options.pairsOnce && options.gpus > 1 && peerAccess;

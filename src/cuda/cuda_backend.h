@@ -39,6 +39,10 @@ struct CudaBackendOptions {
     // comparison and tests. A listing whose contacts need more than gpu::kMaxContactColours colours is
     // relaxed with Jacobi sweeps either way.
     bool gaussSeidelContacts = true;
+    // Tests only: at most this many blocks for a listing's Gauss-Seidel sweeps in one launch (0: as many
+    // as fit), so that a small listing's colours hold more rows than the launch has threads and its
+    // threads take two rows at a time (contact_gauss_seidel.cu), as at 10^6 balls.
+    int sweepBlocks = 0;
     // Tests only: the particle count from which the impact searches after a stage's first are narrowed
     // to the particles near the last round's active ones (cuda_collisions.cpp: narrowSearch); -1: the
     // default (kNarrowedSearchMin), 0: always, a huge count: never (the same bits, for comparison).

@@ -509,11 +509,11 @@ void CudaDevice<Real>::applyEvents() {
 // rounds are the device's (the sandbox's: 58 us a round, the search 35 of them, CUPTI's kernel times).
 // A round after the first resolves from its list of the particles with events (gpu::launchResolveListed)
 // where the searches may look from a few particles (narrowableStage: 2^19 particles and more), not a
-// thread a particle: a landing's round of 10^5 events gave each warp of the particle-wide launch about 4
-// of them (ncu, an H200, fp32, the 10^6-ball pile: 103 us for such a round's resolution, L2 at 20% of its
-// peak). The same bits (tests/gpu/test_cuda_contacts.cpp: narrowed and not). An H200, fp32, CUPTI kernel
-// times: that pile's resolutions 430 ms over the 5 s (343 resolving, 87 clearing the flags) against 707;
-// `corebox bench pile` (two calls of each, alternating) 10^6 balls 38.02 and 38.33 ms a frame against 38.78
+// thread a particle: in a landing's rounds of many events a warp of the particle-wide launch had 4.2
+// threads at work on average (ncu, an H200, fp32, the 10^6-ball pile: 103 us for such a round's
+// resolution, L2 at 20% of its peak). The same bits (tests/gpu/test_cuda_contacts.cpp: narrowed and not). An H200,
+// fp32, CUPTI kernel times: that pile's resolutions 430 ms over the 5 s (343 resolving, 87 clearing the flags) against
+// 707; `corebox bench pile` (two calls of each, alternating) 10^6 balls 38.02 and 38.33 ms a frame against 38.78
 // and 38.89, the landing's frames (60 to 140) 65.4 and 66.0 against 67.9. Not below: at 10^5 balls (the
 // sandbox example) a round's resolution and clearing took 8.1 us against 6.1 for a thread a particle.
 // Cell lists skipped. A round's build (then a radix sort of every particle's cell key, now a counting
@@ -606,7 +606,8 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
                 a.activeIn = m_activeLists.data() + size_t((r + 1) % 2) * size_t(m_n);
                 a.activeInCount = a.counters - 1;
                 gpu::launchResolveListed(a, s);
-            } else {  // the stage's first flags are every particle's (startsActive)
+            } else {  // a thread a particle: the stage's first round (its flags are every particle's:
+                      // startsActive), and every round of a stage that cannot narrow
                 gpu::launchResolve(a, s);
             }
         }
@@ -805,6 +806,7 @@ gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
     const bool listsPartners = gpu::contactCountListsPartners(m_n) && m_partnerScratch.size() >= size_t(m_n) * gpu::kListedPartners;
     a.partnerScratch = listsPartners ? m_partnerScratch.data() : nullptr;
     a.omega = Real(kGaussSeidelOverRelaxation);
+    a.sweepBlocks = m_sweepBlocks;
     return a;
 }
 

@@ -488,6 +488,7 @@ private:
     // The scattered search's offers (searchRound): zero between rounds.
     DeviceBuffer<unsigned long long> m_offeredEvents;
     bool m_scatteredSearch = true;  // CudaBackendOptions::scatteredSearch
+    int m_sweepBlocks = 0;          // CudaBackendOptions::sweepBlocks
     bool m_moversFirst = true;      // CudaBackendOptions::moversFirst
     int m_searchRound = 0;  // the host-driven rounds' count this stage (findEvents)
     // Narrowed impact searches from this many particles (narrowSearch; CudaBackendOptions::narrowedSearchFrom).
