@@ -436,7 +436,8 @@ COREBOX_HD inline void relaxParticle(int64_t i, int count, Partner&& partner, Co
         const int kj = contactsOf(j);
         const Real w = Real(1) / Real(count > kj ? count : kj);
         const Real vn = dot(vi - v[j], n);
-        const Real mu = mi * mj / (mi + mj);
+        const PairMasses<Real> masses = pairMassesOf(mi, mj);
+        const Real mu = masses.mu;
         const Real e = vn < Real(0) ? contactRestitution(count == 1 && kj == 1, vn, bounce.restitution, bounce) : Real(0);
         Real impulse = 0;
         if (e > Real(0)) {
@@ -452,7 +453,7 @@ COREBOX_HD inline void relaxParticle(int64_t i, int count, Partner&& partner, Co
         if (change > residual.speedChange) residual.speedChange = change;
         const Real gap = contactGap(d, dist);
         if (gap > Real(0)) {
-            dx += (w * gap * overlapShare(mj / (mi + mj), n, up)) * n;
+            dx += (w * gap * overlapShare(masses.shareJ, n, up)) * n;
             if (gap / d > residual.overlap) residual.overlap = gap / d;
         }
     }

@@ -601,8 +601,7 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
                 gpu::launchForces(f, s);
             }
             a.gate = a.counters + 1;  // this round's events
-            if (r > 0 &&
-                narrowableStage()) {  // from the list (below), the round before's flags (its list) cleared first
+            if (narrowsSearch(r)) {   // from the list (below), the round before's flags (its list) cleared first
                 a.activeIn = m_activeLists.data() + size_t((r + 1) % 2) * size_t(m_n);
                 a.activeInCount = a.counters - 1;
                 gpu::launchResolveListed(a, s);
