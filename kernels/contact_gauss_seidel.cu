@@ -81,8 +81,14 @@
 // barriers' share, measured: the same sweeps (a row a thread) with the barriers left out (wrong: a row may
 // then read a body a row of the colour before has yet to write; here the pile ended with other bits and
 // overlaps of 0.14% of a diameter) took 3.27 ms a settled listing against 4.46. A schedule that waits per particle
-// instead of per colour (each row once both its particles' rows of lower colours are done) keeps the bits and could
-// take part of that; not tried.
+// instead of per colour keeps the bits; tried and not kept: one grid barrier a checked sweep only, each
+// warp taking 64 rows of a colour (two a lane) once a per-particle count of rows relaxed (read relaxed,
+// then an acquire fence) reached the row's turn there (its colour's rank among the particle's colours,
+// from the colouring's masks), the count passed on after a release fence. The same bits (the pile's
+// energies and sweeps, the spread-colours test with 2 and all blocks), but the settled 10^6-ball pile's
+// listing took 6.33 ms against 4.25 and the pile 45.2 ms a frame against 37.5 (an H200, fp32, separate
+// binaries in one call, CUPTI kernel times): a warp's two fences and its waits a chunk cost more than
+// the barriers they replace.
 //
 // Why not Jacobi: a Jacobi sweep carries support one layer of a pile, a fraction 1 / max(k_i, k_j) of
 // it at a time; Gauss-Seidel in any order that visits each contact once carries it much further, and
@@ -339,13 +345,15 @@ __global__ void colourBoundsKernel(const uint8_t* sortedKeys, int64_t rows, int3
 
 // The own rows packed in colour order (position e of order), what a sweep reads of a row in one
 // coalesced read each: its particle, partner, target and impulse, and the pair virial r . J it gives
-// (summed per particle by the mirror kernel); rowRank[s] = e. The order's other rows are not packed.
+// (summed per particle by pairVirialsKernel); rowRank[s] = e. The order's other rows, after the own
+// rows (colourStart[kMaxContactColours], colourBoundsKernel), are not packed: their threads leave
+// without a read (the own rows are half of a pile's; the settled 10^6-ball pile's packing took 219 us
+// against 277 when every thread read its row's mirror to find out, an H200, fp32).
 template <class Real>
 __global__ void packRowsKernel(ContactArgs<Real> a, int64_t rows) {
     const int64_t e = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (e >= rows) return;
+    if (e >= rows || e >= a.colourStart[kMaxContactColours]) return;
     const int64_t s = a.order[e];
-    if (a.mirror[s] != s) return;
     a.packedParticle[e] = int32_t(a.rowParticle[s]);
     a.packedPartner[e] = int32_t(a.partner[s]);
     a.packedTarget[e] = a.target[s];
@@ -481,20 +489,30 @@ __global__ void __launch_bounds__(kBlock) gaussSeidelListingKernel(ContactArgs<R
     }
 }
 
-// Per particle i: each row takes its pair's impulse from the packed own row (as Jacobi leaves both
-// rows), and the pair virial of i's own rows, summed in row order, joins i's impulse row.
+// Per row: it takes its pair's impulse from the packed own row (as Jacobi leaves both rows). A thread a
+// row, not a particle: a particle's rows one after another were a chain of three dependent reads each,
+// behind the stores of the row before. The settled 10^6-ball pile's listing (an H200, fp32, CUPTI kernel
+// times, the same bits): 71 us here and 66 for the virials (pairVirialsKernel) against 320 for both in one
+// kernel a thread a particle. Tried and not kept, the same for the colouring's prepareRowsKernel (a
+// thread a row, its particle written by the fill): 487 us against 493, and the fill 360 against 267.
 template <class Real>
-__global__ void mirrorImpulsesKernel(ContactArgs<Real> a) {
+__global__ void mirrorImpulsesKernel(ContactArgs<Real> a, int64_t rows) {
+    const int64_t s = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (s >= rows) return;
+    const Real lambda = a.packedLambda[a.rowRank[a.mirror[s]]];
+    a.lambda[s] = lambda;
+    a.applied[s] = lambda;
+}
+
+// Per particle i: the pair virial of i's own rows, summed in row order, joins i's impulse row. Reads
+// only, so a thread's rows are read in flight together.
+template <class Real>
+__global__ void pairVirialsKernel(ContactArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.p.n) return;
     double virial = 0;
     for (int64_t s = a.contactStart[i]; s < a.contactStart[i + 1]; ++s) {
-        const int64_t own = a.mirror[s];
-        const int32_t e = a.rowRank[own];
-        const Real lambda = a.packedLambda[e];
-        a.lambda[s] = lambda;
-        a.applied[s] = lambda;
-        if (own == s && !isWallContact(a.partner[s])) virial += a.packedVirial[e];
+        if (a.mirror[s] == s && !isWallContact(a.partner[s])) virial += a.packedVirial[a.rowRank[s]];
     }
     if (virial != 0) a.impulses[size_t(kPairVirialRow) * size_t(a.p.n) + size_t(i)] += virial;
 }
@@ -642,20 +660,22 @@ bool launchGaussSeidelListing(const ContactArgs<Real>& a, const std::vector<int3
 }
 
 template <class Real>
-void launchMirrorImpulses(const ContactArgs<Real>& a, cudaStream_t stream) {
-    if (a.p.n == 0) return;
-    mirrorImpulsesKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+void launchMirrorImpulses(const ContactArgs<Real>& a, int64_t rows, cudaStream_t stream) {
+    if (a.p.n == 0 || rows == 0) return;
+    mirrorImpulsesKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(a, rows);
     checkLaunch("contact mirror kernel");
+    pairVirialsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
+    checkLaunch("contact pair virial kernel");
 }
 
-#define COREBOX_INSTANTIATE(Real)                                                                                            \
-    template bool launchColourContacts<Real>(const ContactArgs<Real>&, int64_t, void*, size_t, unsigned int*, unsigned long long*, \
-                                             cudaStream_t);                                                              \
-    template void launchGaussSeidelSweeps<Real>(const ContactArgs<Real>&, const std::vector<int32_t>&, int, cudaStream_t);   \
-    template bool launchGaussSeidelListing<Real>(const ContactArgs<Real>&, const std::vector<int32_t>&, const RelaxationPlan&, \
-                                                 unsigned long long*,                                                          \
-                                                 cudaStream_t);                                                            \
-    template void launchMirrorImpulses<Real>(const ContactArgs<Real>&, cudaStream_t);
+#define COREBOX_INSTANTIATE(Real)                                                                             \
+    template bool launchColourContacts<Real>(const ContactArgs<Real>&, int64_t, void*, size_t, unsigned int*, \
+                                             unsigned long long*, cudaStream_t);                              \
+    template void launchGaussSeidelSweeps<Real>(const ContactArgs<Real>&, const std::vector<int32_t>&, int,   \
+                                                cudaStream_t);                                                \
+    template bool launchGaussSeidelListing<Real>(const ContactArgs<Real>&, const std::vector<int32_t>&,       \
+                                                 const RelaxationPlan&, unsigned long long*, cudaStream_t);   \
+    template void launchMirrorImpulses<Real>(const ContactArgs<Real>&, int64_t, cudaStream_t);
 COREBOX_INSTANTIATE(float)
 COREBOX_INSTANTIATE(double)
 #undef COREBOX_INSTANTIATE

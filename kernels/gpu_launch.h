@@ -608,10 +608,11 @@ template <class Real>
 bool launchGaussSeidelListing(const ContactArgs<Real>& args, const std::vector<int32_t>& colourStart, const RelaxationPlan& plan,
                               unsigned long long* words,
                               cudaStream_t stream);
-// Each row takes its pair's impulse from the packed own row (as Jacobi leaves both rows): the rows the
-// next step's warm start and a checkpoint read; the packed pair virials join the impulse rows.
+// Each of the listing's `rows` rows takes its pair's impulse from the packed own row (as Jacobi leaves both
+// rows): the rows the next step's warm start and a checkpoint read; the packed pair virials join the
+// impulse rows.
 template <class Real>
-void launchMirrorImpulses(const ContactArgs<Real>& args, cudaStream_t stream);
+void launchMirrorImpulses(const ContactArgs<Real>& args, int64_t rows, cudaStream_t stream);
 
 // row[i] = -m_i g_i . (x_i - xListed_i): the work against the uniform field of particle i's species
 // (SpeciesTable::field) of its contact moves.
