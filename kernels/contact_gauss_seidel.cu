@@ -217,7 +217,8 @@ __device__ Real prepareRowsOf(const ContactArgs<Real>& a, int64_t i, uint8_t* ca
 // pile (an H200, fp32, kernel times from CUPTI). Here, with the winners' words[0] one atomic a warp:
 // the same colours and bits (the sandbox example's state hash at 10^5 balls unchanged), `corebox bench
 // pile` 10^6 balls 43.4 ms a frame against 44.9 (the last second 34.4 against 36.2), 10^5 10.6 against
-// 10.8.
+// 10.8. Tried and not kept: a thread a row (its particle written by the fill), as the mirror kernel is:
+// the settled 10^6-ball pile's listing took 487 us here against 493, and the fill 360 against 267.
 template <class Real>
 __global__ void prepareRowsKernel(ContactArgs<Real> a, uint8_t* candidate, unsigned long long* used,
                                   unsigned int* words, unsigned long long* deepest) {
@@ -346,9 +347,10 @@ __global__ void colourBoundsKernel(const uint8_t* sortedKeys, int64_t rows, int3
 // The own rows packed in colour order (position e of order), what a sweep reads of a row in one
 // coalesced read each: its particle, partner, target and impulse, and the pair virial r . J it gives
 // (summed per particle by pairVirialsKernel); rowRank[s] = e. The order's other rows, after the own
-// rows (colourStart[kMaxContactColours], colourBoundsKernel), are not packed: their threads leave
-// without a read (the own rows are half of a pile's; the settled 10^6-ball pile's packing took 219 us
-// against 277 when every thread read its row's mirror to find out, an H200, fp32).
+// rows (colourStart[kMaxContactColours], colourBoundsKernel), are not packed (nor, where the colouring
+// failed, its uncoloured own rows: that listing is relaxed with Jacobi sweeps, which read no packed
+// row): their threads leave without a read (the own rows are half of a pile's; the settled 10^6-ball pile's packing
+// took 219 us against 277 when every thread read its row's mirror to find out, an H200, fp32).
 template <class Real>
 __global__ void packRowsKernel(ContactArgs<Real> a, int64_t rows) {
     const int64_t e = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
@@ -493,8 +495,7 @@ __global__ void __launch_bounds__(kBlock) gaussSeidelListingKernel(ContactArgs<R
 // row, not a particle: a particle's rows one after another were a chain of three dependent reads each,
 // behind the stores of the row before. The settled 10^6-ball pile's listing (an H200, fp32, CUPTI kernel
 // times, the same bits): 71 us here and 66 for the virials (pairVirialsKernel) against 320 for both in one
-// kernel a thread a particle. Tried and not kept, the same for the colouring's prepareRowsKernel (a
-// thread a row, its particle written by the fill): 487 us against 493, and the fill 360 against 267.
+// kernel a thread a particle.
 template <class Real>
 __global__ void mirrorImpulsesKernel(ContactArgs<Real> a, int64_t rows) {
     const int64_t s = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
@@ -504,8 +505,8 @@ __global__ void mirrorImpulsesKernel(ContactArgs<Real> a, int64_t rows) {
     a.applied[s] = lambda;
 }
 
-// Per particle i: the pair virial of i's own rows, summed in row order, joins i's impulse row. Reads
-// only, so a thread's rows are read in flight together.
+// Per particle i: the pair virial of i's own rows, summed in row order, joins i's impulse row. The loop
+// only reads, so a thread's rows are read in flight together.
 template <class Real>
 __global__ void pairVirialsKernel(ContactArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;

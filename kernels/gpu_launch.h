@@ -514,8 +514,9 @@ struct ContactArgs {
     int64_t* order;        // own rows by colour, then the other rows
     int32_t* colourStart;  // kMaxContactColours + 1: colour c's rows are order[colourStart[c] .. colourStart[c + 1])
     // The own rows packed at their place e in order (what the sweeps read and write), and each own
-    // row's place: rowRank[s] = e. The sweeps keep a row's impulse and its pair virial r . J here; the
-    // mirror kernel hands them back to the rows.
+    // row's place: rowRank[s] = e (of a coloured listing: where the colouring fails, nothing packed is
+    // read). The sweeps keep a row's impulse and its pair virial r . J here; the mirror kernels hand the
+    // impulses back to the rows and add the virials to the impulse rows.
     int32_t* packedParticle;
     int32_t* packedPartner;
     Real* packedTarget;
