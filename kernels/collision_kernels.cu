@@ -41,6 +41,15 @@ __device__ bool narrowed(const CollisionArgs<Real>& a) {
     return int64_t(*a.activeInCount) * kNarrowedActiveShare < a.p.n;
 }
 
+// Whether the round before's list of active particles (CollisionArgs::activeIn) is short enough for the
+// listed scattered search (scatterListedEventsKernel) instead of a thread a particle.
+template <class Real>
+__device__ inline bool listedScatter(const CollisionArgs<Real>& a) {
+    if (!a.activeIn || a.listedScatterMax <= 0) return false;
+    const int64_t count = int64_t(*a.activeInCount);
+    return count <= a.listedScatterMax && count * kListedScatterShare <= a.p.n;
+}
+
 // Particle i's earliest event of the round: kept, counted, listed for the next round, and listed for an
 // end-of-step acceleration where it has none yet.
 template <class Real>
@@ -62,7 +71,7 @@ __global__ void findEventsKernel(CollisionArgs<Real> a) {
     const int64_t t = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     const int64_t k = t / G;
     const int rank = int(t % G);
-    if (k >= a.p.n || (a.gate && *a.gate == 0u)) return;  // the whole group
+    if (k >= a.p.n || (a.gate && *a.gate == 0u) || listedScatter(a)) return;  // the whole group
     // Threads take particles in the cell list's order: a warp's 27-cell walks overlap, so its loads of
     // the partners hit the caches (in index order, 10^7 particles took 14 ms per search on an H200).
     const int64_t i = a.grid.sorted[k];
@@ -137,7 +146,7 @@ __device__ inline CollisionEvent unpackedEvent(unsigned long long word) {
 // phi = 0.45 fluid at 10^6 641 steps/s against 664 (an H200, fp32, separate binaries in one call).
 __global__ void scatterEventsKernel(CollisionArgs<float> a, unsigned long long* offered) {
     const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (k >= a.p.n || (a.gate && *a.gate == 0u)) return;
+    if (k >= a.p.n || (a.gate && *a.gate == 0u) || listedScatter(a)) return;
     const int64_t i = a.grid.sorted[k];
     if (!a.active[i]) return;
     const Vec3<float> xi = a.p.x[i], vi = a.p.v[i];
@@ -153,6 +162,51 @@ __global__ void scatterEventsKernel(CollisionArgs<float> a, unsigned long long* 
     });
     considerWalls(xi, vi, ri, a.box, a.window, best);
     recordEvent(a, i, best);
+}
+
+// The scattered search from the round before's list of active particles, kListedScatterLanes lanes a
+// particle (neighbour_walk.cuh: the cells' bounds loaded at once, the candidates shared out): a sparse
+// round's active particles are one to a warp of scatterEventsKernel, whose round then lasts one thread's
+// walk, 27 cells and their candidates one dependent load after another. The same events and offers (the
+// earliest by a total order, offers by atomicMax), so the same bits. A grid that fits at once strides the
+// list (its length is on the device). An H200, fp32, separate runs in one call, with and without: the
+// sandbox example at 10^5 balls (whose rounds every particle searches: launchSparseOrFullSearch) 3.69
+// and 3.72 ms a frame in its impacts against 3.86 and 3.79, the same state hash; `corebox bench pile`
+// 10^6 balls 36.65 and 36.76 ms a frame against 36.84 and 36.74 (its landing's scattered searches 645 ms
+// against 683 over the 5 s, CUPTI: most of its rounds have more active particles than the list takes).
+// Lists of up to 131,072 particles: 37.96, slower (a warp a particle is too many warps for them).
+template <int G>
+__global__ void scatterListedEventsKernel(CollisionArgs<float> a, unsigned long long* offered) {
+    if ((a.gate && *a.gate == 0u) || !listedScatter(a)) return;
+    const int64_t count = int64_t(*a.activeInCount);
+    const int64_t t = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    const int64_t groups = int64_t(gridDim.x) * blockDim.x / G;
+    const int rank = int(t % G);
+    const unsigned mask = groupMask<G>();
+    for (int64_t k = t / G; k < count; k += groups) {  // the group's lanes alike
+        const int64_t i = a.activeIn[k];
+        const Vec3<float> xi = a.p.x[i], vi = a.p.v[i];
+        const float ri = a.table.radius[a.p.species[i]];
+        CollisionEvent best = noEvent();
+        forEachNeighbourShared<G>(a.grid, xi, ri, rank, [&](int64_t j) {
+            if (j == i) return;
+            const float s = pairImpactRewind(xi, vi, ri, a.p.x[j], a.p.v[j], a.table.radius[a.p.species[j]], a.window);
+            if (!(s >= 0.0f)) return;
+            const CollisionEvent e{double(s), j};
+            if (isBetter(e, best)) best = e;
+            if (!a.active[j]) atomicMax(&offered[j], packedEvent(s, i));
+        });
+        for (int offset = G / 2; offset > 0; offset /= 2) {
+            const CollisionEvent other{__shfl_xor_sync(mask, best.key, offset),
+                                       int64_t(__shfl_xor_sync(mask, (long long)best.partner, offset))};
+            if (isBetter(other, best)) best = other;
+        }
+        if (rank == 0) {
+            considerWalls(xi, vi, ri, a.box, a.window, best);
+            recordEvent(a, i, best);
+        }
+        __syncwarp(mask);
+    }
 }
 
 // The inactive particles' offered events (an inactive particle has no wall event: it did not move since
@@ -353,8 +407,29 @@ void launchFindEvents(const CollisionArgs<Real>& a, cudaStream_t stream) {
 
 bool searchWalksAlone(int64_t n) { return searchGroupFor(n) == 1; }
 
+namespace {
+void launchListedScatter(const CollisionArgs<float>& a, unsigned long long* offered, cudaStream_t stream) {
+    if (!a.activeIn || a.listedScatterMax <= 0) return;
+    static const int resident = residentBlocks(scatterListedEventsKernel<kListedScatterLanes>);
+    const int64_t groups = std::min<int64_t>(a.listedScatterMax, a.p.n / kListedScatterShare);
+    const int64_t blocks = std::min<int64_t>(resident, blocksFor(groups * kListedScatterLanes));
+    if (blocks < 1) return;
+    scatterListedEventsKernel<kListedScatterLanes><<<blocks, kBlock, 0, stream>>>(a, offered);
+    checkLaunch("listed scattered event kernel");
+}
+}  // namespace
+
+void launchSparseOrFullSearch(const CollisionArgs<float>& a, unsigned long long* offered, cudaStream_t stream) {
+    if (a.p.n == 0) return;
+    launchListedScatter(a, offered, stream);
+    launchFindEvents(a, stream);
+    collectOfferedEventsKernel<<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, offered);
+    checkLaunch("offered event kernel");
+}
+
 void launchScatteredSearch(const CollisionArgs<float>& a, unsigned long long* offered, cudaStream_t stream) {
     if (a.p.n == 0) return;
+    launchListedScatter(a, offered, stream);
     scatterEventsKernel<<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, offered);
     checkLaunch("scattered event kernel");
     collectOfferedEventsKernel<<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, offered);

@@ -3,6 +3,7 @@
 
 #include <cuda_runtime.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 
@@ -48,6 +49,15 @@ int cooperativeResidentBlocks(Kernel kernel) {
     if (!supported) return 0;
     cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks, kernel, kBlock, 0);
     return blocks * multiprocessorCount();
+}
+
+// Blocks of kBlock threads of `kernel` resident at once on the current device (at least one): a grid that
+// fits at once and strides its work.
+template <class Kernel>
+int residentBlocks(Kernel kernel) {
+    int blocks = 0;
+    cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks, kernel, kBlock, 0);
+    return std::max(blocks, 1) * multiprocessorCount();
 }
 
 // atomicAdd(counter, 1) for each calling thread, one atomic a warp: the threads that call together

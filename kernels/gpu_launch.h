@@ -340,9 +340,15 @@ void launchBuildCellList(const CellListArgs<Real>& args, cudaStream_t stream);
 constexpr int32_t kCountedCellMost = 32;
 template <class Real>
 void launchCountedCellList(const CellListArgs<Real>& args, cudaGraphConditionalHandle crowded, cudaStream_t stream);
-// The gate of a build that runs only where a particle changed cell since the last (DeviceCellList::
-// rebuildIfMoved): sets the graph's IF condition `handle` to *moved != 0 and clears *moved. One thread.
-void launchCellListGate(cudaGraphConditionalHandle handle, unsigned int* moved, cudaStream_t stream);
+// The counted build, in one cooperative launch of cellListIfMovedBlocks blocks, where *moved != 0 (which
+// it clears), else nothing (DeviceCellList::rebuildIfMoved); the same arrays, a crowded cell included.
+// blockTotals: scratch of cellListIfMovedBlocks words. 0 blocks: no cooperative launch on this device.
+// Above cellListBuildIsOneLaunch only.
+template <class Real>
+int cellListIfMovedBlocks();
+template <class Real>
+void launchCellListIfMoved(const CellListArgs<Real>& args, unsigned int* moved, int32_t* blockTotals,
+                           cudaStream_t stream);
 
 // ---- collisions (collision_kernels.cu) ----
 // One impact of the contact log (backend.h ContactRecord, before the host converts it): the particle
@@ -392,6 +398,10 @@ struct CollisionArgs {
     unsigned char* walker;
     const int32_t* activeIn;
     const unsigned int* activeInCount;
+    // The scattered search (launchScatteredSearch) of a round whose activeIn holds at most this many
+    // particles (and at most one in kListedScatterShare) walks from that list, kListedScatterLanes lanes a
+    // particle; 0: never.
+    int64_t listedScatterMax;
     // When set, the resolution sets *cellsMoved = 1 where a particle it moves leaves the cell key
     // cellKeys[i] the last build of `grid` gave it (with cellSplit, the build's split): a round after
     // one that moved nobody out of a cell skips its build (CudaDevice::runImpactRounds).
@@ -433,6 +443,13 @@ void launchFindEvents(const CollisionArgs<Real>& args, cudaStream_t stream);
 // event through offered[] (n words, zero, and left zero); then the offered events are kept, counted and
 // listed as the search lists its own. The inactive particles walk no cells (collision_kernels.cu).
 void launchScatteredSearch(const CollisionArgs<float>& args, unsigned long long* offered, cudaStream_t stream);
+// A round of n particles as launchFindEvents finds it, every particle searching, but where the round
+// before's list (activeIn) is short (CollisionArgs::listedScatterMax), scattered from that list as
+// launchScatteredSearch scatters it: for systems whose rounds are searched by every particle.
+void launchSparseOrFullSearch(const CollisionArgs<float>& args, unsigned long long* offered, cudaStream_t stream);
+constexpr int kListedScatterLanes = 32;
+constexpr int64_t kListedScatterShare = 8;
+constexpr int64_t kListedScatterMax = 32768;
 // Whether launchFindEvents walks a thread a particle at n particles (neighbour_walk.cuh: searchGroupFor),
 // as the scattered search always does: where it gives a particle several lanes, its particles are few.
 bool searchWalksAlone(int64_t n);

@@ -8,6 +8,7 @@
 //   KERNEL_TIMES_OUT        the CSV (default kernel_times.csv)
 //   KERNEL_TIMES_WINDOW_MS  the window (default 250 ms); a pile's landing and its settled seconds apart
 //   KERNEL_TIMES_API        also the runtime API calls, named "API:<call>"
+//   KERNEL_TIMES_GAPS       also a CSV of the GPU's idle stretches, by the activities around them (writeGaps)
 // scripts/kernel-times builds it and runs a command under it; scripts/summarise_kernel_times.py sums the
 // windows and demangles the names. CUPTI costs a little a launch: time the program without it.
 #include <cupti.h>
@@ -18,6 +19,7 @@
 #include <map>
 #include <mutex>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -73,6 +75,37 @@ void CUPTIAPI bufferCompleted(CUcontext, uint32_t, uint8_t* buffer, size_t, size
     std::free(buffer);
 }
 
+// KERNEL_TIMES_GAPS: where the GPU waits. Each stretch with nothing running on the GPU, per window, by the
+// activity that ran last before it and the one that ends it (CSV window,before,after,count,ns); the
+// waits for the host (its syncs, its launches) show as the pairs of kernels they sit between.
+void writeGaps(uint64_t t0, uint64_t windowNs) {
+    const char* out = std::getenv("KERNEL_TIMES_GAPS");
+    if (!out) return;
+    std::map<std::tuple<uint64_t, std::string, std::string>, std::pair<uint64_t, uint64_t>> gaps;
+    uint64_t coveredTo = 0;
+    const std::string* last = nullptr;
+    for (const Activity& a : g_activities) {
+        if (a.onHost) continue;
+        if (last && a.start > coveredTo) {
+            auto& g = gaps[{(coveredTo - t0) / windowNs, *last, a.name}];
+            g.first += 1;
+            g.second += a.start - coveredTo;
+        }
+        if (a.end >= coveredTo) {
+            coveredTo = a.end;
+            last = &a.name;
+        }
+    }
+    FILE* f = std::fopen(out, "w");
+    if (!f) return;
+    std::fprintf(f, "window,before,after,count,ns\n");
+    for (const auto& [key, g] : gaps)
+        std::fprintf(f, "%llu,\"%s\",\"%s\",%llu,%llu\n", (unsigned long long)std::get<0>(key),
+                     std::get<1>(key).c_str(), std::get<2>(key).c_str(), (unsigned long long)g.first,
+                     (unsigned long long)g.second);
+    std::fclose(f);
+}
+
 void writeTimes() {
     cuptiActivityFlushAll(1);
     std::lock_guard<std::mutex> lock(g_mutex);
@@ -109,6 +142,7 @@ void writeTimes() {
     for (const auto& [w, ns] : busy)
         std::fprintf(f, "%llu,\"BUSY\",0,%llu\n", (unsigned long long)w, (unsigned long long)ns);
     std::fclose(f);
+    writeGaps(t0, windowNs);
 }
 
 }  // namespace

@@ -71,6 +71,7 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
     if (options.narrowedSearchFrom >= 0) m_narrowedSearchFrom = options.narrowedSearchFrom;
     m_skipUnmovedCellBuilds = options.skipUnmovedCellBuilds;
     m_scatteredSearch = options.scatteredSearch;
+    if (options.listedScatterMax >= 0) m_listedScatterMax = options.listedScatterMax;
     m_sweepBlocks = options.sweepBlocks;
     m_moversFirst = options.moversFirst;
     const bool peerAccess = peerAccessProblem(devicesOf(options), options.peerAccessDenied).empty();

@@ -52,6 +52,12 @@ struct CudaBackendOptions {
     // offer their inactive neighbours the pairs' events (cuda_collisions.cpp: searchRound); false:
     // narrowed searches (the same bits, for comparison and tests).
     bool scatteredSearch = true;
+    // A scattered round (scatteredSearch) whose last round left at most this many active particles (and at
+    // most one in gpu::kListedScatterShare) is searched from their list, a warp a particle; where every
+    // particle searches the rounds (below narrowedSearchFrom, fp32, more than 32,768 particles), such a
+    // round is scattered that way too (cuda_collisions.cpp: searchRound). -1: the default, 0: never (the
+    // same bits, for comparison and tests).
+    int64_t listedScatterMax = -1;
     // A stage's first impact round searches from the particles fast enough for an impact
     // (collision_resolution.h: startsActive), scattered where the later rounds are; false: every
     // particle searches (the same bits, for comparison and tests).

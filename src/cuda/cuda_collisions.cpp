@@ -74,6 +74,7 @@ gpu::CollisionArgs<Real> CudaDevice<Real>::collisionArgs() {
     a.walker = nullptr;
     a.activeIn = nullptr;
     a.activeInCount = nullptr;
+    a.listedScatterMax = 0;
     a.cellKeys = nullptr;
     a.cellsMoved = nullptr;
     return a;
@@ -140,12 +141,36 @@ bool CudaDevice<Real>::scattersSearch(int round) const {
            m_n < INT32_MAX;
 }
 
+// Whether a stage whose rounds every particle searches (not narrowableStage) scatters its sparse ones
+// from the round before's list (gpu::launchSparseOrFullSearch): fp32, pairs to find, and particles
+// enough that a thread walks each alone.
+template <class Real>
+bool CudaDevice<Real>::scattersSparseRounds() const {
+    return std::is_same<Real, float>::value && m_scatteredSearch && m_listedScatterMax > 0 && !m_pairsClear &&
+           !narrowableStage() && gpu::searchWalksAlone(m_n) && m_n < INT32_MAX;
+}
+
 template <class Real>
 void CudaDevice<Real>::searchRound(gpu::CollisionArgs<Real>& a, int round, const unsigned int* lastCount,
                                    cudaStream_t s) {
     if constexpr (std::is_same<Real, float>::value) {
         if (scattersSearch(round)) {
+            const size_t n = size_t(m_n);
+            a.activeOut = m_activeLists.data() + size_t(round % 2) * n;
+            if (round > 0 && lastCount) {  // the round before listed its particles with events (activeOut)
+                a.activeIn = m_activeLists.data() + size_t((round + 1) % 2) * n;
+                a.activeInCount = lastCount;
+                a.listedScatterMax = m_listedScatterMax;
+            }
             gpu::launchScatteredSearch(a, m_offeredEvents.data(), s);
+            return;
+        }
+        if (round > 0 && lastCount && scattersSparseRounds()) {
+            a.activeOut = m_activeLists.data() + size_t(round % 2) * size_t(m_n);
+            a.activeIn = m_activeLists.data() + size_t((round + 1) % 2) * size_t(m_n);
+            a.activeInCount = lastCount;
+            a.listedScatterMax = m_listedScatterMax;
+            gpu::launchSparseOrFullSearch(a, m_offeredEvents.data(), s);
             return;
         }
     }
@@ -249,7 +274,8 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
         m_walker.resize(n);
         cudaCheck(cudaMemsetAsync(m_walker.data(), 0, n, stream()), "memset");
     }
-    if (scattersSearch(1) && m_offeredEvents.size() != n) {  // a new count of particles: no offers yet
+    if ((scattersSearch(1) || scattersSparseRounds()) &&
+        m_offeredEvents.size() != n) {  // a new count of particles: no offers yet
         m_offeredEvents.resize(n);
         cudaCheck(cudaMemsetAsync(m_offeredEvents.data(), 0, n * sizeof(unsigned long long), stream()), "memset");
     }
@@ -443,7 +469,7 @@ int64_t CudaDevice<Real>::findEvents(EventScope scope) {
         m_searchRound = 0;  // every particle searches
     }
     // The round before's count moves from counters[1], which this search counts into, to counters[3].
-    if (narrowsSearch(m_searchRound))
+    if (narrowsSearch(m_searchRound) || (m_searchRound > 0 && scattersSparseRounds()))
         cudaCheck(cudaMemcpyAsync(m_counters.data() + 3, m_counters.data() + 1, sizeof(unsigned int),
                                   cudaMemcpyDeviceToDevice, s),
                   "event count");

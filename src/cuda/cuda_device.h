@@ -219,6 +219,7 @@ private:
     bool narrowableStage() const;
     void narrowSearch(gpu::CollisionArgs<Real>& a, int round, const unsigned int* lastCount, cudaStream_t s);
     bool scattersSearch(int round) const;
+    bool scattersSparseRounds() const;
     void searchRound(gpu::CollisionArgs<Real>& a, int round, const unsigned int* lastCount, cudaStream_t s);
     void beginWarmStart();  // beginCollisions: the last listing's rows become the warm start
     void swapListingIntoWarmRows();  // the last listing's rows into m_warm*, for the next listing's fill
@@ -488,6 +489,7 @@ private:
     // The scattered search's offers (searchRound): zero between rounds.
     DeviceBuffer<unsigned long long> m_offeredEvents;
     bool m_scatteredSearch = true;  // CudaBackendOptions::scatteredSearch
+    int64_t m_listedScatterMax = gpu::kListedScatterMax;  // CudaBackendOptions::listedScatterMax
     int m_sweepBlocks = 0;          // CudaBackendOptions::sweepBlocks
     bool m_moversFirst = true;      // CudaBackendOptions::moversFirst
     int m_searchRound = 0;  // the host-driven rounds' count this stage (findEvents)

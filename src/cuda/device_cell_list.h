@@ -39,43 +39,30 @@ public:
         return a.view();
     }
     // The same build, skipped on the device where *moved is 0 when the stream reaches it, and *moved
-    // cleared by that gate. The caller's promise: since the last build into this list, positions changed
-    // only where a kernel set *moved on seeing a particle leave the cell keys() gives it. A skipped build
+    // cleared there. The caller's promise: since the last build into this list, positions changed only
+    // where a kernel set *moved on seeing a particle leave the cell keys() gives it. A skipped build
     // leaves the arrays a build would make: they depend on the keys alone (ascending key, then index).
-    // Where the last build had other arguments, or wrote no keys (keys() null), or conditional graphs are
-    // refused, a plain build, which leaves *moved as it was (a stale 1 costs one build more, never a
-    // wrong list).
+    // The gate and the build are one cooperative launch (gpu::launchCellListIfMoved), whose skip costs
+    // a launch. Where the last build had other arguments, or wrote no keys (keys() null), or the device
+    // has no cooperative launch, a plain build, which leaves *moved as it was (a stale 1 costs one build
+    // more, never a wrong list).
+    // Before, the gate was a graph's IF node around the counted build: an H200, fp32, CUPTI (the 10^6-ball
+    // pile, 5 s, 24,347 gated rounds, 15,302 of them building) saw the GPU wait 22 us between the gate and
+    // the body's first node of each build, 6 to 7 us at each graph's entry and at the crowded build's
+    // nested IF: 560 ms of the 1.24 s the GPU stood idle. One launch: the same arrays and bits (the pile's
+    // energies, the sandbox example's state hash); the GPU idle 0.70 s; `corebox bench pile` (separate
+    // runs alternating in one call) 10^6 balls 36.11 ms a frame against 37.74 and 38.43, 10^5 9.00 against
+    // 10.27, 10^4 5.00 against 5.52; the sandbox example at 10^5 balls 12.6 against 12.6 and 12.7.
     CellListView rebuildIfMoved(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry,
                                 const CellSplit<Real>& split, double gridRadius, unsigned int* moved,
                                 cudaStream_t stream) {
         const gpu::CellListArgs<Real> a = argsFor(x, n, geometry, split, gridRadius);
-        if (!(m_keysValid && sameBuild(a, m_last)) || stream == nullptr || m_gatedOff) {
+        if (!(m_keysValid && sameBuild(a, m_last)) || !gatesOnDevice(a)) {
             launch(a, stream);
             return a.view();
         }
-        Graph* graph = nullptr;
-        for (Graph& g : m_gated)
-            if (g.exec && g.stream == stream && g.moved == moved && sameBuild(a, g.args)) graph = &g;
-        if (!graph) {
-            graph = leastRecentlyUsed(m_gated);
-            forget(*graph);
-            makeHelpers();
-            graph->exec = captureGraph(stream, [&] {
-                enqueueIf(
-                    stream, helper(0),
-                    [&](cudaGraphConditionalHandle handle) { gpu::launchCellListGate(handle, moved, stream); },
-                    [&](cudaStream_t body) { enqueueBuild(a, body, 1); });
-            });
-            if (!graph->exec) {  // refused: plain builds from now on
-                m_gatedOff = true;
-                launch(a, stream);
-                return a.view();
-            }
-            graph->args = a;
-            graph->stream = stream;
-            graph->moved = moved;
-        }
-        run(*graph, stream);
+        m_blockTotals.resize(size_t(gpu::cellListIfMovedBlocks<Real>()));
+        gpu::launchCellListIfMoved(a, moved, m_blockTotals.data(), stream);
         return a.view();
     }
     // Each particle's cell key at the last build (device memory, n), where that build wrote them (the
@@ -86,6 +73,13 @@ public:
     bool buildsByCounting() const { return !m_countedOff && !m_graphsOff; }
 
 private:
+    // Whether rebuildIfMoved's build can gate itself (gpu::launchCellListIfMoved): a counted build of
+    // several blocks on a device with cooperative launches.
+    static bool gatesOnDevice(const gpu::CellListArgs<Real>& a) {
+        return !gpu::cellListBuildIsOneLaunch(a.n) && int64_t(a.geometry.cellCount()) <= maxCellCount(a.n) &&
+               gpu::cellListIfMovedBlocks<Real>() > 0;
+    }
+
     gpu::CellListArgs<Real> argsFor(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry,
                                     const CellSplit<Real>& split, double gridRadius) {
         m_keys.resize(size_t(n));
@@ -133,14 +127,12 @@ public:
         swap(a.m_scratchBytes, b.m_scratchBytes);
         swap(a.m_graphs, b.m_graphs);
         swap(a.m_graphsOff, b.m_graphsOff);
-        swap(a.m_gated, b.m_gated);
-        swap(a.m_gatedOff, b.m_gatedOff);
         swap(a.m_last, b.m_last);
         swap(a.m_keysValid, b.m_keysValid);
         swap(a.m_counts, b.m_counts);
         swap(a.m_crowded, b.m_crowded);
         swap(a.m_countedOff, b.m_countedOff);
-        swap(a.m_helpers, b.m_helpers);
+        swap(a.m_helper, b.m_helper);
     }
 
 private:
@@ -151,13 +143,10 @@ private:
     // positions' buffer, count, geometry or split is another graph. A few are kept (the impact search's
     // grid and the contact listing's, a little wider, alternate within a step), the least recently
     // used replaced. Not on the legacy default stream (no capture there) nor for builds of one launch.
-    // The builds rebuildIfMoved gates (a conditional graph each, the same arguments and the flag) are kept
-    // apart from these.
     struct Graph {
         gpu::CellListArgs<Real> args{};
         cudaStream_t stream = nullptr;
         cudaGraphExec_t exec = nullptr;
-        unsigned int* moved = nullptr;  // the gate's flag
         uint64_t used = 0;  // when last launched (m_launches)
     };
     static constexpr size_t kGraphs = 4;
@@ -188,11 +177,11 @@ private:
         if (!graph) {
             graph = leastRecentlyUsed(m_graphs);
             forget(*graph);
-            makeHelpers();
-            graph->exec = captureGraph(stream, [&] { enqueueBuild(a, stream, 0); });
+            makeHelper();
+            graph->exec = captureGraph(stream, [&] { enqueueBuild(a, stream); });
             if (!graph->exec && !m_countedOff) {  // no conditional nodes: the radix builds alone
                 m_countedOff = true;
-                graph->exec = captureGraph(stream, [&] { enqueueBuild(a, stream, 0); });
+                graph->exec = captureGraph(stream, [&] { enqueueBuild(a, stream); });
             }
             if (!graph->exec) {  // nothing was launched: plain launches from now on
                 m_graphsOff = true;
@@ -206,8 +195,8 @@ private:
     }
 
     // A build as a graph captures it: the counting sort with the radix build as its fallback where a cell
-    // is crowded (gpu::launchCountedCellList), `depth` the nesting of IF nodes around it (its helper
-    // stream); the radix build alone where conditional nodes were refused.
+    // is crowded (gpu::launchCountedCellList, the IF node's body captured on the helper stream); the
+    // radix build alone where conditional nodes were refused.
     // Why counting: a radix build is a keys pass, CUB's histogram and three passes over (key, index) of
     // every particle, and a binary search a cell; the counting build one pass of atomics, a scan of the
     // counts, a placing pass and a short insertion sort a cell. The same arrays; an H200 (fp32, the same
@@ -215,7 +204,7 @@ private:
     // 14.5, its impact rounds 3.4 and 3.7 against 4.2 and 4.1, the slowest frame 50 and 49 against 55 and
     // 56; `corebox bench pile` 10^5 balls 11.2 and 10.8 against 11.7 and 11.9, 10^6 47.2 and 47.0 against
     // 47.4 and 47.5, 10^4 within noise (5.8, 5.6 against 5.5, 5.7).
-    void enqueueBuild(const gpu::CellListArgs<Real>& a, cudaStream_t stream, int depth) {
+    void enqueueBuild(const gpu::CellListArgs<Real>& a, cudaStream_t stream) {
         // The scan's scratch holds maxCellCount(n) + 1 counts (gpu::cellListScratchBytes), which every
         // geometry of cellGeometry respects; one made otherwise sorts by radix.
         if (m_countedOff || int64_t(a.geometry.cellCount()) > maxCellCount(a.n)) {
@@ -223,21 +212,19 @@ private:
             return;
         }
         enqueueIf(
-            stream, helper(depth),
+            stream, m_helper,
             [&](cudaGraphConditionalHandle crowded) { gpu::launchCountedCellList(a, crowded, stream); },
             [&](cudaStream_t body) { gpu::launchBuildCellList(a, body); });
     }
 
-    // The idle streams that capture the bodies of IF nodes, by nesting, made on the current device (the
-    // stream's: the caller's) before a capture begins, since a capturing stream's device cannot be asked.
-    void makeHelpers() {
-        for (cudaStream_t& h : m_helpers)
-            if (!h && cudaStreamCreateWithFlags(&h, cudaStreamNonBlocking) != cudaSuccess) {
-                h = nullptr;
-                throw DeviceError("cell list helper stream: create");
-            }
+    // The idle stream that captures the body of the IF node, made on the current device (the stream's:
+    // the caller's) before a capture begins, since a capturing stream's device cannot be asked.
+    void makeHelper() {
+        if (!m_helper && cudaStreamCreateWithFlags(&m_helper, cudaStreamNonBlocking) != cudaSuccess) {
+            m_helper = nullptr;
+            throw DeviceError("cell list helper stream: create");
+        }
     }
-    cudaStream_t helper(int depth) const { return m_helpers.at(size_t(depth)); }
 
     static bool sameBuild(const gpu::CellListArgs<Real>& a, const gpu::CellListArgs<Real>& b) {
         return sameGeometry(a.geometry, b.geometry) && a.x == b.x && a.n == b.n && a.cellStart == b.cellStart &&
@@ -253,11 +240,8 @@ private:
     }
     void forgetGraphs() {
         for (Graph& g : m_graphs) forget(g);
-        for (Graph& g : m_gated) forget(g);
-        for (cudaStream_t& h : m_helpers) {
-            if (h) cudaStreamDestroy(h);
-            h = nullptr;
-        }
+        if (m_helper) cudaStreamDestroy(m_helper);
+        m_helper = nullptr;
     }
 
     DeviceBuffer<int32_t> m_cellStart, m_sorted, m_indices;
@@ -265,13 +249,13 @@ private:
     DeviceBuffer<unsigned char> m_scratch;
     int64_t m_scratchFor = -1;
     size_t m_scratchBytes = 0;
-    std::array<Graph, kGraphs> m_graphs{}, m_gated{};
+    std::array<Graph, kGraphs> m_graphs{};
     uint64_t m_launches = 0;
-    bool m_graphsOff = false, m_gatedOff = false;
-    DeviceBuffer<int32_t> m_counts;
+    bool m_graphsOff = false;
+    DeviceBuffer<int32_t> m_counts, m_blockTotals;
     DeviceBuffer<unsigned int> m_crowded;
     bool m_countedOff = false;                // conditional nodes refused: radix builds in the graphs
-    std::array<cudaStream_t, 2> m_helpers{};  // enqueueIf's helpers, by nesting
+    cudaStream_t m_helper = nullptr;          // enqueueIf's helper
     gpu::CellListArgs<Real> m_last{};  // the last build's arguments (launch)
     bool m_keysValid = false;          // m_keys holds the last build's keys
 };

@@ -282,6 +282,50 @@ TEST(CudaCellList, CountedGraphBuildsFallBackToTheRadixSortWhereACellIsCrowded) 
     expectCrowdedSameAsHost<double>(stream);
 }
 
+// rebuildIfMoved's build (one cooperative launch, gpu::launchCellListIfMoved) sorts a crowded cell itself:
+// from an uncrowded build, the particles moved into the crowded cases above and flagged, each against the
+// host's arrays, in fp32 and fp64.
+template <class Real>
+void expectCrowdedRebuildSameAsHost(cudaStream_t stream) {
+    const Vec3<double> box{20, 16, 18};
+    const int64_t n = 9000;
+    const int most = int(gpu::kCountedCellMost);
+    const CellGeometry g = cellGeometry(box, n, 1.0);
+    const Vec3<Real> point{Real(5.5), Real(5.5), Real(5.5)};
+    const int pointKey = cellKeyOf(g, point);
+    for (const auto& [crowd, what] : {std::pair<int, const char*>{most, "a cell at the counted sort's most"},
+                                      {most + 1, "one more"},
+                                      {int(n), "every particle in one cell"}}) {
+        SCOPED_TRACE(what);
+        const std::vector<Vec3<Real>> start = randomPositions<Real>(n, box, 31);
+        std::vector<Vec3<Real>> x = start;
+        for (Vec3<Real>& p : x)
+            if (cellKeyOf(g, p) == pointKey) p = Vec3<Real>{Real(15.5), Real(12.5), Real(0.5)};
+        for (int k = 0; k < crowd; ++k) x[size_t(k * (n / crowd))] = point;
+        const std::vector<int32_t> species(size_t(n), 0);
+        const std::vector<Real> radius{Real(0.5)};
+        DeviceParticles<Real> d(start, species, radius);
+        DeviceBuffer<unsigned int> moved;
+        const unsigned int one = 1;
+        moved.upload(&one, 1);
+        DeviceCellList<Real> cells;
+        cells.build(d.x.data(), n, g, CellSplit<Real>{}, 0.5, stream);
+        d.x.upload(x.data(), x.size());
+        const CellListView view = cells.rebuildIfMoved(d.x.data(), n, g, CellSplit<Real>{}, 0.5, moved.data(), stream);
+        cudaCheck(cudaStreamSynchronize(stream), "rebuild");
+        CellList host;
+        host.build(x.data(), n, g, CellSplit<Real>{}, 0.5);
+        expectViewEquals(view, host, n);
+    }
+}
+
+TEST(CudaCellList, RebuildIfMovedSortsACrowdedCellAsTheHost) {
+    COREBOX_REQUIRE_GPU();
+    const TestStream owned;
+    expectCrowdedRebuildSameAsHost<float>(owned.stream);
+    expectCrowdedRebuildSameAsHost<double>(owned.stream);
+}
+
 // rebuildIfMoved (the impact rounds' builds after the first): with the flag clear the build is skipped,
 // the arrays left as they were (here poisoned, to see it), and with it set the build runs and gives the
 // host's arrays at the new positions; either way the flag is cleared. Other arguments than the last

@@ -422,33 +422,45 @@ TEST(CudaContacts, ScatteredSearchesGiveTheBitsOfSearchesByEveryParticle) {
     // In fp32, a round after a stage's first that would be narrowed is searched by the last round's
     // active particles alone, which offer their inactive neighbours the pairs' events (cuda_collisions.cpp:
     // searchRound), where the search walks a thread a particle (more than 32,768 particles); here from
-    // any count. Against every particle searching, with the rounds queued in batches and one at a time,
-    // and with the contact log on: the same state, impacts, rounds, dissipation and log. (fp64 keeps the
-    // narrowed search: SearchesNarrowedToTheActiveParticlesGiveTheBitsOfFullOnes.)
+    // any count. A round whose last round left few active particles is scattered from their list, a warp
+    // a particle (CudaBackendOptions::listedScatterMax), and where every particle searches the rounds (not
+    // narrowed), such rounds are scattered that way too. Each against every particle searching, with the
+    // rounds queued in batches and one at a time, and with the contact log on: the same state, impacts,
+    // rounds, dissipation and log. (fp64 keeps the narrowed search:
+    // SearchesNarrowedToTheActiveParticlesGiveTheBitsOfFullOnes.)
     COREBOX_REQUIRE_GPU();
-    auto run = [](const Scene& scene, bool scattered, bool fused, bool log) {
+    enum class Search { Everyone, Scattered, ScatteredUnlisted, SparseListed };
+    auto run = [](const Scene& scene, Search search, bool fused, bool log) {
         CudaBackendOptions options;
         options.precision = scene.integrator.precision;
         options.fusedSteps = fused;
-        options.scatteredSearch = scattered;
-        options.narrowedSearchFrom = scattered ? 0 : INT64_MAX;
+        options.scatteredSearch = search != Search::Everyone;
+        options.narrowedSearchFrom = search == Search::Scattered || search == Search::ScatteredUnlisted ? 0 : INT64_MAX;
+        options.listedScatterMax = search == Search::ScatteredUnlisted ? 0 : -1;
         return runImpacts(scene, options, 240, log);
     };
     Scene scene = deepPile(Precision::Fp32);
     scene.box.size = {40.0, 40.0, 60.0};
     scene.species[0].count = 40000;
     ASSERT_TRUE(gpu::searchWalksAlone(scene.species[0].count)) << "the scattered search needs a thread a particle";
+    const std::pair<Search, const char*> searches[] = {{Search::Scattered, "scattered"},
+                                                       {Search::ScatteredUnlisted, "scattered a thread a particle"},
+                                                       {Search::SparseListed, "every particle, sparse rounds listed"}};
     for (bool fused : {true, false}) {
         for (bool log : {false, true}) {
-            const ImpactOutcome everyone = run(scene, false, fused, log), scattered = run(scene, true, fused, log);
-            const std::string where =
-                std::string(fused ? "rounds in batches" : "a round a wait") + (log ? ", contact log on" : "");
-            expectSameImpacts(scattered, everyone, where);
-            expectSameLog(scattered, everyone, where);
-            EXPECT_GT(everyone.rounds, 2 * 240) << where << ": rounds beyond the first of a step";
-            EXPECT_GT(everyone.pairs, 40000) << where << ": the balls met";
-            std::printf("%s: %lld impacts in %lld rounds\n", where.c_str(),
-                        (long long)(everyone.pairs + everyone.walls), (long long)everyone.rounds);
+            const ImpactOutcome everyone = run(scene, Search::Everyone, fused, log);
+            for (const auto& [search, name] : searches) {
+                const ImpactOutcome other = run(scene, search, fused, log);
+                const std::string where = std::string(name) + (fused ? ", rounds in batches" : ", a round a wait") +
+                                          (log ? ", contact log on" : "");
+                expectSameImpacts(other, everyone, where);
+                expectSameLog(other, everyone, where);
+            }
+            EXPECT_GT(everyone.rounds, 2 * 240) << "rounds beyond the first of a step";
+            EXPECT_GT(everyone.pairs, 40000) << "the balls met";
+            std::printf("%s%s: %lld impacts in %lld rounds\n", fused ? "rounds in batches" : "a round a wait",
+                        log ? ", contact log on" : "", (long long)(everyone.pairs + everyone.walls),
+                        (long long)everyone.rounds);
         }
     }
 }
