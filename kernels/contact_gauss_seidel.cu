@@ -155,6 +155,28 @@ __device__ bool beats(int64_t a, int64_t b) {
     return pa > pb || (pa == pb && a < b);
 }
 
+// The row of pair (p, i) in p's list (p < i: the pair's own row), -1 if none. From the count's list of p's contacts
+// where it has one (ContactArgs::partnerScratch: p's first kListedPartners, 64 bytes read at once), else
+// from p's rows one after another.
+template <class Real>
+__device__ inline int64_t mirrorRowOf(const ContactArgs<Real>& a, int64_t i, int64_t p) {
+    const int64_t first = a.contactStart[p], count = a.contactStart[p + 1] - first;
+    int64_t own = -1;
+    if (a.partnerScratch && count <= kListedPartners) {
+        static_assert(kListedPartners == 16, "a particle's listed contacts are four int4");
+        const int4* listed = reinterpret_cast<const int4*>(a.partnerScratch + size_t(p) * kListedPartners);
+        const int4 q[4] = {listed[0], listed[1], listed[2], listed[3]};
+        const int32_t* partners = reinterpret_cast<const int32_t*>(q);
+#pragma unroll
+        for (int k = 0; k < kListedPartners; ++k)
+            if (k < count && partners[k] == int32_t(i)) own = first + k;
+        return own;
+    }
+    for (int64_t t = first; t < first + count; ++t)
+        if (a.partner[t] == i) own = t;
+    return own;
+}
+
 // Particle i's rows: their particle, their pair's own row, and the colour the listing before gave the
 // pair where it keeps it (ContactArgs::prevColour; uncoloured otherwise); the kept colours' mask into
 // *used, their highest plus one into *colours. Returns the deepest overlap of its own rows at the listed
@@ -172,9 +194,8 @@ __device__ Real prepareRowsOf(const ContactArgs<Real>& a, int64_t i, uint8_t* ca
         a.rowParticle[s] = i;
         int64_t own = s;
         if (!isOwnRow(i, p)) {
-            for (int64_t t = a.contactStart[p]; t < a.contactStart[p + 1]; ++t) {
-                if (a.partner[t] == i) own = t;
-            }
+            const int64_t t = mirrorRowOf(a, i, p);
+            if (t >= 0) own = t;
             // Every pair is listed from both sides (pairContactActive is symmetric in i and j, bit for
             // bit); were it not, the row would stand as its pair's own row (mirror[s] = s), relaxed from
             // this side alone.

@@ -262,6 +262,7 @@ std::vector<double> CudaDevice<Real>::sumRows(int rows) {
 
 template <class Real>
 double CudaDevice<Real>::kineticEnergy() {
+    if (m_kineticCached) return m_cachedKinetic;  // read with the relaxation, nothing changed since
     gatherToHome();
     m_rows.resize(size_t(m_n));
     gpu::launchKineticRow(arrays(), table(), m_rows.data(), stream());

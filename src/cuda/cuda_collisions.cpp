@@ -829,7 +829,9 @@ gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
     a.colour = m_rowColour.data();
     a.target = m_rowTarget.data();
     a.order = m_colourOrder.data();
-    a.colourStart = m_colourStartOnDevice.data();
+    a.colourStart = m_colouringWords.size() > kColouringWords
+                        ? reinterpret_cast<int32_t*>(m_colouringWords.data() + kColouringWords)
+                        : nullptr;
     a.packedParticle = m_packedParticle.data();
     a.packedPartner = m_packedPartner.data();
     a.packedTarget = m_packedTarget.data();
@@ -856,8 +858,9 @@ bool CudaDevice<Real>::colourListing(int64_t rows, bool keepColours) {
     for (auto* b : {&m_packedTarget, &m_packedLambda}) b->resize(size_t(rows));
     m_packedVirial.resize(size_t(rows));
     m_rowColour.resize(size_t(rows));
-    m_colourStartOnDevice.resize(gpu::kMaxContactColours + 1);
-    m_colouringWords.resize(8);  // [6..7]: the deepest overlap's bits
+    // [6..7]: the deepest overlap's bits; then the colours' starts (ContactArgs::colourStart), read back
+    // with the words in one copy.
+    m_colouringWords.resize(kColouringWords + gpu::kMaxContactColours + 1);
     m_colouringScratch.resize(gpu::contactColouringScratchBytes(m_n, rows));
     auto* deepest = reinterpret_cast<unsigned long long*>(m_colouringWords.data() + 6);
     gpu::ContactArgs<Real> a = contactArgs();
@@ -865,15 +868,17 @@ bool CudaDevice<Real>::colourListing(int64_t rows, bool keepColours) {
     if (!gpu::launchColourContacts(a, rows, m_colouringScratch.data(), m_colouringScratch.size(), m_colouringWords.data(),
                                    deepest, s))
         return false;
-    unsigned int words[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-    cudaCheck(cudaMemcpyAsync(words, m_colouringWords.data(), sizeof words, cudaMemcpyDeviceToHost, s), "contact colouring");
+    unsigned int* words = m_hostColouring.resize(m_colouringWords.size());
+    cudaCheck(cudaMemcpyAsync(words, m_colouringWords.data(), m_colouringWords.size() * sizeof(unsigned int),
+                              cudaMemcpyDeviceToHost, s),
+              "contact colouring");
     sync();
     unsigned long long bits = 0;
     std::memcpy(&bits, words + 6, sizeof bits);
     std::memcpy(&m_listedOverlap, &bits, sizeof m_listedOverlap);
     if (words[1] != 0 || words[0] < 1) return false;
     m_colourStart.assign(size_t(words[0]) + 1, 0);
-    m_colourStartOnDevice.download(m_colourStart.data(), m_colourStart.size());
+    std::memcpy(m_colourStart.data(), words + kColouringWords, m_colourStart.size() * sizeof(int32_t));
     return true;
 }
 
@@ -960,7 +965,8 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     m_contactLambda.resize(size_t(total));
     m_contactApplied.resize(size_t(total));
     m_sweepsDone = 0;
-    m_contactImpulses.resize(size_t(kImpulseRows) * size_t(m_n));
+    m_contactImpulses.resize(size_t(kImpulseRows + 2) *
+                             size_t(m_n));  // and the tally's two rows (queueRelaxationTally)
     cudaCheck(cudaMemsetAsync(m_contactImpulses.data(), 0, size_t(kImpulseRows) * size_t(m_n) * sizeof(double), s), "memset");
     if (m_gaussSeidelContacts) m_rowTarget.resize(size_t(total));  // the fill sets the targets
     // A later listing of a step keeps the colours of the pairs the listing before coloured, and so does
@@ -1023,11 +1029,13 @@ RelaxationOutcome CudaDevice<Real>::relaxListing(const RelaxationPlan& plan) {
     if (!launched) return Backend::relaxListing(plan);
     homeChanged();
     m_cellsMatchPositions = false;
+    const bool tally = queueRelaxationTally();
     unsigned long long* words = m_hostWords.resize(kHostWords);
     static_assert(kHostWords >= 5, "the outcome's words");
     cudaCheck(cudaMemcpyAsync(words, m_relaxationWords.data() + 4, 5 * sizeof(unsigned long long), cudaMemcpyDeviceToHost, s),
               "contact relaxation");
     sync();
+    if (tally) readRelaxationTally();
     RelaxationOutcome outcome;
     std::memcpy(&outcome.first.speedChange, &words[0], sizeof(double));
     std::memcpy(&outcome.first.overlap, &words[1], sizeof(double));
@@ -1038,16 +1046,77 @@ RelaxationOutcome CudaDevice<Real>::relaxListing(const RelaxationPlan& plan) {
     return outcome;
 }
 
+// What the core reads after a listing's relaxation (collision_rounds.cpp), queued behind its one launch
+// and read back with its wait (the fused path of relaxListing): the end of the relaxation (endRelaxation's
+// kernels), the work of its position moves against gravity (contactLiftWork), its impulse rows'
+// sums (contactImpulses) and the step check of the state it leaves (checkStep; the kinetic energy, for
+// kineticEnergy). The same kernels and sums as those calls make, so the same values, each kept until
+// the state changes or the call takes it. Where the step's mail is not sized for it (no one-wait step),
+// nothing: the calls wait on their own.
+// Before, five more waits a listing: the settled 10^6-ball pile's GPU stood idle 15 to 26 us after each
+// (an H200, CUPTI, KERNEL_TIMES_GAPS).
+template <class Real>
+bool CudaDevice<Real>::queueRelaxationTally() {
+    const int blocks = partialBlocks();
+    const size_t doubles = kStepWordDoubles + size_t(kImpulseRows + 2) * size_t(blocks);
+    if (m_stepMail.size() < doubles || m_n == 0) return false;
+    m_hostStepMail.resize(doubles);
+    cudaStream_t s = stream();
+    queueEndOfRelaxation();
+    m_relaxationEnded = true;
+    const size_t n = size_t(m_n);
+    double* lift = m_contactImpulses.data() + size_t(kImpulseRows) * n;
+    double* kinetic = lift + n;
+    gpu::launchLiftWorkRow(arrays(), table(), m_xListed.data(), lift, s);
+    gpu::StepWords* w = stepWords();
+    m_wordsFresh = false;
+    cudaCheck(cudaMemsetAsync(w->healthCounts, 0, sizeof w->healthCounts, s), "memset");
+    cudaCheck(cudaMemsetAsync(&w->listForecast, 0, sizeof w->listForecast, s), "memset");
+    const gpu::StepCheckArgs<Real> a = stepCheckArgs(kinetic);
+    m_tallyForecast = a.forecast.moves != nullptr;
+    gpu::launchStepCheck(a, s);
+    gpu::launchBlockSums(m_contactImpulses.data(), kImpulseRows + 2, m_n, m_stepMail.data() + kStepWordDoubles, s);
+    cudaCheck(
+        cudaMemcpyAsync(m_hostStepMail.data(), m_stepMail.data(), doubles * sizeof(double), cudaMemcpyDeviceToHost, s),
+        "step words");
+    return true;
+}
+
+template <class Real>
+void CudaDevice<Real>::readRelaxationTally() {
+    const int blocks = partialBlocks();
+    const double* partials = m_hostStepMail.data() + kStepWordDoubles;
+    const std::vector<double> sums = sumPartials(partials, kImpulseRows + 1, blocks);
+    m_tallyImpulses = impulseSumsOf(sums);
+    m_tallyLift = sums[size_t(kImpulseRows)];
+    m_tallyRead = true;
+    readForecast(m_tallyForecast, hostStepWords());
+    m_cachedCheck = stepCheckOf(hostStepWords(), partials + size_t(kImpulseRows + 1) * size_t(blocks));
+    m_checkCached = true;
+    m_cachedKinetic = m_cachedCheck.kinetic;
+    m_kineticCached = true;
+}
+
 template <class Real>
 void CudaDevice<Real>::endRelaxation() {
+    if (m_relaxationEnded) {  // queued by queueRelaxationTally
+        m_relaxationEnded = false;
+        m_sweepsDone = 0;
+        return;
+    }
     if (m_sweepsDone == 0) return;
-    // Gauss-Seidel sweeps hold each pair's impulse in its own row, with nothing extrapolated: the other
-    // row takes it. Jacobi's rows go from their applied impulses to their projected ones.
+    queueEndOfRelaxation();
+    m_sweepsDone = 0;
+}
+
+// Gauss-Seidel sweeps hold each pair's impulse in its own row, with nothing extrapolated: the other row
+// takes it. Jacobi's rows go from their applied impulses to their projected ones (which moves velocities).
+template <class Real>
+void CudaDevice<Real>::queueEndOfRelaxation() {
     if (m_gaussSeidel)
         gpu::launchMirrorImpulses(contactArgs(), int64_t(m_contactPartner.size()), stream());
     else gpu::launchSettleContacts(contactArgs(), stream());
     homeChanged();
-    m_sweepsDone = 0;
 }
 
 // Each pair once, from its lower index, and the walls: the contacts that end the last relaxation
@@ -1140,6 +1209,7 @@ void CudaDevice<Real>::restoreContactWarmStart(const ContactCarryOver& carried) 
 
 template <class Real>
 double CudaDevice<Real>::contactLiftWork() {
+    if (m_tallyRead) return m_tallyLift;  // read with the relaxation (queueRelaxationTally)
     m_rows.resize(size_t(m_n));
     gpu::launchLiftWorkRow(arrays(), table(), m_xListed.data(), m_rows.data(), stream());
     return sumRows(1)[0];
@@ -1147,6 +1217,10 @@ double CudaDevice<Real>::contactLiftWork() {
 
 template <class Real>
 ImpulseSums CudaDevice<Real>::contactImpulses() {
+    if (m_tallyRead) {  // read with the relaxation (queueRelaxationTally)
+        m_tallyRead = false;
+        return m_tallyImpulses;
+    }
     return sumImpulseRows(m_contactImpulses);
 }
 

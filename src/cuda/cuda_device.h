@@ -115,6 +115,9 @@ public:
     ContactResidual<double> relaxContacts(int sweeps) override;
     RelaxationOutcome relaxListing(const RelaxationPlan& plan) override;
     void endRelaxation() override;
+    void queueEndOfRelaxation();
+    bool queueRelaxationTally();
+    void readRelaxationTally();
     ContactCarryOver contactWarmStart() const override;
     void restoreContactWarmStart(const ContactCarryOver& carried) override;
     void beginStep(int64_t step) override { m_stepIndex = step; }
@@ -149,6 +152,7 @@ private:
     void homeChanged() const {
         m_slicesCurrent = gpuCount() == 1;
         m_listAtX = false;
+        m_kineticCached = false;
     }
     // Runs body(k, replica) on every GPU k with that GPU current; the home GPU is current after.
     template <class Body>
@@ -547,8 +551,10 @@ private:
     DeviceBuffer<gpu::PackedBody<Real>> m_body;  // the contact phase's copy of X and V, 2n (ContactArgs::body)
     DeviceBuffer<Real> m_packedTarget, m_packedLambda;
     DeviceBuffer<double> m_packedVirial;
-    DeviceBuffer<int32_t> m_colourStartOnDevice;
+    // The colouring's words (launchColourContacts), then the colours' starts.
+    static constexpr size_t kColouringWords = 8;
     DeviceBuffer<unsigned int> m_colouringWords;
+    PinnedBuffer<unsigned int> m_hostColouring;  // their copy
     DeviceBuffer<unsigned char> m_colouringScratch;
     std::vector<int32_t> m_colourStart;  // colours + 1 bounds into m_colourOrder
     double m_listedOverlap = -1;         // the colouring's measure of the listing (listedOverlap)
@@ -599,7 +605,14 @@ private:
     // Impact rows: kImpulseRows x n (impulse_sums.h), then the kinetic energy each particle lost.
     DeviceBuffer<double> m_impactRows;  // and one row more: the one-wait step's kinetic row, summed with them
     int64_t m_impactRowsN = -1;  // n of the last stage: its rows are zero but where flagged (beginCollisions)
-    DeviceBuffer<double> m_contactImpulses;  // kImpulseRows x n (impulse_sums.h)
+    DeviceBuffer<double> m_contactImpulses;  // kImpulseRows x n (impulse_sums.h), then the relaxation tally's two rows
+    // What queueRelaxationTally read with a relaxation's wait: endRelaxation's kernels queued, the lift
+    // work and impulse sums until contactImpulses takes them, the kinetic energy until the state changes.
+    bool m_relaxationEnded = false, m_tallyRead = false, m_tallyForecast = false;
+    double m_tallyLift = 0;
+    ImpulseSums m_tallyImpulses;
+    mutable bool m_kineticCached = false;  // cleared by homeChanged and beforeStateChange
+    double m_cachedKinetic = 0;
     DeviceBuffer<ParticleInstance> m_instances;  // staging for host instance targets
 };
 
