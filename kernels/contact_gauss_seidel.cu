@@ -177,76 +177,92 @@ __device__ inline int64_t mirrorRowOf(const ContactArgs<Real>& a, int64_t i, int
     return own;
 }
 
-// Particle i's rows: their particle, their pair's own row, and the colour the listing before gave the
-// pair where it keeps it (ContactArgs::prevColour; uncoloured otherwise); the kept colours' mask into
-// *used, their highest plus one into *colours. Returns the deepest overlap of its own rows at the listed
-// positions.
+// Row s of particle i: its particle, its pair's own row, and the colour the listing before gave the pair
+// where it keeps it (ContactArgs::prevColour; uncoloured otherwise), which joins *mask and makes *colours
+// at least its value plus one. Returns the row's overlap at the listed positions where it is an own row
+// (0 otherwise).
 template <class Real>
-__device__ Real prepareRowsOf(const ContactArgs<Real>& a, int64_t i, uint8_t* candidate, unsigned long long* used,
-                              unsigned* colours) {
+__device__ Real prepareRow(const ContactArgs<Real>& a, int64_t i, int64_t s, uint8_t* candidate,
+                           unsigned long long* mask, unsigned* colours) {
+    const int64_t p = a.partner[s];
+    a.rowParticle[s] = i;
+    int64_t own = s;
+    if (!isOwnRow(i, p)) {
+        const int64_t t = mirrorRowOf(a, i, p);
+        if (t >= 0) own = t;
+        // Every pair is listed from both sides (pairContactActive is symmetric in i and j, bit for
+        // bit); were it not, the row would stand as its pair's own row (mirror[s] = s), relaxed from
+        // this side alone.
+    }
+    a.mirror[s] = own;
+    // A kept colour is written on the pair's own row, and joins the masks of both its particles through
+    // the rows each has of the pair (the fill keeps colours of own rows only, so a row that is nobody's
+    // keeps none).
+    const uint8_t kept = a.prevColour ? a.prevColour[own] : kUncoloured;
+    if (kept != kUncoloured) {
+        *mask |= 1ull << kept;
+        *colours = max(*colours, unsigned(kept) + 1u);
+    }
+    a.colour[s] = own == s ? kept : kUncoloured;
+    if (own != s) return 0;
+    candidate[s] = kept;
+    if (!isOwnRow(i, p)) return 0;
     const int si = a.p.species[i];
     const Real ai = a.table.radius[si];
     const Vec3<Real> xi = a.p.x[i];
-    Real deepest = 0;
-    unsigned long long mask = 0;
-    for (int64_t s = a.contactStart[i]; s < a.contactStart[i + 1]; ++s) {
-        const int64_t p = a.partner[s];
-        a.rowParticle[s] = i;
-        int64_t own = s;
-        if (!isOwnRow(i, p)) {
-            const int64_t t = mirrorRowOf(a, i, p);
-            if (t >= 0) own = t;
-            // Every pair is listed from both sides (pairContactActive is symmetric in i and j, bit for
-            // bit); were it not, the row would stand as its pair's own row (mirror[s] = s), relaxed from
-            // this side alone.
-        }
-        a.mirror[s] = own;
-        // A kept colour is written on the pair's own row, and joins the masks of both its particles
-        // through the rows each has of the pair (the fill keeps colours of own rows only, so a row that
-        // is nobody's keeps none).
-        const uint8_t kept = a.prevColour ? a.prevColour[own] : kUncoloured;
-        if (kept != kUncoloured) {
-            mask |= 1ull << kept;
-            *colours = max(*colours, unsigned(kept) + 1u);
-        }
-        a.colour[s] = own == s ? kept : kUncoloured;
-        if (own != s) continue;
-        candidate[s] = kept;
-        if (!isOwnRow(i, p)) continue;
-        Real overlap = 0;
-        if (isWallContact(p)) {
-            const int code = int(-1 - p);
-            overlap = wallDepth(xi[code / 2], ai, a.box[code / 2], code % 2) / (Real(2) * ai);
-        } else {
-            const Real d = ai + a.table.radius[a.p.species[p]];
-            overlap = contactGap(d, realSqrt(norm2(xi - a.p.x[p]))) / d;
-        }
-        if (overlap > deepest) deepest = overlap;
+    if (isWallContact(p)) {
+        const int code = int(-1 - p);
+        return wallDepth(xi[code / 2], ai, a.box[code / 2], code % 2) / (Real(2) * ai);
     }
-    *used = mask;
-    return deepest;
+    const Real d = ai + a.table.radius[a.p.species[p]];
+    return contactGap(d, realSqrt(norm2(xi - a.p.x[p]))) / d;
 }
 
-// Per row: its particle, the pair's own row, its kept colour or none; per particle: the mask of its
-// kept colours (the rows left choose among the colours those leave: colourRowsKernel). The deepest
-// overlap of the own rows at the listed positions (ContactResidual::overlap) into *deepest (double
-// bits); the colours kept into words[0], one atomic a warp. Particles in index order, so that a warp
-// writes neighbouring rows (in cell order, the 10^6-ball pile's took 1.2 ms instead of 0.43 on an H200).
-// The kept colours were a pass of the colouring kernel over every row before: three atomics a kept
-// row, one of them on words[0] by every row of the grid (a settled 10^6-ball pile keeps most of its
-// few million rows' colours); the colouring kernel took 0.99 ms a listing of the settled 10^6-ball
-// pile (an H200, fp32, kernel times from CUPTI). Here, with the winners' words[0] one atomic a warp:
-// the same colours and bits (the sandbox example's state hash at 10^5 balls unchanged), `corebox bench
+// Per row: its particle, the pair's own row, its kept colour or none (prepareRow); per particle: the mask
+// of its kept colours (the rows left choose among the colours those leave: colourRowsKernel). The deepest
+// overlap of the own rows at the listed positions (ContactResidual::overlap) into *deepest (double bits);
+// the colours kept into words[0], one atomic a warp. A block takes kBlock consecutive particles and their
+// rows, a thread a row (its particle found among the block's row starts in shared memory), so that a
+// warp's stores are to neighbouring rows; the masks gather in shared memory.
+// Before, a thread a particle walked its rows: each store of a warp went to 32 rows apart. The settled
+// 10^6-ball pile (an H200, fp32, CUPTI, the median listing of the last 1.25 s): 223 us against 484. The
+// same rows, colours, masks and deepest overlap (a maximum, and an OR). Tried and not kept before that: a thread a row
+// with its particle written by the fill (487 us against 493, the fill 360 against 267). The kept colours were a pass of
+// the colouring kernel over every row before: three atomics a kept row, one of them on words[0] by every row of the
+// grid (a settled 10^6-ball pile keeps most of its few million rows' colours); the colouring kernel took 0.99 ms a
+// listing of the settled 10^6-ball pile (an H200, fp32, kernel times from CUPTI). Here, with the winners' words[0] one
+// atomic a warp: the same colours and bits (the sandbox example's state hash at 10^5 balls unchanged), `corebox bench
 // pile` 10^6 balls 43.4 ms a frame against 44.9 (the last second 34.4 against 36.2), 10^5 10.6 against
-// 10.8. Tried and not kept: a thread a row (its particle written by the fill), as the mirror kernel is:
-// the settled 10^6-ball pile's listing took 487 us here against 493, and the fill 360 against 267.
+// 10.8.
 template <class Real>
-__global__ void prepareRowsKernel(ContactArgs<Real> a, uint8_t* candidate, unsigned long long* used,
-                                  unsigned int* words, unsigned long long* deepest) {
-    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+__global__ void __launch_bounds__(kBlock)
+    prepareRowsKernel(ContactArgs<Real> a, uint8_t* candidate, unsigned long long* used, unsigned int* words,
+                      unsigned long long* deepest) {
+    __shared__ int64_t starts[kBlock + 1];
+    __shared__ unsigned long long masks[kBlock];
+    const int64_t first = int64_t(blockIdx.x) * kBlock;
+    const int particles = int(min(int64_t(kBlock), a.p.n - first));
+    for (int k = int(threadIdx.x); k <= particles; k += kBlock) starts[k] = a.contactStart[first + k];
+    masks[threadIdx.x] = 0;
+    __syncthreads();
     double overlap = 0;
     unsigned colours = 0;
-    if (i < a.p.n) overlap = double(prepareRowsOf(a, i, candidate, used + i, &colours));
+    for (int64_t s = starts[0] + threadIdx.x; s < starts[particles]; s += kBlock) {
+        int lo = 0, hi = particles - 1;  // the last particle whose rows begin at or before s
+        while (lo < hi) {
+            const int mid = (lo + hi + 1) / 2;
+            if (starts[mid] <= s)
+                lo = mid;
+            else
+                hi = mid - 1;
+        }
+        unsigned long long mask = 0;
+        const double o = double(prepareRow(a, first + lo, s, candidate, &mask, &colours));
+        if (o > overlap) overlap = o;
+        if (mask) atomicOr(&masks[lo], mask);
+    }
+    __syncthreads();
+    if (int(threadIdx.x) < particles) used[first + threadIdx.x] = masks[threadIdx.x];
     double none = 0;
     warpMax(none, overlap);  // every lane: the warp's shuffles
     colours = __reduce_max_sync(0xffffffffu, colours);

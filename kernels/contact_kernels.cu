@@ -69,12 +69,21 @@ __global__ void countContactsKernel(ContactArgs<Real> a, unsigned long long* tot
     const int64_t i = a.cells.sorted[k];  // in cell order, as findEventsKernel
     int64_t count = 0;
     if (G == 1) {
-        int32_t* listed = a.partnerScratch ? a.partnerScratch + size_t(i) * kListedPartners : nullptr;
+        // The list gathered here and stored a 16-byte vector at a time: a store a contact put each warp's
+        // stores in 32 places at once, several of them in one sector (the settled 10^6-ball pile's count,
+        // as the fill above: 277 us against 286).
+        static_assert(kListedPartners % 4 == 0, "a particle's listed contacts are whole int4");
+        alignas(16) int32_t listed[kListedPartners];
         int c = 0;
         count = forEachContact(a, i, [&](int64_t partner) {
-            if (listed && c < kListedPartners) listed[c] = int32_t(partner);
+            if (c < kListedPartners) listed[c] = int32_t(partner);
             ++c;
         });
+        if (a.partnerScratch) {
+            int4* out = reinterpret_cast<int4*>(a.partnerScratch + size_t(i) * kListedPartners);
+            for (int q = 0; 4 * q < c && q < kListedPartners / 4; ++q)
+                out[q] = reinterpret_cast<const int4*>(listed)[q];
+        }
     } else {
         const PackedBody<Real> bxi = xBody(a, i);
         const Vec3<Real> xi = vec3Of(bxi), vi = vec3Of(vBody(a, i));
@@ -142,44 +151,70 @@ __device__ void addImpulseRows(const ContactArgs<Real>& a, int64_t i, const Impu
     if (given.pairVirial != 0) a.impulses[size_t(kPairVirialRow) * n + size_t(i)] += given.pairVirial;
 }
 
-// Particles in index order, so that a warp writes neighbouring rows (in cell order, as the count walks
-// them, the 10^6-ball pile's fill took 1.6 ms on an H200 instead of 1.5). Where the count listed a
-// particle's contacts (ContactArgs::partnerScratch) the fill copies them instead of walking the cells
-// again: on the settled 10^6-ball pile (ncu, H200, fp32) the fill took 0.24 ms instead of 1.55 and the
-// count 0.41 instead of 0.29; `corebox bench pile` (same call, the same bits) 97.2 ms a frame instead of
-// 105.9 (the last second 53.8 instead of 59.1), 10^5 balls 27.1 instead of 27.8.
+// Row `slot` of particle i (count rows), with `partner`: the partner, the target of an isolated contact, the
+// warm start's impulse and the kept colour. `warmFrom`: where the lookup in the warm rows starts
+// (warmRowOf; the row found is the same from anywhere).
 template <class Real>
-__global__ void fillContactsKernel(ContactArgs<Real> a) {
-    const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i >= a.p.n) return;
-    const int64_t first = a.contactStart[i];
-    const int count = int(a.contactStart[i + 1] - first);
-    int64_t slot = first, warmFrom = -1;
-    auto fill = [&](int64_t partner) {
-        a.partner[slot] = partner;
-        // An isolated contact may bounce. Jacobi (relaxParticle) decides it sweep by sweep: nothing to
-        // warm-start. Gauss-Seidel decides it here (contactTarget) and warm-starts it unless it bounces,
-        // as the CPU does. Both rows of a pair decide alike (both counts are 1, or not; vn is symmetric).
-        const bool isolated = count == 1 && (isWallContact(partner) || a.contactStart[partner + 1] - a.contactStart[partner] == 1);
-        const Real target = a.gaussSeidel && isolated ? contactTarget(a, i, partner) : Real(0);
-        if (a.gaussSeidel) a.target[slot] = target;
-        const bool warm = a.warm && (a.gaussSeidel ? !(target > Real(0)) : !isolated);
-        // An own row (the pair's lower index, or a wall) keeps its pair's colour from the warm rows,
-        // where their own row was the same pair's (and pushed, where keepPushedColoursOnly).
-        const bool recolour = a.warm && a.prevColour && (isWallContact(partner) || partner > i);
-        const int64_t warmRow = warm || recolour ? warmRowOf(a, i, partner, warmFrom) : -1;
-        a.lambda[slot] = warm && warmRow >= 0 ? a.warmLambda[warmRow] : Real(0);
-        a.applied[slot] = a.lambda[slot];
-        const bool kept = recolour && warmRow >= 0 && (!a.keepPushedColoursOnly || a.warmLambda[warmRow] > Real(0));
-        if (a.prevColour) a.prevColour[slot] = kept ? a.warmColour[warmRow] : kUncolouredRow;
-        ++slot;
-    };
-    if (a.partnerScratch && count <= kListedPartners) {  // the count's list: no second walk
-        const int32_t* listed = a.partnerScratch + size_t(i) * kListedPartners;
-        for (int c = 0; c < count; ++c) fill(listed[c]);
-    } else {
-        forEachContact(a, i, fill);
+__device__ void fillRow(const ContactArgs<Real>& a, int64_t i, int count, int64_t slot, int64_t partner,
+                        int64_t& warmFrom) {
+    a.partner[slot] = partner;
+    // An isolated contact may bounce. Jacobi (relaxParticle) decides it sweep by sweep: nothing to
+    // warm-start. Gauss-Seidel decides it here (contactTarget) and warm-starts it unless it bounces,
+    // as the CPU does. Both rows of a pair decide alike (both counts are 1, or not; vn is symmetric).
+    const bool isolated =
+        count == 1 && (isWallContact(partner) || a.contactStart[partner + 1] - a.contactStart[partner] == 1);
+    const Real target = a.gaussSeidel && isolated ? contactTarget(a, i, partner) : Real(0);
+    if (a.gaussSeidel) a.target[slot] = target;
+    const bool warm = a.warm && (a.gaussSeidel ? !(target > Real(0)) : !isolated);
+    // An own row (the pair's lower index, or a wall) keeps its pair's colour from the warm rows,
+    // where their own row was the same pair's (and pushed, where keepPushedColoursOnly).
+    const bool recolour = a.warm && a.prevColour && (isWallContact(partner) || partner > i);
+    const int64_t warmRow = warm || recolour ? warmRowOf(a, i, partner, warmFrom) : -1;
+    a.lambda[slot] = warm && warmRow >= 0 ? a.warmLambda[warmRow] : Real(0);
+    a.applied[slot] = a.lambda[slot];
+    const bool kept = recolour && warmRow >= 0 && (!a.keepPushedColoursOnly || a.warmLambda[warmRow] > Real(0));
+    if (a.prevColour) a.prevColour[slot] = kept ? a.warmColour[warmRow] : kUncolouredRow;
+}
+
+// Where the count listed a particle's contacts (ContactArgs::partnerScratch) the fill copies them
+// instead of walking the cells again: on the settled 10^6-ball pile (ncu, H200, fp32) the fill took 0.24
+// ms instead of 1.55 and the count 0.41 instead of 0.29; `corebox bench pile` (same call, the same bits)
+// 97.2 ms a frame instead of 105.9 (the last second 53.8 instead of 59.1), 10^5 balls 27.1 instead of 27.8.
+// A block takes kBlock consecutive particles: their listed rows a thread a row (its particle found among
+// the block's row starts in shared memory), so that a warp's stores are to neighbouring rows; a particle
+// the count did not list (more than kListedPartners contacts) walked by a thread of its own. Before, a
+// thread a particle filled its rows one after another, each store of a warp to 32 rows apart: the
+// settled 10^6-ball pile (an H200, fp32, CUPTI, the median listing of the last 1.25 s) 152 us against 272.
+template <class Real>
+__global__ void __launch_bounds__(kBlock) fillContactsKernel(ContactArgs<Real> a) {
+    __shared__ int64_t starts[kBlock + 1];
+    const int64_t first = int64_t(blockIdx.x) * kBlock;
+    const int particles = int(min(int64_t(kBlock), a.p.n - first));
+    for (int k = int(threadIdx.x); k <= particles; k += kBlock) starts[k] = a.contactStart[first + k];
+    __syncthreads();
+    auto listed = [&](int count) { return a.partnerScratch != nullptr && count <= kListedPartners; };
+    for (int64_t s = starts[0] + threadIdx.x; s < starts[particles]; s += kBlock) {
+        int lo = 0, hi = particles - 1;  // the last particle whose rows begin at or before s
+        while (lo < hi) {
+            const int mid = (lo + hi + 1) / 2;
+            if (starts[mid] <= s)
+                lo = mid;
+            else
+                hi = mid - 1;
+        }
+        const int count = int(starts[lo + 1] - starts[lo]);
+        if (!listed(count)) continue;
+        const int64_t i = first + lo;
+        int64_t warmFrom = -1;
+        fillRow(a, i, count, s, int64_t(a.partnerScratch[size_t(i) * kListedPartners + size_t(s - starts[lo])]),
+                warmFrom);
     }
+    if (int(threadIdx.x) >= particles) return;
+    const int count = int(starts[threadIdx.x + 1] - starts[threadIdx.x]);
+    if (listed(count)) return;
+    const int64_t i = first + threadIdx.x;
+    int64_t slot = starts[threadIdx.x], warmFrom = -1;
+    forEachContact(a, i, [&](int64_t partner) { fillRow(a, i, count, slot++, partner, warmFrom); });
 }
 
 template <class Real>
