@@ -233,10 +233,6 @@ __global__ void crowdedGateKernel(cudaGraphConditionalHandle handle, const unsig
     cudaGraphSetConditional(handle, *crowded != 0u ? 1u : 0u);
 }
 
-}  // namespace
-
-namespace {
-
 // sorted[b .. e) in ascending order by a heap sort in one thread: a cell crowded by a blow-up, which the
 // insertion sort of a cell's few entries would take in quadratic time.
 __device__ void heapSortRange(int32_t* sorted, int32_t b, int32_t e) {

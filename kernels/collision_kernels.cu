@@ -138,8 +138,9 @@ __device__ inline CollisionEvent unpackedEvent(unsigned long long word) {
 // the same bits from either side (pairImpactRewind), so the words hold what the inactive particles' own searches would
 // find; they walk no cells. Threads take the particles in the cell list's order, as findEventsKernel does: a warp's
 // walks overlap in the caches, and a warp of inactive particles ends at once (from the last round's list
-// of active particles instead, the sandbox example at 10^5 balls took 14 ms a frame against 12). Tried and
-// not kept either: from that list only where it was short (fewer than one particle in 32), and the offers
+// of active particles instead, a thread each, the sandbox example at 10^5 balls took 14 ms a frame against
+// 12; a warp each where the list is short: scatterListedEventsKernel). Tried and not kept either: from that
+// list, a thread each, only where it was short (fewer than one particle in 32), and the offers
 // collected from a list of the particles offered one (each listed by the offer that found its word empty,
 // an atomic on one count each) by a grid that fits at once, instead of a thread a particle: the same bits,
 // but `corebox bench pile` 10^6 balls took 38.9 and 38.7 ms a frame against 37.0 and 37.2, and the
@@ -410,10 +411,11 @@ bool searchWalksAlone(int64_t n) { return searchGroupFor(n) == 1; }
 namespace {
 void launchListedScatter(const CollisionArgs<float>& a, unsigned long long* offered, cudaStream_t stream) {
     if (!a.activeIn || a.listedScatterMax <= 0) return;
+    static_assert(kBlock % kListedScatterLanes == 0, "a block holds whole groups");
     static const int resident = residentBlocks(scatterListedEventsKernel<kListedScatterLanes>);
-    const int64_t groups = std::min<int64_t>(a.listedScatterMax, a.p.n / kListedScatterShare);
+    // Groups for the longest list the kernel takes (at least one: the other searches leave such a round to it).
+    const int64_t groups = std::max<int64_t>(1, std::min<int64_t>(a.listedScatterMax, a.p.n / kListedScatterShare));
     const int64_t blocks = std::min<int64_t>(resident, blocksFor(groups * kListedScatterLanes));
-    if (blocks < 1) return;
     scatterListedEventsKernel<kListedScatterLanes><<<blocks, kBlock, 0, stream>>>(a, offered);
     checkLaunch("listed scattered event kernel");
 }

@@ -241,21 +241,12 @@ __global__ void __launch_bounds__(kBlock)
     __shared__ int64_t starts[kBlock + 1];
     __shared__ unsigned long long masks[kBlock];
     const int64_t first = int64_t(blockIdx.x) * kBlock;
-    const int particles = int(min(int64_t(kBlock), a.p.n - first));
-    for (int k = int(threadIdx.x); k <= particles; k += kBlock) starts[k] = a.contactStart[first + k];
     masks[threadIdx.x] = 0;
-    __syncthreads();
+    const int particles = stageRowStarts(starts, a.contactStart, first, a.p.n);  // a barrier: the masks too
     double overlap = 0;
     unsigned colours = 0;
     for (int64_t s = starts[0] + threadIdx.x; s < starts[particles]; s += kBlock) {
-        int lo = 0, hi = particles - 1;  // the last particle whose rows begin at or before s
-        while (lo < hi) {
-            const int mid = (lo + hi + 1) / 2;
-            if (starts[mid] <= s)
-                lo = mid;
-            else
-                hi = mid - 1;
-        }
+        const int lo = particleOfRow(starts, particles, s);
         unsigned long long mask = 0;
         const double o = double(prepareRow(a, first + lo, s, candidate, &mask, &colours));
         if (o > overlap) overlap = o;

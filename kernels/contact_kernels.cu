@@ -101,10 +101,11 @@ __global__ void countContactsKernel(ContactArgs<Real> a, unsigned long long* tot
     if (total) warpAggregatedAdd(total, unsigned(count));
 }
 
-// Particle i's impulse on `partner` at the end of the last step (its row there), or 0. The search
-// starts at *from (wrapping round) and leaves it after the row found: a particle's contacts come in
-// the order they came the step before, unless the cells changed, so a particle's lookups take about
-// one read each instead of one per row.
+// Particle i's row for `partner` in the last step's rows, or -1. The search starts at *from (wrapping
+// round) and leaves it after the row found, which is the same row from any start (a particle lists a
+// partner once): a particle's contacts come in the order they came the step before, unless the cells
+// changed, so lookups made in turn take about one read each. The fill's rows, a thread each, start each
+// lookup at the particle's first row (fillContactsKernel).
 template <class Real>
 __device__ int64_t warmRowOf(const ContactArgs<Real>& a, int64_t i, int64_t partner, int64_t& from) {
     const int64_t begin = a.warmStart[i], end = a.warmStart[i + 1];
@@ -189,19 +190,11 @@ template <class Real>
 __global__ void __launch_bounds__(kBlock) fillContactsKernel(ContactArgs<Real> a) {
     __shared__ int64_t starts[kBlock + 1];
     const int64_t first = int64_t(blockIdx.x) * kBlock;
-    const int particles = int(min(int64_t(kBlock), a.p.n - first));
-    for (int k = int(threadIdx.x); k <= particles; k += kBlock) starts[k] = a.contactStart[first + k];
-    __syncthreads();
+    const int particles = stageRowStarts(starts, a.contactStart, first, a.p.n);
     auto listed = [&](int count) { return a.partnerScratch != nullptr && count <= kListedPartners; };
-    for (int64_t s = starts[0] + threadIdx.x; s < starts[particles]; s += kBlock) {
-        int lo = 0, hi = particles - 1;  // the last particle whose rows begin at or before s
-        while (lo < hi) {
-            const int mid = (lo + hi + 1) / 2;
-            if (starts[mid] <= s)
-                lo = mid;
-            else
-                hi = mid - 1;
-        }
+    // Without the count's lists every particle is walked (below).
+    for (int64_t s = starts[0] + threadIdx.x; a.partnerScratch && s < starts[particles]; s += kBlock) {
+        const int lo = particleOfRow(starts, particles, s);
         const int count = int(starts[lo + 1] - starts[lo]);
         if (!listed(count)) continue;
         const int64_t i = first + lo;

@@ -60,6 +60,30 @@ int residentBlocks(Kernel kernel) {
     return std::max(blocks, 1) * multiprocessorCount();
 }
 
+// The row starts of a block's kBlock consecutive particles from `first` (starts[k] = rowStart[first + k],
+// particles + 1 of them, in shared memory), for kernels that take the block's rows a thread a row; returns
+// how many particles the block has. Every thread of the block calls it (a barrier).
+__device__ inline int stageRowStarts(int64_t* starts, const int64_t* rowStart, int64_t first, int64_t n) {
+    const int particles = int(n - first < int64_t(kBlock) ? n - first : int64_t(kBlock));
+    for (int k = int(threadIdx.x); k <= particles; k += kBlock) starts[k] = rowStart[first + k];
+    __syncthreads();
+    return particles;
+}
+
+// The particle (0 .. particles - 1) whose rows [starts[k], starts[k + 1]) hold row s: the last one whose
+// rows begin at or before s (particles with no rows in between are passed over).
+__device__ inline int particleOfRow(const int64_t* starts, int particles, int64_t s) {
+    int lo = 0, hi = particles - 1;
+    while (lo < hi) {
+        const int mid = (lo + hi + 1) / 2;
+        if (starts[mid] <= s)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    return lo;
+}
+
 // atomicAdd(counter, 1) for each calling thread, one atomic a warp: the threads that call together
 // share it and each gets its own slot (in lane order within the warp's block of slots). Thousands of
 // threads on one address queue behind each other otherwise.

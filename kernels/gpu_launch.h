@@ -398,9 +398,9 @@ struct CollisionArgs {
     unsigned char* walker;
     const int32_t* activeIn;
     const unsigned int* activeInCount;
-    // The scattered search (launchScatteredSearch) of a round whose activeIn holds at most this many
-    // particles (and at most one in kListedScatterShare) walks from that list, kListedScatterLanes lanes a
-    // particle; 0: never.
+    // The scattered search (launchScatteredSearch, launchSparseOrFullSearch) of a round whose activeIn
+    // holds at most this many particles (and at most one in kListedScatterShare) walks from that list,
+    // kListedScatterLanes lanes a particle; 0: never.
     int64_t listedScatterMax;
     // When set, the resolution sets *cellsMoved = 1 where a particle it moves leaves the cell key
     // cellKeys[i] the last build of `grid` gave it (with cellSplit, the build's split): a round after
@@ -546,8 +546,10 @@ struct ContactArgs {
     // when they end.
     PackedBody<Real>* body;
     // n x kListedPartners, where set (contactCountListsPartners): the count writes each particle's first
-    // kListedPartners contacts here in list order, and the fill copies them instead of walking the
-    // cells again (a particle with more walks them again).
+    // kListedPartners contacts here in list order, as whole 16-byte vectors (the entries past a particle's
+    // count hold no contact: readers stop at the count), and the fill copies them instead of walking the
+    // cells again (a particle with more walks them again); the colouring finds a pair's own row in its
+    // partner's (mirrorRowOf). Each particle's 16 entries begin on a 64-byte boundary.
     int32_t* partnerScratch;
     Real omega;            // over-relaxation of the stopping updates (kGaussSeidelOverRelaxation)
     bool streamRows = false;  // the Gauss-Seidel sweeps stream their packed rows (contact_gauss_seidel.cu)

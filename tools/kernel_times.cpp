@@ -77,7 +77,8 @@ void CUPTIAPI bufferCompleted(CUcontext, uint32_t, uint8_t* buffer, size_t, size
 
 // KERNEL_TIMES_GAPS: where the GPU waits. Each stretch with nothing running on the GPU, per window, by the
 // activity that ran last before it and the one that ends it (CSV window,before,after,count,ns); the
-// waits for the host (its syncs, its launches) show as the pairs of kernels they sit between.
+// waits for the host (its syncs, its launches) show as the pairs of kernels they sit between. With several
+// GPUs a stretch is one where none of them ran anything.
 void writeGaps(uint64_t t0, uint64_t windowNs) {
     const char* out = std::getenv("KERNEL_TIMES_GAPS");
     if (!out) return;
@@ -129,6 +130,7 @@ void writeTimes() {
         if (a.end > from) busy[w] += a.end - from;
         coveredTo = std::max(coveredTo, a.end);
     }
+    writeGaps(t0, windowNs);
     const char* out = std::getenv("KERNEL_TIMES_OUT");
     FILE* f = std::fopen(out ? out : "kernel_times.csv", "w");
     if (!f) {
@@ -142,7 +144,6 @@ void writeTimes() {
     for (const auto& [w, ns] : busy)
         std::fprintf(f, "%llu,\"BUSY\",0,%llu\n", (unsigned long long)w, (unsigned long long)ns);
     std::fclose(f);
-    writeGaps(t0, windowNs);
 }
 
 }  // namespace

@@ -120,7 +120,8 @@ void CudaDevice<Real>::narrowSearch(gpu::CollisionArgs<Real>& a, int round, cons
 // Round `round`'s search. Where it would be narrowed (narrowsSearch), in fp32 and a thread a particle,
 // it is scattered instead: the last round's active particles alone search and offer their inactive
 // neighbours the pairs' events (gpu::launchScatteredSearch), with no marks; else every particle searches,
-// or those near an active one (narrowSearch, gpu::launchFindEvents). The same bits each way
+// or those near an active one (narrowSearch, gpu::launchFindEvents), where few are active from the last
+// round's list (scattersSparseRounds). The same bits each way
 // (tests/gpu/test_cuda_contacts.cpp). Measured on an H200 (fp32, kernel times from CUPTI,
 // scripts/kernel-times): at 10^6 balls a landing's later round searched in 77 us (66 the scatter, 11 the
 // offers) against 101 (22 the marks, 79 the narrowed search), a settled pile's in 27 against 39 (a
@@ -555,8 +556,8 @@ void CudaDevice<Real>::applyEvents() {
 // sort: device_cell_list.h; a third of the kernel time of the sandbox example's landing, ncu) makes the
 // same arrays as the last build wherever no particle changed cell since, the arrays depending on the
 // keys alone. So the resolution flags any particle it moves out of the cell its key names
-// (CollisionArgs::cellKeys), and each round after the call's first builds inside a conditional graph
-// node whose gate reads and clears that flag (DeviceCellList::rebuildIfMoved): a settled pile's rounds
+// (CollisionArgs::cellKeys), and each round after the call's first builds in a launch that reads and
+// clears that flag and builds only where it is set (DeviceCellList::rebuildIfMoved): a settled pile's rounds
 // move particles by less than a cell, and the rounds queued behind the one that found nothing move
 // none. The same bits (tests/gpu/test_cuda_contacts.cpp). An H200, fp32, with the listings' 2% deep
 // overlap in both (collision_rounds.cpp): `corebox bench pile` 10^6 balls 48.0 ms a frame against 49.8
@@ -876,7 +877,7 @@ bool CudaDevice<Real>::colourListing(int64_t rows, bool keepColours) {
     unsigned long long bits = 0;
     std::memcpy(&bits, words + 6, sizeof bits);
     std::memcpy(&m_listedOverlap, &bits, sizeof m_listedOverlap);
-    if (words[1] != 0 || words[0] < 1) return false;
+    if (words[1] != 0 || words[0] < 1 || words[0] > unsigned(gpu::kMaxContactColours)) return false;
     m_colourStart.assign(size_t(words[0]) + 1, 0);
     std::memcpy(m_colourStart.data(), words + kColouringWords, m_colourStart.size() * sizeof(int32_t));
     return true;
@@ -965,8 +966,9 @@ int64_t CudaDevice<Real>::listContacts(const RestingContact<double>& resting) {
     m_contactLambda.resize(size_t(total));
     m_contactApplied.resize(size_t(total));
     m_sweepsDone = 0;
-    m_contactImpulses.resize(size_t(kImpulseRows + 2) *
-                             size_t(m_n));  // and the tally's two rows (queueRelaxationTally)
+    m_relaxationEnded = m_tallyRead = false;  // a relaxation's end and tally belong to it alone
+    // The impulse rows and the relaxation tally's two (queueRelaxationTally).
+    m_contactImpulses.resize(size_t(kImpulseRows + 2) * size_t(m_n));
     cudaCheck(cudaMemsetAsync(m_contactImpulses.data(), 0, size_t(kImpulseRows) * size_t(m_n) * sizeof(double), s), "memset");
     if (m_gaussSeidelContacts) m_rowTarget.resize(size_t(total));  // the fill sets the targets
     // A later listing of a step keeps the colours of the pairs the listing before coloured, and so does

@@ -115,9 +115,6 @@ public:
     ContactResidual<double> relaxContacts(int sweeps) override;
     RelaxationOutcome relaxListing(const RelaxationPlan& plan) override;
     void endRelaxation() override;
-    void queueEndOfRelaxation();
-    bool queueRelaxationTally();
-    void readRelaxationTally();
     ContactCarryOver contactWarmStart() const override;
     void restoreContactWarmStart(const ContactCarryOver& carried) override;
     void beginStep(int64_t step) override { m_stepIndex = step; }
@@ -559,6 +556,10 @@ private:
     std::vector<int32_t> m_colourStart;  // colours + 1 bounds into m_colourOrder
     double m_listedOverlap = -1;         // the colouring's measure of the listing (listedOverlap)
     // keepColours: rows keep the colours the fill put in m_prevColour (a later listing of a step).
+    // The end of a relaxation and what the core reads after it, queued behind it (queueRelaxationTally).
+    void queueEndOfRelaxation();
+    bool queueRelaxationTally();
+    void readRelaxationTally();
     bool colourListing(int64_t rows, bool keepColours);
     // Warm start (contact_relaxation.h): the last step's final rows, swapped in at beginCollisions.
     DeviceBuffer<int64_t> m_warmStart, m_warmPartner;

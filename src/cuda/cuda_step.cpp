@@ -220,7 +220,7 @@ bool CudaDevice<Real>::takeRunAhead(double h, double dt) {
         r.list.swap(m_aheadList);
         m_takenListsUnchecked = true;  // resolveOnDevice reads their overflow with the words (settleUncheckedLists elsewhere)
     }
-    m_checkCached = m_kineticCached = false;
+    m_checkCached = m_kineticCached = m_tallyRead = false;
     m_forecast.stage = 0;
     m_speculated = m_speculatedRefresh = false;
     m_wordsFresh = true;  // reset by the kickDrift that ran, screened by the pass

@@ -74,7 +74,8 @@ public:
 
 private:
     // Whether rebuildIfMoved's build can gate itself (gpu::launchCellListIfMoved): a counted build of
-    // several blocks on a device with cooperative launches.
+    // several blocks on a device with cooperative launches, of a grid within the counted builds' bound
+    // (enqueueBuild sorts a larger one by radix), so that both kinds of build see the same grids.
     static bool gatesOnDevice(const gpu::CellListArgs<Real>& a) {
         return !gpu::cellListBuildIsOneLaunch(a.n) && int64_t(a.geometry.cellCount()) <= maxCellCount(a.n) &&
                gpu::cellListIfMovedBlocks<Real>() > 0;
@@ -130,6 +131,7 @@ public:
         swap(a.m_last, b.m_last);
         swap(a.m_keysValid, b.m_keysValid);
         swap(a.m_counts, b.m_counts);
+        swap(a.m_blockTotals, b.m_blockTotals);
         swap(a.m_crowded, b.m_crowded);
         swap(a.m_countedOff, b.m_countedOff);
         swap(a.m_helper, b.m_helper);

@@ -310,9 +310,13 @@ void expectCrowdedRebuildSameAsHost(cudaStream_t stream) {
         moved.upload(&one, 1);
         DeviceCellList<Real> cells;
         cells.build(d.x.data(), n, g, CellSplit<Real>{}, 0.5, stream);
+        cudaCheck(cudaStreamSynchronize(stream), "build");  // before the positions change under it
         d.x.upload(x.data(), x.size());
         const CellListView view = cells.rebuildIfMoved(d.x.data(), n, g, CellSplit<Real>{}, 0.5, moved.data(), stream);
         cudaCheck(cudaStreamSynchronize(stream), "rebuild");
+        unsigned int flag = 7;
+        cudaCheck(cudaMemcpy(&flag, moved.data(), sizeof flag, cudaMemcpyDeviceToHost), "download");
+        EXPECT_EQ(flag, 0u) << "the gated build did not run (a plain build leaves the flag)";
         CellList host;
         host.build(x.data(), n, g, CellSplit<Real>{}, 0.5);
         expectViewEquals(view, host, n);
@@ -358,7 +362,7 @@ TEST(CudaCellList, RebuildIfMovedBuildsOnlyWhereFlagged) {
     ASSERT_NE(cells.keys(), nullptr);
     cudaCheck(cudaStreamSynchronize(stream), "build");
     expectViewEquals(view, hostOf(x, g), n);
-    for (int pass = 0; pass < 2; ++pass) {  // captured, then launched
+    for (int pass = 0; pass < 2; ++pass) {  // twice: the second from the first's arrays
         SCOPED_TRACE(pass);
         // Not flagged: skipped. The poison (on the build's stream, so ordered before it) stays.
         cudaCheck(cudaMemsetAsync(const_cast<int32_t*>(view.sorted), 0xff, size_t(n) * sizeof(int32_t), stream),
