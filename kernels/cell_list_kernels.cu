@@ -97,6 +97,16 @@ __global__ void __launch_bounds__(Threads) oneBlockCellListKernel(CellListArgs<R
     }
 }
 
+// sorted[b .. e) in ascending order by insertion, in one thread: a cell's few entries.
+__device__ inline void insertionSortRange(int32_t* sorted, int32_t b, int32_t e) {
+    for (int32_t x = b + 1; x < e; ++x) {
+        const int32_t v = sorted[x];
+        int32_t y = x - 1;
+        for (; y >= b && sorted[y] > v; --y) sorted[y + 1] = sorted[y];
+        sorted[y + 1] = v;
+    }
+}
+
 // Up to 1024 particles (and kSmallSlots cells), in shared memory: a counting sort as the host's
 // (host_cell_list.h), counts by atomics (a count: the same in any order), starts by a block scan,
 // places by atomics (in no order), then each cell's few entries put in ascending index, one thread a
@@ -125,12 +135,7 @@ __global__ void __launch_bounds__(kSmallThreads) smallCellListKernel(CellListArg
     __syncthreads();
     for (int c = t; c <= cells; c += kSmallThreads) {  // insertion sort of the cell's entries by index (and the large ones')
         const int32_t b = start[c], e = start[c + 1];
-        for (int32_t x = b + 1; x < e; ++x) {
-            const int32_t v = order[x];
-            int32_t y = x - 1;
-            for (; y >= b && order[y] > v; --y) order[y + 1] = order[y];
-            order[y + 1] = v;
-        }
+        insertionSortRange(order, b, e);
     }
     __syncthreads();
     for (int c = t; c <= cells; c += kSmallThreads) a.cellStart[c] = start[c];
@@ -221,12 +226,7 @@ __global__ void orderCellsKernel(const int32_t* cellStart, int cells, int32_t n,
     if (c > cells) return;
     const int32_t b = cellStart[c], e = c < cells ? cellStart[c + 1] : n;
     if (e - b > kCountedCellMost) return;  // crowded: the radix build redoes every array
-    for (int32_t x = b + 1; x < e; ++x) {
-        const int32_t v = sorted[x];
-        int32_t y = x - 1;
-        for (; y >= b && sorted[y] > v; --y) sorted[y + 1] = sorted[y];
-        sorted[y + 1] = v;
-    }
+    insertionSortRange(sorted, b, e);
 }
 
 __global__ void crowdedGateKernel(cudaGraphConditionalHandle handle, const unsigned int* crowded) {
@@ -317,16 +317,10 @@ __global__ void __launch_bounds__(kBlock)
     grid.sync();
     for (int64_t c = first; c < slots; c += stride) {
         const int32_t b = a.cellStart[c], e = c < cells ? a.cellStart[c + 1] : int32_t(a.n);
-        if (e - b > kCountedCellMost) {
+        if (e - b > kCountedCellMost)
             heapSortRange(a.sorted, b, e);
-            continue;
-        }
-        for (int32_t x = b + 1; x < e; ++x) {
-            const int32_t v = a.sorted[x];
-            int32_t y = x - 1;
-            for (; y >= b && a.sorted[y] > v; --y) a.sorted[y + 1] = a.sorted[y];
-            a.sorted[y + 1] = v;
-        }
+        else
+            insertionSortRange(a.sorted, b, e);
     }
 }
 

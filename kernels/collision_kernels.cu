@@ -65,6 +65,18 @@ __device__ void recordEvent(const CollisionArgs<Real>& a, int64_t i, const Colli
     }
 }
 
+// The earliest of the events the G lanes of a group (mask) found, in every lane: a total order, so the
+// same whatever lane found which.
+template <int G>
+__device__ inline CollisionEvent groupBest(CollisionEvent best, unsigned mask) {
+    for (int offset = G / 2; offset > 0; offset /= 2) {
+        const CollisionEvent other{__shfl_xor_sync(mask, best.key, offset),
+                                   int64_t(__shfl_xor_sync(mask, (long long)best.partner, offset))};
+        if (isBetter(other, best)) best = other;
+    }
+    return best;
+}
+
 // G lanes a particle (neighbour_walk.cuh; G = 1: a thread walks alone), whole groups in a block.
 template <class Real, int G>
 __global__ void findEventsKernel(CollisionArgs<Real> a) {
@@ -93,12 +105,7 @@ __global__ void findEventsKernel(CollisionArgs<Real> a) {
         forEachNeighbour(a.grid, xi, ri, consider);
     } else {
         forEachNeighbourShared<G>(a.grid, xi, ri, rank, consider);
-        const unsigned mask = groupMask<G>();
-        for (int offset = G / 2; offset > 0; offset /= 2) {
-            const CollisionEvent other{__shfl_xor_sync(mask, best.key, offset),
-                                       int64_t(__shfl_xor_sync(mask, (long long)best.partner, offset))};
-            if (isBetter(other, best)) best = other;
-        }
+        best = groupBest<G>(best, groupMask<G>());
         if (rank != 0) return;
     }
     considerWalls(xi, vi, ri, a.box, a.window, best);
@@ -131,6 +138,18 @@ __device__ inline CollisionEvent unpackedEvent(unsigned long long word) {
     return CollisionEvent{double(key), int64_t(0xFFFFFFFFull - (word & 0xFFFFFFFFull)) - 1};
 }
 
+// The scattered searches' pair (i, j), i active: the pair's impact joins i's best event, and is offered
+// to j's word where j is inactive (atomicMax: the same earliest whatever the order).
+__device__ inline void offerPair(const CollisionArgs<float>& a, unsigned long long* offered, int64_t i, Vec3<float> xi,
+                                 Vec3<float> vi, float ri, int64_t j, CollisionEvent& best) {
+    if (j == i) return;
+    const float s = pairImpactRewind(xi, vi, ri, a.p.x[j], a.p.v[j], a.table.radius[a.p.species[j]], a.window);
+    if (!(s >= 0.0f)) return;
+    const CollisionEvent e{double(s), j};
+    if (isBetter(e, best)) best = e;
+    if (!a.active[j]) atomicMax(&offered[j], packedEvent(s, i));
+}
+
 // Each active particle (with an event in the round before; in a stage's first round, fast enough for an
 // impact): its earliest event among every neighbour and the walls, as findEventsKernel finds it, and for
 // each inactive neighbour it overlaps in an impact, the pair's event offered to that neighbour's word
@@ -153,14 +172,7 @@ __global__ void scatterEventsKernel(CollisionArgs<float> a, unsigned long long* 
     const Vec3<float> xi = a.p.x[i], vi = a.p.v[i];
     const float ri = a.table.radius[a.p.species[i]];
     CollisionEvent best = noEvent();
-    forEachNeighbour(a.grid, xi, ri, [&](int64_t j) {
-        if (j == i) return;
-        const float s = pairImpactRewind(xi, vi, ri, a.p.x[j], a.p.v[j], a.table.radius[a.p.species[j]], a.window);
-        if (!(s >= 0.0f)) return;
-        const CollisionEvent e{double(s), j};
-        if (isBetter(e, best)) best = e;
-        if (!a.active[j]) atomicMax(&offered[j], packedEvent(s, i));
-    });
+    forEachNeighbour(a.grid, xi, ri, [&](int64_t j) { offerPair(a, offered, i, xi, vi, ri, j, best); });
     considerWalls(xi, vi, ri, a.box, a.window, best);
     recordEvent(a, i, best);
 }
@@ -189,19 +201,9 @@ __global__ void scatterListedEventsKernel(CollisionArgs<float> a, unsigned long 
         const Vec3<float> xi = a.p.x[i], vi = a.p.v[i];
         const float ri = a.table.radius[a.p.species[i]];
         CollisionEvent best = noEvent();
-        forEachNeighbourShared<G>(a.grid, xi, ri, rank, [&](int64_t j) {
-            if (j == i) return;
-            const float s = pairImpactRewind(xi, vi, ri, a.p.x[j], a.p.v[j], a.table.radius[a.p.species[j]], a.window);
-            if (!(s >= 0.0f)) return;
-            const CollisionEvent e{double(s), j};
-            if (isBetter(e, best)) best = e;
-            if (!a.active[j]) atomicMax(&offered[j], packedEvent(s, i));
-        });
-        for (int offset = G / 2; offset > 0; offset /= 2) {
-            const CollisionEvent other{__shfl_xor_sync(mask, best.key, offset),
-                                       int64_t(__shfl_xor_sync(mask, (long long)best.partner, offset))};
-            if (isBetter(other, best)) best = other;
-        }
+        forEachNeighbourShared<G>(a.grid, xi, ri, rank,
+                                  [&](int64_t j) { offerPair(a, offered, i, xi, vi, ri, j, best); });
+        best = groupBest<G>(best, mask);
         if (rank == 0) {
             considerWalls(xi, vi, ri, a.box, a.window, best);
             recordEvent(a, i, best);

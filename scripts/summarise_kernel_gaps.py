@@ -8,23 +8,13 @@ as a copy to the host followed by a wait; a graph's or a node's overhead as the 
 
 --from / --to: the windows [W0, W1) to sum (a pile's landing, its settled seconds), default all.
 """
-import argparse
 import collections
-import csv
 
-from summarise_kernel_times import short_names
+from summarise_kernel_times import short_names, windowed_rows
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("csv")
-    parser.add_argument("--from", dest="first", type=int, default=0)
-    parser.add_argument("--to", dest="last", type=int, default=None)
-    parser.add_argument("--top", type=int, default=20)
-    args = parser.parse_args()
-    with open(args.csv, newline="") as f:
-        rows = [r for r in csv.DictReader(f)
-                if int(r["window"]) >= args.first and (args.last is None or int(r["window"]) < args.last)]
+    args, rows = windowed_rows(__doc__)
     names = short_names(sorted({r["before"] for r in rows} | {r["after"] for r in rows}))
     waits = collections.defaultdict(lambda: [0, 0])
     for r in rows:

@@ -30,8 +30,9 @@ def short_names(names):
     return out
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def windowed_rows(description):
+    """The command line (CSV, --from, --to, --top) and the CSV's rows of the windows [from, to)."""
+    parser = argparse.ArgumentParser(description=description, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("csv")
     parser.add_argument("--from", dest="first", type=int, default=0)
     parser.add_argument("--to", dest="last", type=int, default=None)
@@ -39,6 +40,11 @@ def main():
     args = parser.parse_args()
     with open(args.csv, newline="") as f:
         rows = [r for r in csv.DictReader(f) if int(r["window"]) >= args.first and (args.last is None or int(r["window"]) < args.last)]
+    return args, rows
+
+
+def main():
+    args, rows = windowed_rows(__doc__)
     if not rows:
         print("no windows in that range")
         return

@@ -155,22 +155,22 @@ template <class Real>
 void CudaDevice<Real>::searchRound(gpu::CollisionArgs<Real>& a, int round, const unsigned int* lastCount,
                                    cudaStream_t s) {
     if constexpr (std::is_same<Real, float>::value) {
+        // This round lists its particles with events; the round before's list, where there is one, may be
+        // scattered from (CollisionArgs::listedScatterMax).
+        auto useLists = [&] {
+            a.activeOut = m_activeLists.data() + size_t(round % 2) * size_t(m_n);
+            if (round == 0 || !lastCount) return;
+            a.activeIn = m_activeLists.data() + size_t((round + 1) % 2) * size_t(m_n);
+            a.activeInCount = lastCount;
+            a.listedScatterMax = m_listedScatterMax;
+        };
         if (scattersSearch(round)) {
-            const size_t n = size_t(m_n);
-            a.activeOut = m_activeLists.data() + size_t(round % 2) * n;
-            if (round > 0 && lastCount) {  // the round before listed its particles with events (activeOut)
-                a.activeIn = m_activeLists.data() + size_t((round + 1) % 2) * n;
-                a.activeInCount = lastCount;
-                a.listedScatterMax = m_listedScatterMax;
-            }
+            useLists();
             gpu::launchScatteredSearch(a, m_offeredEvents.data(), s);
             return;
         }
         if (round > 0 && lastCount && scattersSparseRounds()) {
-            a.activeOut = m_activeLists.data() + size_t(round % 2) * size_t(m_n);
-            a.activeIn = m_activeLists.data() + size_t((round + 1) % 2) * size_t(m_n);
-            a.activeInCount = lastCount;
-            a.listedScatterMax = m_listedScatterMax;
+            useLists();
             gpu::launchSparseOrFullSearch(a, m_offeredEvents.data(), s);
             return;
         }
@@ -1070,13 +1070,7 @@ bool CudaDevice<Real>::queueRelaxationTally() {
     double* lift = m_contactImpulses.data() + size_t(kImpulseRows) * n;
     double* kinetic = lift + n;
     gpu::launchLiftWorkRow(arrays(), table(), m_xListed.data(), lift, s);
-    gpu::StepWords* w = stepWords();
-    m_wordsFresh = false;
-    cudaCheck(cudaMemsetAsync(w->healthCounts, 0, sizeof w->healthCounts, s), "memset");
-    cudaCheck(cudaMemsetAsync(&w->listForecast, 0, sizeof w->listForecast, s), "memset");
-    const gpu::StepCheckArgs<Real> a = stepCheckArgs(kinetic);
-    m_tallyForecast = a.forecast.moves != nullptr;
-    gpu::launchStepCheck(a, s);
+    m_tallyForecast = queueStepCheck(kinetic);
     gpu::launchBlockSums(m_contactImpulses.data(), kImpulseRows + 2, m_n, m_stepMail.data() + kStepWordDoubles, s);
     cudaCheck(
         cudaMemcpyAsync(m_hostStepMail.data(), m_stepMail.data(), doubles * sizeof(double), cudaMemcpyDeviceToHost, s),

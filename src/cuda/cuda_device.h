@@ -558,6 +558,7 @@ private:
     // keepColours: rows keep the colours the fill put in m_prevColour (a later listing of a step).
     // The end of a relaxation and what the core reads after it, queued behind it (queueRelaxationTally).
     void queueEndOfRelaxation();
+    bool queueStepCheck(double* kineticRow);
     bool queueRelaxationTally();
     void readRelaxationTally();
     bool colourListing(int64_t rows, bool keepColours);

@@ -426,19 +426,28 @@ StepCheck CudaDevice<Real>::checkStep() {
     gatherToHome();
     forgetRunAhead();  // its words are about to be written
     cudaStream_t s = stream();
-    gpu::StepWords* w = stepWords();
-    m_wordsFresh = false;
-    cudaCheck(cudaMemsetAsync(w->healthCounts, 0, sizeof w->healthCounts, s), "memset");
-    cudaCheck(cudaMemsetAsync(&w->listForecast, 0, sizeof w->listForecast, s), "memset");
     m_rows.resize(size_t(m_n));
-    const gpu::StepCheckArgs<Real> a = stepCheckArgs(m_rows.data());
-    gpu::launchStepCheck(a, s);
+    const bool forecast = queueStepCheck(m_rows.data());
     gpu::launchBlockSums(m_rows.data(), 1, m_n, m_stepMail.data() + kStepWordDoubles, s);
     const size_t doubles = kStepWordDoubles + size_t(partialBlocks());
     cudaCheck(cudaMemcpyAsync(m_hostStepMail.data(), m_stepMail.data(), doubles * sizeof(double), cudaMemcpyDeviceToHost, s), "step words");
     sync();
-    readForecast(a.forecast.moves != nullptr, hostStepWords());
+    readForecast(forecast, hostStepWords());
     return stepCheckOf(hostStepWords(), m_hostStepMail.data() + kStepWordDoubles);
+}
+
+// The step check of the current state queued: its health counts and forecast into the step words (cleared
+// first), each particle's kinetic energy into kineticRow; returns whether it made a forecast.
+template <class Real>
+bool CudaDevice<Real>::queueStepCheck(double* kineticRow) {
+    cudaStream_t s = stream();
+    gpu::StepWords* w = stepWords();
+    m_wordsFresh = false;
+    cudaCheck(cudaMemsetAsync(w->healthCounts, 0, sizeof w->healthCounts, s), "memset");
+    cudaCheck(cudaMemsetAsync(&w->listForecast, 0, sizeof w->listForecast, s), "memset");
+    const gpu::StepCheckArgs<Real> a = stepCheckArgs(kineticRow);
+    gpu::launchStepCheck(a, s);
+    return a.forecast.moves != nullptr;
 }
 
 template class CudaDevice<float>;
