@@ -201,6 +201,15 @@ void launchBuildCellList(const CellListArgs<Real>& a, cudaStream_t stream) {
 
 namespace {
 
+// The counts zeroed (cells + 1) and the crowded flag cleared, for a counted build: one kernel rather than
+// two memsets, since in a graph a memset node's successor began about 10 us after it (an H200, CUPTI, the
+// 10^6-ball pile: 2,874 counted builds in 5 s), a kernel's 1.3 us after the kernel before.
+__global__ void clearCountsKernel(int32_t* counts, int64_t slots, unsigned int* crowded) {
+    const int64_t c = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (c < slots) counts[c] = 0;
+    if (c == 0) *crowded = 0u;
+}
+
 template <class Real>
 __global__ void countCellKeysKernel(CellListArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
@@ -353,9 +362,8 @@ template <class Real>
 void launchCountedCellList(const CellListArgs<Real>& a, cudaGraphConditionalHandle crowded, cudaStream_t stream) {
     if (a.n <= kOneBlockItems) throw std::logic_error("launchCountedCellList: a one-launch build");
     const int cells = a.geometry.cellCount();
-    if (cudaMemsetAsync(a.counts, 0, size_t(cells + 1) * sizeof(int32_t), stream) != cudaSuccess ||
-        cudaMemsetAsync(a.crowded, 0, sizeof(unsigned int), stream) != cudaSuccess)
-        throw std::runtime_error("cell list counts: memset");
+    clearCountsKernel<<<blocksFor(int64_t(cells) + 1), kBlock, 0, stream>>>(a.counts, int64_t(cells) + 1, a.crowded);
+    checkLaunch("cell count clearing kernel");
     countCellKeysKernel<Real><<<blocksFor(a.n), kBlock, 0, stream>>>(a);
     checkLaunch("cell count kernel");
     size_t bytes = a.scratchBytes;

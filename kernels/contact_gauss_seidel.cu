@@ -16,7 +16,7 @@
 // hash instead: from colour 0 only one row in twenty-odd wins a round (the highest priority among the
 // rows it shares a particle with), so most rows waited a round per colour; spread over 16, about half
 // won at once (with 8, fewer: the spread now serves the colouring's speed less than the sweeps' fewer
-// colours, below). Then a stable radix sort of the own rows by colour gives each colour's rows in row order, and
+// colours, below). Then a stable counting sort of the own rows by colour gives each colour's rows in row order, and
 // the rows are packed in that order (what a sweep reads of a row, in one coalesced read each). A pile
 // of monodisperse balls takes 11 to 13 colours from colour 0 (a host emulation of the greedy colouring
 // on a settled 10,000-ball pile: 11 to 12), a particle at most 15 contacts (12 neighbours and 3 walls).
@@ -76,6 +76,9 @@
 // loads in flight an SM, half the blocks at each barrier): the same bits; the settled 10^6-ball pile's
 // listings 4.25 ms against 4.46 (an H200, fp32, CUPTI kernel times, `corebox bench pile`, its sweeps
 // 4.24 s against 4.46 over the 5 s; fp64 not compared on one machine).
+// Tried and not kept: each colour's packed rows asked of L2 (prefetch.global.L2) before the barrier that
+// opens it, since they do not depend on the colour before: the pile 35.1 and 35.3 ms a frame against 34.5
+// and 34.7 (an H200, fp32, separate binaries in one call).
 // Where the time goes (ncu, a settled listing of that pile, 16 sweeps in 4.30 ms): L2 at 65% of its
 // peak, L1 hits 51%, the warps stalled half the time on loads and a third at the colours' barriers. The
 // barriers' share, measured: the same sweeps (a row a thread) with the barriers left out (wrong: a row may
@@ -99,7 +102,8 @@
 // 3.7e-4, 32 Jacobi sweeps 1927 and 1% (the pile sinking into itself); in the CPU's bottom-up order 16
 // sweeps left 43 and 3.8e-4: the order of the colours costs little.
 #include <cooperative_groups.h>
-#include <cub/device/device_radix_sort.cuh>
+#include <cub/block/block_radix_sort.cuh>
+#include <cub/device/device_scan.cuh>
 
 #include <algorithm>
 #include <cstdint>
@@ -353,43 +357,103 @@ __global__ void __launch_bounds__(kBlock) colourRowsKernel(ContactArgs<Real> a, 
     if (threadIdx.x % 32 == 0 && colours > 0) atomicMax(&words[0], colours);
 }
 
-// Sort keys: an own row's colour; every other row after them.
-__global__ void colourKeysKernel(const uint8_t* colour, const int64_t* mirror, int64_t rows, uint8_t* keys, int64_t* index) {
-    const int64_t s = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (s >= rows) return;
-    keys[s] = mirror[s] == s ? colour[s] : kUncoloured;
-    index[s] = s;
-}
+// The own rows packed in colour order, each colour's in row order (what a sweep reads of a row, in one
+// coalesced read each: its particle, partner, target and impulse, and the pair virial r . J it gives,
+// summed per particle by pairVirialsKernel), and rowRank[s] = e, the place of own row s. A stable counting
+// sort by colour over tiles of kPackTileRows consecutive rows, a block a tile: each tile's rows of each
+// colour counted (colourTileCountsKernel), the counts scanned colour by colour, tile by tile (the place
+// colour c's rows of tile t begin at), and each tile's rows sorted by colour in the block (CUB's block
+// radix sort, stable) and written out colour run by colour run (packColouredRowsKernel). Uncoloured own
+// rows (where the colouring failed, the listing is relaxed with Jacobi sweeps, which read no packed row)
+// and the rows that are not their pair's own are not packed.
+// Before, the rows' colour keys were radix-sorted over the whole listing (CUB, stable) into an order of
+// every row, and a thread a packed place read its row through that order: a warp's reads of a row's
+// particle, partner, target and impulse each fell on rows a colour's stride apart, and each colour's pass
+// fetched the rows again (the settled 10^6-ball pile, an H200, fp32, CUPTI, per listing: keys 33 us, the
+// sort 54 and its histogram 6, the bounds 16, the packing 220, 330 in all; here the counts 27, their scan 6
+// and the packing 148, 181 in all; over the pile's 5 s 195 ms against 348). Tried and not kept:
+// a warp a tile of 512 rows, placed 32 at a time in row order (__match_any_sync among the lanes of a
+// colour): 199 us, its stores a few lanes to each colour's run, partial sectors evicted before they were
+// whole. The same places either way, so the same sweeps and bits.
+constexpr int kPackItems = 8;                       // rows a thread
+constexpr int kPackTileRows = kBlock * kPackItems;  // rows a block
+constexpr int kPackKeyBits = 7;                     // keys 0 .. kMaxContactColours
+static_assert(kMaxContactColours < (1 << kPackKeyBits), "a packing key is a colour or none");
 
-// colourStart[c] = the own rows of colours below c in the sorted keys, for c = 0 .. kMaxContactColours:
-// place k (of rows + 1) writes the c in (key before k, key at k], so a colour no row took (round 0's
-// spread can leave one) begins where the next does.
-__global__ void colourBoundsKernel(const uint8_t* sortedKeys, int64_t rows, int32_t* colourStart) {
-    const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (k > rows) return;
-    const int before = k == 0 ? -1 : int(sortedKeys[k - 1]);
-    const int at = k == rows ? int(kUncoloured) : int(sortedKeys[k]);
-    for (int c = before + 1; c <= at && c <= kMaxContactColours; ++c) colourStart[c] = int32_t(k);
-}
-
-// The own rows packed in colour order (position e of order), what a sweep reads of a row in one
-// coalesced read each: its particle, partner, target and impulse, and the pair virial r . J it gives
-// (summed per particle by pairVirialsKernel); rowRank[s] = e. The order's other rows, after the own
-// rows (colourStart[kMaxContactColours], colourBoundsKernel), are not packed (nor, where the colouring
-// failed, its uncoloured own rows: that listing is relaxed with Jacobi sweeps, which read no packed
-// row): their threads leave without a read (the own rows are half of a pile's; the settled 10^6-ball pile's packing
-// took 219 us against 277 when every thread read its row's mirror to find out, an H200, fp32).
+// A row's key in the sort: its colour where it is a coloured own row, else none (kMaxContactColours).
 template <class Real>
-__global__ void packRowsKernel(ContactArgs<Real> a, int64_t rows) {
-    const int64_t e = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (e >= rows || e >= a.colourStart[kMaxContactColours]) return;
-    const int64_t s = a.order[e];
-    a.packedParticle[e] = int32_t(a.rowParticle[s]);
-    a.packedPartner[e] = int32_t(a.partner[s]);
-    a.packedTarget[e] = a.target[s];
-    a.packedLambda[e] = a.lambda[s];
-    a.packedVirial[e] = 0;
-    a.rowRank[s] = int32_t(e);
+__device__ inline int packKey(const ContactArgs<Real>& a, int64_t s, int64_t rows) {
+    if (s >= rows || a.mirror[s] != s) return kMaxContactColours;
+    const int c = a.colour[s];
+    return c < kMaxContactColours ? c : kMaxContactColours;
+}
+
+// counts[c * tiles + t] = tile t's coloured own rows of colour c.
+template <class Real>
+__global__ void __launch_bounds__(kBlock)
+    colourTileCountsKernel(ContactArgs<Real> a, int64_t rows, int64_t tiles, int32_t* counts) {
+    __shared__ int32_t hist[kMaxContactColours];
+    if (threadIdx.x < kMaxContactColours) hist[threadIdx.x] = 0;
+    __syncthreads();
+    const int64_t begin = int64_t(blockIdx.x) * kPackTileRows;
+    for (int k = int(threadIdx.x); k < kPackTileRows; k += kBlock) {
+        const int key = packKey(a, begin + k, rows);
+        if (key < kMaxContactColours) atomicAdd(&hist[key], 1);
+    }
+    __syncthreads();
+    if (threadIdx.x < kMaxContactColours) counts[int64_t(threadIdx.x) * tiles + blockIdx.x] = hist[threadIdx.x];
+}
+
+// Tile t's coloured own rows of colour c at start[c * tiles + t] on, in row order. The block sorts its
+// rows' keys with their places in the tile (blocked in: thread j holds rows j * kPackItems on; striped
+// out, so that a warp's stores are to consecutive places), and each row's place within its colour's run
+// is its sorted place less the run's first (the tile's counts of the colours before). colourStart[c] =
+// start[c * tiles] for c = 0 .. kMaxContactColours (the last: every packed row), so that a colour no row
+// took begins where the next does.
+template <class Real>
+__global__ void __launch_bounds__(kBlock) packColouredRowsKernel(ContactArgs<Real> a, int64_t rows, int64_t tiles,
+                                                                 const int32_t* counts, const int32_t* start) {
+    using Sort = cub::BlockRadixSort<uint8_t, kBlock, kPackItems, int32_t>;
+    __shared__ typename Sort::TempStorage sort;
+    __shared__ int32_t runStart[kMaxContactColours + 1];  // the tile's sorted place of each colour's first row
+    const int64_t tile = blockIdx.x, begin = tile * kPackTileRows;
+    if (tile == 0)
+        for (int c = int(threadIdx.x); c <= kMaxContactColours; c += kBlock)
+            a.colourStart[c] = start[int64_t(c) * tiles];
+    if (threadIdx.x < kMaxContactColours) runStart[threadIdx.x] = counts[int64_t(threadIdx.x) * tiles + tile];
+    __syncthreads();
+    if (threadIdx.x == 0) {  // the counts into their exclusive sums
+        int32_t sum = 0;
+        for (int c = 0; c < kMaxContactColours; ++c) {
+            const int32_t count = runStart[c];
+            runStart[c] = sum;
+            sum += count;
+        }
+        runStart[kMaxContactColours] = sum;
+    }
+    uint8_t keys[kPackItems];
+    int32_t places[kPackItems];
+#pragma unroll
+    for (int k = 0; k < kPackItems; ++k) {
+        const int place = int(threadIdx.x) * kPackItems + k;
+        keys[k] = uint8_t(packKey(a, begin + place, rows));
+        places[k] = place;
+    }
+    Sort(sort).SortBlockedToStriped(keys, places, 0, kPackKeyBits);  // its barriers order runStart too
+#pragma unroll
+    for (int k = 0; k < kPackItems; ++k) {
+        const int c = keys[k];
+        if (c >= kMaxContactColours) continue;
+        const int sorted = int(threadIdx.x) + k * kBlock;
+        const int64_t e = int64_t(start[int64_t(c) * tiles + tile]) + (sorted - runStart[c]);
+        const int64_t s = begin + places[k];
+        a.packedParticle[e] = int32_t(a.rowParticle[s]);
+        a.packedPartner[e] = int32_t(a.partner[s]);
+        a.packedTarget[e] = a.target[s];
+        a.packedLambda[e] = a.lambda[s];
+        a.packedVirial[e] = 0;
+        a.rowRank[s] = int32_t(e);
+    }
 }
 
 // What a sweep reads of a packed own row and of its particles before it updates them (loadOwnRow), so
@@ -524,6 +588,8 @@ __global__ void __launch_bounds__(kBlock) gaussSeidelListingKernel(ContactArgs<R
 // behind the stores of the row before. The settled 10^6-ball pile's listing (an H200, fp32, CUPTI kernel
 // times, the same bits): 71 us here and 66 for the virials (pairVirialsKernel) against 320 for both in one
 // kernel a thread a particle.
+// Tried and not kept: both in one launch, a block's rows a thread a row and then its particles' virials a
+// thread a particle: 94.5 us a listing on average against 47.0 and 48.5 (the same pile over its 5 s).
 template <class Real>
 __global__ void mirrorImpulsesKernel(ContactArgs<Real> a, int64_t rows) {
     const int64_t s = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
@@ -548,19 +614,25 @@ __global__ void pairVirialsKernel(ContactArgs<Real> a) {
 
 struct ColouringScratch {
     unsigned long long* used;
-    uint8_t *candidate, *keys, *sortedKeys;
-    int64_t* index;
-    int32_t* lists;  // the colouring's two lists of rows left, rows each
-    void* sort;
-    size_t sortBytes;
+    uint8_t* candidate;
+    int32_t* lists;                    // the colouring's two lists of rows left, rows each
+    int32_t *tileCounts, *tileStarts;  // the packing's: kMaxContactColours x tiles + 1 each
+    int64_t tiles;
+    void* scan;
+    size_t scanBytes;
 };
 
 size_t align256(size_t bytes) { return (bytes + 255) / 256 * 256; }
 
-size_t radixSortBytes(int64_t rows) {
+int64_t packTiles(int64_t rows) { return (rows + kPackTileRows - 1) / kPackTileRows; }
+
+// The packing's counts: one a colour and tile, and a zero after them (its scan is every packed row).
+int64_t packCountSlots(int64_t rows) { return int64_t(kMaxContactColours) * packTiles(rows) + 1; }
+
+size_t packScanBytes(int64_t rows) {
     size_t bytes = 0;
-    cub::DeviceRadixSort::SortPairs(nullptr, bytes, static_cast<const uint8_t*>(nullptr), static_cast<uint8_t*>(nullptr),
-                                    static_cast<const int64_t*>(nullptr), static_cast<int64_t*>(nullptr), int(rows), 0, 8);
+    cub::DeviceScan::ExclusiveSum(nullptr, bytes, static_cast<const int32_t*>(nullptr), static_cast<int32_t*>(nullptr),
+                                  int(packCountSlots(rows)));
     return bytes;
 }
 
@@ -572,24 +644,25 @@ ColouringScratch carve(void* scratch, int64_t n, int64_t rows) {
     at += align256(size_t(n) * sizeof(unsigned long long));
     c.candidate = reinterpret_cast<uint8_t*>(at);
     at += align256(size_t(rows));
-    c.keys = reinterpret_cast<uint8_t*>(at);
-    at += align256(size_t(rows));
-    c.sortedKeys = reinterpret_cast<uint8_t*>(at);
-    at += align256(size_t(rows));
-    c.index = reinterpret_cast<int64_t*>(at);
-    at += align256(size_t(rows) * sizeof(int64_t));
     c.lists = reinterpret_cast<int32_t*>(at);
     at += align256(2 * size_t(rows) * sizeof(int32_t));
-    c.sort = at;
-    c.sortBytes = radixSortBytes(rows);
+    c.tiles = packTiles(rows);
+    const size_t countBytes = align256(size_t(packCountSlots(rows)) * sizeof(int32_t));
+    c.tileCounts = reinterpret_cast<int32_t*>(at);
+    at += countBytes;
+    c.tileStarts = reinterpret_cast<int32_t*>(at);
+    at += countBytes;
+    c.scan = at;
+    c.scanBytes = packScanBytes(rows);
     return c;
 }
 
 }  // namespace
 
 size_t contactColouringScratchBytes(int64_t n, int64_t rows) {
-    return align256(size_t(n) * sizeof(unsigned long long)) + 3 * align256(size_t(rows)) + align256(size_t(rows) * sizeof(int64_t)) +
-           align256(2 * size_t(rows) * sizeof(int32_t)) + radixSortBytes(rows);
+    return align256(size_t(n) * sizeof(unsigned long long)) + align256(size_t(rows)) +
+           align256(2 * size_t(rows) * sizeof(int32_t)) + 2 * align256(size_t(packCountSlots(rows)) * sizeof(int32_t)) +
+           packScanBytes(rows);
 }
 
 template <class Real>
@@ -621,14 +694,15 @@ bool launchColourContacts(const ContactArgs<Real>& a, int64_t rows, void* scratc
     e = cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(colourRowsKernel<Real>), dim3(unsigned(blocks)), dim3(kBlock), params, 0,
                                     stream);
     if (e != cudaSuccess) throw DeviceError(std::string("contact colouring kernel: ") + cudaGetErrorString(e));
-    colourKeysKernel<<<blocksFor(rows), kBlock, 0, stream>>>(a.colour, a.mirror, rows, c.keys, c.index);
-    checkLaunch("contact colour keys kernel");
-    size_t sortBytes = c.sortBytes;
-    e = cub::DeviceRadixSort::SortPairs(c.sort, sortBytes, c.keys, c.sortedKeys, c.index, a.order, int(rows), 0, 8, stream);
-    if (e != cudaSuccess) throw DeviceError(std::string("contact colour sort: ") + cudaGetErrorString(e));
-    colourBoundsKernel<<<blocksFor(rows + 1), kBlock, 0, stream>>>(c.sortedKeys, rows, a.colourStart);
-    checkLaunch("contact colour bounds kernel");
-    packRowsKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(a, rows);
+    const unsigned tileBlocks = unsigned(c.tiles);
+    e = cudaMemsetAsync(c.tileCounts + (packCountSlots(rows) - 1), 0, sizeof(int32_t), stream);
+    if (e != cudaSuccess) throw DeviceError(std::string("contact packing: ") + cudaGetErrorString(e));
+    colourTileCountsKernel<Real><<<tileBlocks, kBlock, 0, stream>>>(a, rows, c.tiles, c.tileCounts);
+    checkLaunch("contact colour count kernel");
+    size_t scanBytes = c.scanBytes;
+    e = cub::DeviceScan::ExclusiveSum(c.scan, scanBytes, c.tileCounts, c.tileStarts, int(packCountSlots(rows)), stream);
+    if (e != cudaSuccess) throw DeviceError(std::string("contact packing scan: ") + cudaGetErrorString(e));
+    packColouredRowsKernel<Real><<<tileBlocks, kBlock, 0, stream>>>(a, rows, c.tiles, c.tileCounts, c.tileStarts);
     checkLaunch("contact row packing kernel");
     return true;
 }

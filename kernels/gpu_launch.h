@@ -402,6 +402,10 @@ struct CollisionArgs {
     // holds at most this many particles (and at most one in kListedScatterShare) walks from that list,
     // kListedScatterLanes lanes a particle; 0: never.
     int64_t listedScatterMax;
+    // The scattered search's collection of the offered events also clears the active flags of activeIn
+    // (the searches before it have read them), which launchResolveListed then leaves: set by a round whose
+    // resolution is listed (CudaDevice::searchRound), for one launch fewer a round.
+    bool clearActiveIn;
     // When set, the resolution sets *cellsMoved = 1 where a particle it moves leaves the cell key
     // cellKeys[i] the last build of `grid` gave it (with cellSplit, the build's split): a round after
     // one that moved nobody out of a cell skips its build (CudaDevice::runImpactRounds).
@@ -465,8 +469,9 @@ template <class Real>
 void launchResolve(const CollisionArgs<Real>& args, cudaStream_t stream);
 // The same from this round's list of the particles with events (activeOut, counters[1] of them, as the
 // search listed them) instead of a thread a particle, after the flags of the round before's list
-// (activeIn, *activeInCount) are cleared: the same events, bits and flags where the active flags are that
-// list's (the round before resolved with either). Gated as launchResolve.
+// (activeIn, *activeInCount) are cleared (here, or by the search where clearActiveIn): the same events,
+// bits and flags where the active flags are that list's (the round before resolved with either). Gated
+// as launchResolve.
 template <class Real>
 void launchResolveListed(const CollisionArgs<Real>& args, cudaStream_t stream);
 // Walls only (no pair can meet in this stage, CudaDevice::screenStage): every particle resolves its wall
@@ -528,11 +533,11 @@ struct ContactArgs {
     int64_t* mirror;
     uint8_t* colour;
     Real* target;
-    int64_t* order;        // own rows by colour, then the other rows
-    int32_t* colourStart;  // kMaxContactColours + 1: colour c's rows are order[colourStart[c] .. colourStart[c + 1])
-    // The own rows packed at their place e in order (what the sweeps read and write), and each own
-    // row's place: rowRank[s] = e (of a coloured listing: where the colouring fails, nothing packed is
-    // read). The sweeps keep a row's impulse and its pair virial r . J here; the mirror kernels hand the
+    int32_t*
+        colourStart;  // kMaxContactColours + 1: colour c's own rows are packed at colourStart[c] .. colourStart[c + 1]
+    // The own rows packed at their place e, by colour and within a colour in row order (what the sweeps read and
+    // write), and each own row's place: rowRank[s] = e (of a coloured listing: where the colouring fails, nothing
+    // packed is read). The sweeps keep a row's impulse and its pair virial r . J here; the mirror kernels hand the
     // impulses back to the rows and add the virials to the impulse rows.
     int32_t* packedParticle;
     int32_t* packedPartner;
@@ -608,7 +613,7 @@ bool launchRelaxListing(const ContactArgs<Real>& args, const RelaxationPlan& pla
 // ---- Gauss-Seidel in colours (contact_gauss_seidel.cu) ----
 // Colours the listing's pairs and walls so that no particle has two contacts of one colour (each
 // pair from its own row; rowParticle, mirror and the bounce targets filled on the way), then sorts
-// the own rows by colour into order and colourStart and packs them (packed*, rowRank). words (6): [0]
+// the own rows by colour (colourStart) and packs them (packed*, rowRank). words (6): [0]
 // the colours used, [1] 1 if more than kMaxContactColours were needed (then nothing after the
 // colouring is valid), [2..3] the colouring's own (its lists' lengths); *deepest: the deepest overlap
 // of the listed contacts (double bits, ContactResidual::overlap). Scratch:

@@ -533,7 +533,7 @@ private:
     // listing's rows as the colouring leaves them, and its colours' bounds as the host read them.
     bool m_gaussSeidelContacts = true;
     bool m_gaussSeidel = false;  // the current listing is coloured: its sweeps are Gauss-Seidel
-    DeviceBuffer<int64_t> m_rowParticle, m_rowMirror, m_colourOrder;
+    DeviceBuffer<int64_t> m_rowParticle, m_rowMirror;
     DeviceBuffer<uint8_t> m_rowColour;
     // The colours of the warm rows (swapped with m_rowColour as the rows are) and whether their listing
     // was coloured; each own row's colour there (the fill's, for the colouring to keep: a later listing
@@ -553,7 +553,7 @@ private:
     DeviceBuffer<unsigned int> m_colouringWords;
     PinnedBuffer<unsigned int> m_hostColouring;  // their copy
     DeviceBuffer<unsigned char> m_colouringScratch;
-    std::vector<int32_t> m_colourStart;  // colours + 1 bounds into m_colourOrder
+    std::vector<int32_t> m_colourStart;  // colours + 1 bounds of the packed rows
     double m_listedOverlap = -1;         // the colouring's measure of the listing (listedOverlap)
     // keepColours: rows keep the colours the fill put in m_prevColour (a later listing of a step).
     // The end of a relaxation and what the core reads after it, queued behind it (queueRelaxationTally).
@@ -561,7 +561,7 @@ private:
     bool queueStepCheck(double* kineticRow);
     bool queueRelaxationTally();
     void readRelaxationTally();
-    bool colourListing(int64_t rows, bool keepColours);
+    bool colourListing(int64_t rows, bool keepColours, bool withKinetic);
     // Warm start (contact_relaxation.h): the last step's final rows, swapped in at beginCollisions.
     DeviceBuffer<int64_t> m_warmStart, m_warmPartner;
     DeviceBuffer<Real> m_warmLambda;

@@ -53,6 +53,12 @@ public:
     // energies, the sandbox example's state hash); the GPU idle 0.70 s; `corebox bench pile` (separate
     // runs alternating in one call) 10^6 balls 36.11 ms a frame against 37.74 and 38.43, 10^5 9.00 against
     // 10.27, 10^4 5.00 against 5.52; the sandbox example at 10^5 balls 12.6 against 12.6 and 12.7.
+    // Tried and not kept (an H200, fp32, the 10^6-ball pile, CUPTI kernel times over its 5 s): the
+    // counts zeroed by the build that read them (its scan), so that the next gated build could skip its
+    // zeroing pass and that pass's barrier: the gated builds took 40.4 us on average against 36.3 (the
+    // count's atomics then found the counts' lines out of L2); the counted builds of launch() as this
+    // cooperative launch too (no graph, no IF node): 1,213 ms of builds against 1,145, the pile 34.6 ms a
+    // frame against 33.9 (separate binaries in one call).
     CellListView rebuildIfMoved(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry,
                                 const CellSplit<Real>& split, double gridRadius, unsigned int* moved,
                                 cudaStream_t stream) {
