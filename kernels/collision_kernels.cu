@@ -188,6 +188,11 @@ __global__ void scatterEventsKernel(CollisionArgs<float> a, unsigned long long* 
 // 10^6 balls 36.65 and 36.76 ms a frame against 36.84 and 36.74 (its landing's scattered searches 645 ms
 // against 683 over the 5 s, CUPTI: most of its rounds have more active particles than the list takes).
 // Lists of up to 131,072 particles: 37.96, slower (a warp a particle is too many warps for them).
+// Tried and not kept: this kernel and scatterEventsKernel as one launch (the list's path in its first
+// blocks where the list is short, else a thread a particle), one launch and one wait fewer a round: the
+// search took 1,399 ms over the 10^6-ball pile's 5 s against 872 and 501 (CUPTI: the merged kernel's
+// registers are the list path's), and the pile 33.5, 33.5 and 33.4 ms a frame against 33.3, 33.3 and
+// 33.5 (an H200, fp32, separate binaries alternating in one call).
 template <int G>
 __global__ void scatterListedEventsKernel(CollisionArgs<float> a, unsigned long long* offered) {
     if ((a.gate && *a.gate == 0u) || !listedScatter(a)) return;
