@@ -217,6 +217,12 @@ __global__ void scatterListedEventsKernel(CollisionArgs<float> a, unsigned long 
     }
 }
 
+// Entry t of the round before's list (activeIn) loses its active flag.
+template <class Real>
+__device__ inline void clearListedFlag(const CollisionArgs<Real>& a, int64_t t) {
+    if (t < int64_t(*a.activeInCount)) a.active[a.activeIn[t]] = 0;
+}
+
 // The inactive particles' offered events (an inactive particle has no wall event: it did not move since
 // the round that found it none, or in a stage's first round it is too slow for one), their words
 // cleared for the next round; with clearActiveIn, the active flags of the round before's list cleared
@@ -225,11 +231,12 @@ __global__ void scatterListedEventsKernel(CollisionArgs<float> a, unsigned long 
 // 10^6-ball pile over 5 s: 24,347 launches of 3.6 us, each with 1.3 us of idle GPU after it. Here the
 // collection took 228 ms over the 5 s against 214, and the clearing kernel's 87 ms and its waits went.
 // A round that finds no event leaves the flags cleared rather than the list's (its resolution is gated
-// off): nothing reads them before the next stage sets every particle's (launchOpenStage).
+// off): no round searches after it, and the flags are set again before any search reads them (the next
+// stage's launchOpenStage, or findEvents' every-particle memset; a walls-at-once stage searches nothing).
 __global__ void collectOfferedEventsKernel(CollisionArgs<float> a, unsigned long long* offered) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.p.n || (a.gate && *a.gate == 0u)) return;
-    if (a.clearActiveIn && i < int64_t(*a.activeInCount)) a.active[a.activeIn[i]] = 0;
+    if (a.clearActiveIn) clearListedFlag(a, i);
     const unsigned long long word = offered[i];
     if (word == 0ull) return;
     offered[i] = 0ull;
@@ -311,7 +318,8 @@ __device__ void resolveEventOf(const CollisionArgs<Real>& a, int64_t i, const Co
 // event (resolved now or still pending): the resolution reads no active flag, so the next search's
 // flags are set here rather than by a launch of their own. A thread a particle, or with `listed` a
 // thread an entry of this round's list of the particles with events (activeOut, counters[1] long), after
-// clearActiveKernel: the flags are then that list's, as a thread a particle leaves them. One kernel for
+// the round before's list's flags are cleared (clearActiveKernel, or the collection where clearActiveIn):
+// the flags are then that list's, as a thread a particle leaves them. One kernel for
 // both, so that the resolution is the same instructions either way (in a kernel of its own the fp64
 // resolution of the Lennard-Jones fluid with hard cores contracted into other fused multiply-adds, and
 // its bits differed from the rounds' one by one: tests/gpu/test_cuda_contacts.cpp).
@@ -330,8 +338,7 @@ __global__ void resolveKernel(CollisionArgs<Real> a, bool listed) {
 template <class Real>
 __global__ void clearActiveKernel(CollisionArgs<Real> a) {
     const int64_t t = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if ((a.gate && *a.gate == 0u) || t >= int64_t(*a.activeInCount)) return;
-    a.active[a.activeIn[t]] = 0;
+    if (!(a.gate && *a.gate == 0u)) clearListedFlag(a, t);
 }
 
 // Walls only: particle i's wall impacts in turn (launchResolveWallImpacts).

@@ -431,6 +431,7 @@ __global__ void __launch_bounds__(kBlock) packColouredRowsKernel(ContactArgs<Rea
         }
         runStart[kMaxContactColours] = sum;
     }
+    __syncthreads();  // runStart for every thread (the sort below has barriers of its own too)
     uint8_t keys[kPackItems];
     int32_t places[kPackItems];
 #pragma unroll
@@ -439,7 +440,7 @@ __global__ void __launch_bounds__(kBlock) packColouredRowsKernel(ContactArgs<Rea
         keys[k] = uint8_t(packKey(a, begin + place, rows));
         places[k] = place;
     }
-    Sort(sort).SortBlockedToStriped(keys, places, 0, kPackKeyBits);  // its barriers order runStart too
+    Sort(sort).SortBlockedToStriped(keys, places, 0, kPackKeyBits);
 #pragma unroll
     for (int k = 0; k < kPackItems; ++k) {
         const int c = keys[k];

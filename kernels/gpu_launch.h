@@ -392,7 +392,8 @@ struct CollisionArgs {
     // A round after the first (launchMarkSearchers): walker[i] = 1 for every particle within the cells
     // around a particle of activeIn[0 .. *activeInCount) (the round before's activeOut and count); the
     // search then skips every particle left unmarked (and clears the marks it reads). Null: every
-    // particle searches. launchResolveListed clears the active flags of that list. Both rely on a
+    // particle searches. The active flags of that list are cleared before the listed resolution
+    // (launchResolveListed, or the scattered search's collection: clearActiveIn). Both rely on a
     // particle that does not search keeping the no-event of its last search (every particle with an
     // event this round is in activeOut).
     unsigned char* walker;
@@ -403,8 +404,9 @@ struct CollisionArgs {
     // kListedScatterLanes lanes a particle; 0: never.
     int64_t listedScatterMax;
     // The scattered search's collection of the offered events also clears the active flags of activeIn
-    // (the searches before it have read them), which launchResolveListed then leaves: set by a round whose
-    // resolution is listed (CudaDevice::searchRound), for one launch fewer a round.
+    // (the searches before it have read them), which launchResolveListed then leaves, for one launch fewer
+    // a round (CudaDevice::searchRound: a round after the first of a narrowable stage; the host-driven
+    // rounds resolve a thread a particle after it, which sets every particle's flag).
     bool clearActiveIn;
     // When set, the resolution sets *cellsMoved = 1 where a particle it moves leaves the cell key
     // cellKeys[i] the last build of `grid` gave it (with cellSplit, the build's split): a round after

@@ -83,6 +83,7 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
         for (cudaEvent_t& e : set.marks) cudaCheck(cudaEventCreate(&e), "cudaEventCreate");
     cudaCheck(cudaEventCreateWithFlags(&m_mailCopied, cudaEventDisableTiming), "cudaEventCreate");
     cudaCheck(cudaEventCreateWithFlags(&m_stageDone, cudaEventDisableTiming), "cudaEventCreate");
+    cudaCheck(cudaEventCreateWithFlags(&m_readBackCopied, cudaEventDisableTiming), "cudaEventCreate");
     cudaCheck(cudaStreamCreateWithFlags(&m_mailStream, cudaStreamNonBlocking), "cudaStreamCreate");
     // [0..2]: findEvents reads them back, the log's count even when no step has logged; [3]: the host-driven
     // rounds' count of the round before (findEvents).
@@ -106,6 +107,7 @@ CudaDevice<Real>::~CudaDevice() {
     }
     for (RkGraph& g : m_rkGraphs) g.reset();
     if (m_stageDone) cudaEventDestroy(m_stageDone);
+    if (m_readBackCopied) cudaEventDestroy(m_readBackCopied);
     if (m_mailCopied) cudaEventDestroy(m_mailCopied);
     for (PhaseEvents& set : m_phaseSets) {
         for (cudaEvent_t e : set.marks) cudaEventDestroy(e);

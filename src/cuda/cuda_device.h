@@ -194,6 +194,19 @@ private:
         sync();
         return *value;
     }
+    // The same with queue()'s launches behind the copy, which run on while the host waits for the copy
+    // alone (one GPU: an event on the home stream).
+    template <class T, class Queue>
+    T readBackThen(const DeviceBuffer<T>& buffer, size_t offset, Queue queue) {
+        static_assert(sizeof(T) <= sizeof(unsigned long long), "one word");
+        T* value = reinterpret_cast<T*>(m_hostWords.resize(kHostWords));
+        cudaCheck(cudaMemcpyAsync(value, buffer.data() + offset, sizeof(T), cudaMemcpyDeviceToHost, stream()),
+                  "read-back");
+        cudaCheck(cudaEventRecord(m_readBackCopied, stream()), "event");
+        queue();
+        cudaCheck(cudaEventSynchronize(m_readBackCopied), "read-back");
+        return *value;
+    }
     // Queues the block partials of `rows` rows of `values` (each n long) into pinned memory;
     // hostPartialSums() adds them, in block order, after a sync.
     int queuePartialSums(const double* values, int rows, const char* mask = nullptr);
@@ -333,6 +346,7 @@ private:
     DeviceBuffer<double> m_aheadMail;  // the step ahead's step words (and room for the partials): m_stepMail's twin
     cudaEvent_t m_mailCopied = nullptr;
     cudaEvent_t m_stageDone = nullptr;    // the stage's last launch, which the words' copy waits for
+    cudaEvent_t m_readBackCopied = nullptr;  // readBackThen's copy
     cudaStream_t m_mailStream = nullptr;  // the words' copy, beside the step that runs ahead
     bool screensAtX() const;  // a force pass at X on these lists also screens the stage
     bool launchRunAhead(bool build);  // false where its buffers do not fit (running ahead is then off)
@@ -518,6 +532,7 @@ private:
     CollisionTally m_tailTallyValue;
     RestingContact<double> m_tailResting{0, 0};
     int64_t m_tailListed = 0;
+    bool m_lastListingFound = false;           // the last listing found contacts (listContacts)
     ImpactWindow<double> m_stageWindow{0, 0};  // beginCollisions' window
     CellGeometry listingGeometry(const RestingContact<double>& resting) const;
     void countContacts(bool scan, unsigned long long* total = nullptr);
