@@ -535,8 +535,8 @@ struct ContactArgs {
     int64_t* mirror;
     uint8_t* colour;
     Real* target;
-    int32_t*
-        colourStart;  // kMaxContactColours + 1: colour c's own rows are packed at colourStart[c] .. colourStart[c + 1]
+    // kMaxContactColours + 1: colour c's own rows are packed at colourStart[c] .. colourStart[c + 1].
+    int32_t* colourStart;
     // The own rows packed at their place e, by colour and within a colour in row order (what the sweeps read and
     // write), and each own row's place: rowRank[s] = e (of a coloured listing: where the colouring fails, nothing
     // packed is read). The sweeps keep a row's impulse and its pair virial r . J here; the mirror kernels hand the

@@ -188,9 +188,7 @@ private:
     std::vector<double> sumRows(int rows);
     template <class T>
     T readBack(const DeviceBuffer<T>& buffer, size_t offset = 0) {  // one value, after a sync
-        static_assert(sizeof(T) <= sizeof(unsigned long long), "one word");
-        T* value = reinterpret_cast<T*>(m_hostWords.resize(kHostWords));
-        cudaCheck(cudaMemcpyAsync(value, buffer.data() + offset, sizeof(T), cudaMemcpyDeviceToHost, stream()), "read-back");
+        const T* value = queueReadBack(buffer, offset);
         sync();
         return *value;
     }
@@ -198,14 +196,20 @@ private:
     // alone (one GPU: an event on the home stream).
     template <class T, class Queue>
     T readBackThen(const DeviceBuffer<T>& buffer, size_t offset, Queue queue) {
-        static_assert(sizeof(T) <= sizeof(unsigned long long), "one word");
-        T* value = reinterpret_cast<T*>(m_hostWords.resize(kHostWords));
-        cudaCheck(cudaMemcpyAsync(value, buffer.data() + offset, sizeof(T), cudaMemcpyDeviceToHost, stream()),
-                  "read-back");
+        const T* value = queueReadBack(buffer, offset);
         cudaCheck(cudaEventRecord(m_readBackCopied, stream()), "event");
         queue();
         cudaCheck(cudaEventSynchronize(m_readBackCopied), "read-back");
         return *value;
+    }
+    // The copy of one value into the host words, queued (readBack, readBackThen).
+    template <class T>
+    const T* queueReadBack(const DeviceBuffer<T>& buffer, size_t offset) {
+        static_assert(sizeof(T) <= sizeof(unsigned long long), "one word");
+        T* value = reinterpret_cast<T*>(m_hostWords.resize(kHostWords));
+        cudaCheck(cudaMemcpyAsync(value, buffer.data() + offset, sizeof(T), cudaMemcpyDeviceToHost, stream()),
+                  "read-back");
+        return value;
     }
     // Queues the block partials of `rows` rows of `values` (each n long) into pinned memory;
     // hostPartialSums() adds them, in block order, after a sync.
