@@ -9,6 +9,12 @@
 // against 41.1), 10^5 14.4 against 14.5; the sandbox at 10^5 balls 14.3 and 14.0 against 14.4 and 14.5.
 // The threads already take particles in the grid's order, so a warp's partners are in L1; the gather
 // cost what the reads saved.
+// Tried and not kept: the rounds' kernels (searches, collection, resolution) launched with programmatic
+// dependent launch (griddepcontrol: each scheduled behind the last blocks of the kernel before and waiting
+// for it inside): the 1.3 to 1.6 us the GPU stood idle between them went (CUPTI), but the kernels' times
+// grew by as much (the scattered search 46 us a round against 34, the collection 14.2 against 8.9), and
+// `corebox bench pile` 10^6 balls took 32.82 and 32.82 ms a frame against 32.95 and 32.78 (an H200, fp32,
+// separate binaries in one call): the idle time moved into the kernels rather than going.
 #include <algorithm>
 
 #include "gpu_common.cuh"

@@ -76,6 +76,15 @@
 // loads in flight an SM, half the blocks at each barrier): the same bits; the settled 10^6-ball pile's
 // listings 4.25 ms against 4.46 (an H200, fp32, CUPTI kernel times, `corebox bench pile`, its sweeps
 // 4.24 s against 4.46 over the 5 s; fp64 not compared on one machine).
+// A pair row's virial so far is read with its bodies (loadOwnRow), not after the update that adds to it:
+// one dependent load fewer on a pushing row's path (112 registers in fp32, the same resident blocks). The
+// same bits; `corebox bench pile` 10^6 balls 33.40 and 33.19 ms a frame against 33.56 and 33.55 in one
+// call, 32.95 and 32.78 against 32.98 and 33.14 in another (an H200, fp32, separate binaries alternating).
+// Tried and not kept with it: each colour's first two rows' fields read into registers before the barrier
+// that opens the colour (they do not depend on the colour before): 123 registers, the same resident
+// blocks, 33.54 and 33.58 in the first call; the colouring's contest reading every row of both particles
+// with no early exit (unrolled, so that the reads need not wait on the comparisons): the colouring took
+// 576 ms over the pile's 5 s against 535 (CUPTI).
 // Tried and not kept: each colour's packed rows asked of L2 (prefetch.global.L2) before the barrier that
 // opens it, since they do not depend on the colour before: the pile 35.1 and 35.3 ms a frame against 34.5
 // and 34.7 (an H200, fp32, separate binaries in one call).
@@ -465,6 +474,7 @@ struct LoadedRow {
     PackedBody<Real> xi, vi, xj, vj;  // xj, vj: a pair's partner (neither set nor read for a wall: zeroing
                                       // them there took fp64 from 159 registers to 128 with spills)
     Real lambda, target;
+    double virial;  // a pair's packed r . J so far (not read for a wall)
 };
 
 template <class Real>
@@ -480,6 +490,7 @@ __device__ inline LoadedRow<Real> loadOwnRow(const ContactArgs<Real>& a, int64_t
     if (!isWallContact(w.p)) {
         w.xj = xBody(a, w.p);
         w.vj = vBody(a, w.p);
+        w.virial = rowLoad(a, a.packedVirial + e);
     }
     return w;
 }
@@ -522,7 +533,7 @@ __device__ void relaxLoadedRow(const ContactArgs<Real>& a, const LoadedRow<Real>
     const Real impulse = lambda - before;
     if (impulse != Real(0)) {
         rowStore(a, a.packedLambda + e, lambda);
-        rowStore(a, a.packedVirial + e, rowLoad(a, a.packedVirial + e) + double(dist) * double(impulse));
+        rowStore(a, a.packedVirial + e, w.virial + double(dist) * double(impulse));
         vBody(a, i) = packed(vi, mi);
         vBody(a, p) = packed(vj, mj);
     }
