@@ -76,31 +76,34 @@
 // loads in flight an SM, half the blocks at each barrier): the same bits; the settled 10^6-ball pile's
 // listings 4.25 ms against 4.46 (an H200, fp32, CUPTI kernel times, `corebox bench pile`, its sweeps
 // 4.24 s against 4.46 over the 5 s; fp64 not compared on one machine).
-// A pair row's virial so far is read with its bodies (loadOwnRow), not after the update that adds to it:
-// one dependent load fewer on a pushing row's path (112 registers in fp32, the same resident blocks). The
-// same bits; `corebox bench pile` 10^6 balls 33.40 and 33.19 ms a frame against 33.56 and 33.55 in one
-// call, 32.95 and 32.78 against 32.98 and 33.14 in another (an H200, fp32, separate binaries alternating).
-// Tried and not kept with it: each colour's first two rows' fields read into registers before the barrier
-// that opens the colour (they do not depend on the colour before): 123 registers, the same resident
-// blocks, 33.54 and 33.58 in the first call; the colouring's contest reading every row of both particles
-// with no early exit (unrolled, so that the reads need not wait on the comparisons): the colouring took
-// 576 ms over the pile's 5 s against 535 (CUPTI).
-// Tried and not kept: each colour's packed rows asked of L2 (prefetch.global.L2) before the barrier that
-// opens it, since they do not depend on the colour before: the pile 35.1 and 35.3 ms a frame against 34.5
-// and 34.7 (an H200, fp32, separate binaries in one call).
-// Where the time goes (ncu, a settled listing of that pile, 16 sweeps in 4.30 ms): L2 at 65% of its
-// peak, L1 hits 51%, the warps stalled half the time on loads and a third at the colours' barriers. The
-// barriers' share, measured: the same sweeps (a row a thread) with the barriers left out (wrong: a row may
-// then read a body a row of the colour before has yet to write; here the pile ended with other bits and
-// overlaps of 0.14% of a diameter) took 3.27 ms a settled listing against 4.46. A schedule that waits per particle
-// instead of per colour keeps the bits; tried and not kept: one grid barrier a checked sweep only, each
-// warp taking 64 rows of a colour (two a lane) once a per-particle count of rows relaxed (read relaxed,
-// then an acquire fence) reached the row's turn there (its colour's rank among the particle's colours,
-// from the colouring's masks), the count passed on after a release fence. The same bits (the pile's
-// energies and sweeps, the spread-colours test with 2 and all blocks), but the settled 10^6-ball pile's
-// listing took 6.33 ms against 4.25 and the pile 45.2 ms a frame against 37.5 (an H200, fp32, separate
-// binaries in one call, CUPTI kernel times): a warp's two fences and its waits a chunk cost more than
-// the barriers they replace.
+// The pair virial r . J is taken after the sweeps (pairVirialsKernel: each pair's net impulse of the
+// listing times its separation where the sweeps leave it), not added by each update into a packed virial
+// of the row: 8 bytes fewer read and written a pushing row a sweep, and a load off the update's path
+// (104 registers in fp32 against 102). The updates act at separations that the position level changes by
+// a fraction of the overlaps, so the sum differs from theirs by about that fraction (a settled pile's
+// overlaps are within 3e-4 of a diameter); the CPU still adds each update's. The same motion (the piles' energies and
+// overlaps, the sandbox state hash); `corebox bench pile` 10^6 balls 32.01, 31.88 and 31.85 ms a frame
+// against 32.94, 32.87 and 32.94 (the last second 25.9 against 27.1; an H200, fp32, separate binaries alternating in
+// one call), the sweeps 3.87 s over the 5 s against 4.21 and the virials 132 ms against 79 (CUPTI). In the same call
+// the packed virial read with the row's bodies instead of after the update (the code of 4498cc5) took 32.82, 32.79
+// and 32.88. Tried and not kept: each colour's first two rows' fields read into registers before the barrier that opens
+// the colour (they do not depend on the colour before): 123 registers, the same resident blocks, 33.54 and 33.58 ms a
+// frame against 33.40 and 33.19 with the packed virial read with the bodies, 33.56 and 33.55 without (one call); the
+// colouring's contest reading every row of both particles with no early exit (unrolled, so that the reads need not wait
+// on the comparisons): the colouring took 576 ms over the pile's 5 s against 535 (CUPTI). Tried and not kept: each
+// colour's packed rows asked of L2 (prefetch.global.L2) before the barrier that opens it, since they do not depend on
+// the colour before: the pile 35.1 and 35.3 ms a frame against 34.5 and 34.7 (an H200, fp32, separate binaries in one
+// call). Where the time goes (ncu, a settled listing of that pile, 16 sweeps in 4.30 ms): L2 at 65% of its peak, L1
+// hits 51%, the warps stalled half the time on loads and a third at the colours' barriers. The barriers' share,
+// measured: the same sweeps (a row a thread) with the barriers left out (wrong: a row may then read a body a row of the
+// colour before has yet to write; here the pile ended with other bits and overlaps of 0.14% of a diameter) took 3.27 ms
+// a settled listing against 4.46. A schedule that waits per particle instead of per colour keeps the bits; tried and
+// not kept: one grid barrier a checked sweep only, each warp taking 64 rows of a colour (two a lane) once a
+// per-particle count of rows relaxed (read relaxed, then an acquire fence) reached the row's turn there (its colour's
+// rank among the particle's colours, from the colouring's masks), the count passed on after a release fence. The same
+// bits (the pile's energies and sweeps, the spread-colours test with 2 and all blocks), but the settled 10^6-ball
+// pile's listing took 6.33 ms against 4.25 and the pile 45.2 ms a frame against 37.5 (an H200, fp32, separate binaries
+// in one call, CUPTI kernel times): a warp's two fences and its waits a chunk cost more than the barriers they replace.
 //
 // Why not Jacobi: a Jacobi sweep carries support one layer of a pile, a fraction 1 / max(k_i, k_j) of
 // it at a time; Gauss-Seidel in any order that visits each contact once carries it much further, and
@@ -367,8 +370,8 @@ __global__ void __launch_bounds__(kBlock) colourRowsKernel(ContactArgs<Real> a, 
 }
 
 // The own rows packed in colour order, each colour's in row order (what a sweep reads of a row, in one
-// coalesced read each: its particle, partner, target and impulse, and the pair virial r . J it gives,
-// summed per particle by pairVirialsKernel), and rowRank[s] = e, the place of own row s. A stable counting
+// coalesced read each: its particle, partner, target and impulse), and rowRank[s] = e, the place of own
+// row s. A stable counting
 // sort by colour over tiles of kPackTileRows consecutive rows, a block a tile: each tile's rows of each
 // colour counted (colourTileCountsKernel), the counts scanned colour by colour, tile by tile (the place
 // colour c's rows of tile t begin at), and each tile's rows sorted by colour in the block (CUB's block
@@ -461,7 +464,6 @@ __global__ void __launch_bounds__(kBlock) packColouredRowsKernel(ContactArgs<Rea
         a.packedPartner[e] = int32_t(a.partner[s]);
         a.packedTarget[e] = a.target[s];
         a.packedLambda[e] = a.lambda[s];
-        a.packedVirial[e] = 0;
         a.rowRank[s] = int32_t(e);
     }
 }
@@ -474,7 +476,6 @@ struct LoadedRow {
     PackedBody<Real> xi, vi, xj, vj;  // xj, vj: a pair's partner (neither set nor read for a wall: zeroing
                                       // them there took fp64 from 159 registers to 128 with spills)
     Real lambda, target;
-    double virial;  // a pair's packed r . J so far (not read for a wall)
 };
 
 template <class Real>
@@ -490,7 +491,6 @@ __device__ inline LoadedRow<Real> loadOwnRow(const ContactArgs<Real>& a, int64_t
     if (!isWallContact(w.p)) {
         w.xj = xBody(a, w.p);
         w.vj = vBody(a, w.p);
-        w.virial = rowLoad(a, a.packedVirial + e);
     }
     return w;
 }
@@ -527,13 +527,11 @@ __device__ void relaxLoadedRow(const ContactArgs<Real>& a, const LoadedRow<Real>
     }
     const Real mj = w.vj.w, d = ai + w.xj.w;
     Vec3<Real> xj = vec3Of(w.xj), vj = vec3Of(w.vj);
-    Real dist;
+    Real dist;  // the pair virial is taken from the net impulse after the sweeps (pairVirialsKernel)
     const bool moved =
         relaxPairContact(xi, xj, vi, vj, pairMassesOf(mi, mj), d, a.up, w.target, lambda, r, a.omega, dist);
-    const Real impulse = lambda - before;
-    if (impulse != Real(0)) {
+    if (lambda != before) {
         rowStore(a, a.packedLambda + e, lambda);
-        rowStore(a, a.packedVirial + e, w.virial + double(dist) * double(impulse));
         vBody(a, i) = packed(vi, mi);
         vBody(a, p) = packed(vj, mj);
     }
@@ -611,15 +609,24 @@ __global__ void mirrorImpulsesKernel(ContactArgs<Real> a, int64_t rows) {
     a.applied[s] = lambda;
 }
 
-// Per particle i: the pair virial of i's own rows, summed in row order, joins i's impulse row. The loop
-// only reads, so a thread's rows are read in flight together.
+// Per particle i: the pair virial of i's own rows, summed in row order, joins i's impulse row: each pair's
+// net impulse of the sweeps (its packed impulse less the one it began with, which the rows hold until
+// mirrorImpulsesKernel, after this) times the pair's separation where the sweeps left it. The sweeps'
+// updates each act at the separation of their moment, which the position level changes by a fraction of
+// the overlaps (1e-4 of a diameter in a settled pile), so the sum differs from theirs by that fraction.
+// Before, each update added its r . J to a packed virial of the row (8 bytes read and written a pushing
+// row a sweep). The loop only reads, so a thread's rows are read in flight together.
 template <class Real>
 __global__ void pairVirialsKernel(ContactArgs<Real> a) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= a.p.n) return;
+    const Vec3<Real> xi = a.p.x[i];
     double virial = 0;
     for (int64_t s = a.contactStart[i]; s < a.contactStart[i + 1]; ++s) {
-        if (a.mirror[s] == s && !isWallContact(a.partner[s])) virial += a.packedVirial[a.rowRank[s]];
+        const int64_t p = a.partner[s];
+        if (a.mirror[s] != s || isWallContact(p)) continue;
+        const double impulse = double(a.packedLambda[a.rowRank[s]]) - double(a.lambda[s]);
+        if (impulse != 0) virial += double(realSqrt(norm2(xi - a.p.x[p]))) * impulse;
     }
     if (virial != 0) a.impulses[size_t(kPairVirialRow) * size_t(a.p.n) + size_t(i)] += virial;
 }
@@ -758,7 +765,7 @@ bool launchGaussSeidelListing(const ContactArgs<Real>& a, const std::vector<int3
     // 56.8 ms a frame against 41.1, both under the kernel-time tracer); blocks of 1024 and 512 threads
     // instead of 256 (fewer blocks at each grid barrier), rows not streamed: 4.70 and 4.60 ms against
     // 4.58 in the same call.
-    const size_t rowBytes = size_t(colourStart.back()) * (2 * sizeof(int32_t) + 2 * sizeof(Real) + sizeof(double));
+    const size_t rowBytes = size_t(colourStart.back()) * (2 * sizeof(int32_t) + 2 * sizeof(Real));
     args.streamRows = rowBytes + 2 * size_t(a.p.n) * sizeof(PackedBody<Real>) > l2CacheBytes();
     RelaxationPlan schedule = plan;
     void* params[] = {&args, &colours, &schedule, &words};
@@ -777,10 +784,10 @@ bool launchGaussSeidelListing(const ContactArgs<Real>& a, const std::vector<int3
 template <class Real>
 void launchMirrorImpulses(const ContactArgs<Real>& a, int64_t rows, cudaStream_t stream) {
     if (a.p.n == 0 || rows == 0) return;
+    pairVirialsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);  // before the rows take the packed impulses
+    checkLaunch("contact pair virial kernel");
     mirrorImpulsesKernel<Real><<<blocksFor(rows), kBlock, 0, stream>>>(a, rows);
     checkLaunch("contact mirror kernel");
-    pairVirialsKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
-    checkLaunch("contact pair virial kernel");
 }
 
 #define COREBOX_INSTANTIATE(Real)                                                                             \

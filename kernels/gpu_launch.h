@@ -539,13 +539,12 @@ struct ContactArgs {
     int32_t* colourStart;
     // The own rows packed at their place e, by colour and within a colour in row order (what the sweeps read and
     // write), and each own row's place: rowRank[s] = e (of a coloured listing: where the colouring fails, nothing
-    // packed is read). The sweeps keep a row's impulse and its pair virial r . J here; the mirror kernels hand the
-    // impulses back to the rows and add the virials to the impulse rows.
+    // packed is read). The sweeps keep a row's impulse here; the mirror kernels hand the impulses back to the rows
+    // and add the pair virials r . J of the sweeps' net impulses to the impulse rows.
     int32_t* packedParticle;
     int32_t* packedPartner;
     Real* packedTarget;
     Real* packedLambda;
-    double* packedVirial;
     int32_t* rowRank;
     // 2n: the contact phase's copy of X with each radius and of V with each mass, particle i's side by
     // side at 2i and 2i + 1 (packed_body.cuh says why: xBody, vBody): packed by the count, which the

@@ -840,7 +840,6 @@ gpu::ContactArgs<Real> CudaDevice<Real>::contactArgs() {
     a.packedPartner = m_packedPartner.data();
     a.packedTarget = m_packedTarget.data();
     a.packedLambda = m_packedLambda.data();
-    a.packedVirial = m_packedVirial.data();
     a.rowRank = m_rowRank.data();
     a.body = m_body.data();
     const bool listsPartners = gpu::contactCountListsPartners(m_n) && m_partnerScratch.size() >= size_t(m_n) * gpu::kListedPartners;
@@ -864,7 +863,6 @@ bool CudaDevice<Real>::colourListing(int64_t rows, bool keepColours, bool withKi
     for (auto* b : {&m_rowParticle, &m_rowMirror}) b->resize(size_t(rows));
     for (auto* b : {&m_packedParticle, &m_packedPartner, &m_rowRank}) b->resize(size_t(rows));
     for (auto* b : {&m_packedTarget, &m_packedLambda}) b->resize(size_t(rows));
-    m_packedVirial.resize(size_t(rows));
     m_rowColour.resize(size_t(rows));
     // [6..7]: the deepest overlap's bits; then the colours' starts (ContactArgs::colourStart), read back
     // with the words in one copy.

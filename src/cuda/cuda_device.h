@@ -566,7 +566,6 @@ private:
     DeviceBuffer<int32_t> m_partnerScratch;  // the count's lists for the fill (ContactArgs::partnerScratch)
     DeviceBuffer<gpu::PackedBody<Real>> m_body;  // the contact phase's copy of X and V, 2n (ContactArgs::body)
     DeviceBuffer<Real> m_packedTarget, m_packedLambda;
-    DeviceBuffer<double> m_packedVirial;
     // The colouring's words (launchColourContacts), then the colours' starts.
     static constexpr size_t kColouringWords = 8;
     DeviceBuffer<unsigned int> m_colouringWords;

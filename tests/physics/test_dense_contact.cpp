@@ -305,6 +305,45 @@ TEST_P(DenseContact, ASettledPileHoldsEveryLayer) {
     EXPECT_LT(worstOverlap, 2.5e-4);  // listing only approaching contacts left 2.3e-3 (CPU) and 5e-4 (H200)
 }
 
+TEST_P(DenseContact, ThePairVirialOfASettledPileBalancesGravityAndTheWalls) {
+    // The virial theorem over a window: d/dt sum m x . v = 2 K + sum x . F, so over a window of length t
+    //   Delta(sum m x . v) = 2 int K dt + W_pair + W_walls - M g int ybar dt,
+    // with W_pair the pair virial (ImpulseSums::pairVirial: sum r_ij . J_ij) and W_walls = sum over axes
+    // of a I_(wall at 0) - (L - a) I_(wall at L) (a wall's impulse acts on centres at a or L - a). The
+    // pile of the tests above, settled (5 s), over one more second: K and Delta(sum m x . v) are a few
+    // 1e-4 of the gravity term, so the pair virial the contact phase counts must close the balance to 1%.
+    // A pair virial counted at the wrong separation, or an impulse missed or counted twice, does not.
+    const Scene scene = pileOf400();
+    auto sim = makeSimulation(backendName(), scene);
+    for (int s = 0; s < 1200; ++s) sim->step();
+    const double mass = 400.0, g = 9.81, a = 0.5;
+    auto moments = [&](double* xv, double* ybar) {
+        const ParticleState st = sim->state();
+        *xv = 0;
+        *ybar = 0;
+        for (size_t i = 0; i < st.size(); ++i) {
+            *xv += dot(st.position[i], st.velocity[i]);  // m = 1
+            *ybar += st.position[i].y / double(st.size());
+        }
+    };
+    double xv0 = 0, y0 = 0, xv1 = 0, y1 = 0;
+    moments(&xv0, &y0);
+    sim->observe();  // opens the window
+    for (int s = 0; s < 240; ++s) sim->step();
+    const ObservablesRow row = sim->observe();
+    moments(&xv1, &y1);
+    const ImpulseSums& I = row.impulses;
+    double wallVirial = 0;
+    for (int axis = 0; axis < 3; ++axis)
+        wallVirial += a * I.wall[2 * axis] - (scene.box.size[axis] - a) * I.wall[2 * axis + 1];
+    const double gravity = mass * g * 0.5 * (y0 + y1) * row.window;
+    const double balance = I.pairVirial + wallVirial - gravity - (xv1 - xv0);
+    RecordProperty("pair_virial_over_gravity_term", std::to_string(I.pairVirial / gravity));
+    RecordProperty("virial_balance_over_gravity_term", std::to_string(balance / gravity));
+    EXPECT_GT(I.pairVirial, 0.25 * gravity);  // the pair virial carries most of the balance
+    EXPECT_NEAR(balance, 0.0, 0.01 * gravity);
+}
+
 TEST(DenseContactCpu, FirstRoundsFromTheMoversFindWhatEveryParticleFinds) {
     // A stage's first impact round looks from the particles fast enough for an impact (collision_
     // resolution.h: startsActive) instead of from every particle: two slower ones cannot meet in one.
