@@ -81,10 +81,10 @@
 // of the row: 8 bytes fewer read and written a pushing row a sweep, and a load off the update's path
 // (104 registers in fp32 against 102). The updates act at separations that the position level changes by
 // a fraction of the overlaps, so the sum differs from theirs by about that fraction (a settled pile's
-// overlaps are within 3e-4 of a diameter); the CPU still adds each update's. The same motion (the piles' energies and
-// overlaps, the sandbox state hash); `corebox bench pile` 10^6 balls 32.01, 31.88 and 31.85 ms a frame
-// against 32.94, 32.87 and 32.94 (the last second 25.9 against 27.1; an H200, fp32, separate binaries alternating in
-// one call), the sweeps 3.87 s over the 5 s against 4.21 and the virials 132 ms against 79 (CUPTI). In the same call
+// overlaps are within 3e-4 of a diameter); the CPU takes it so too (CpuBackend::contactImpulses). The same motion (the
+// piles' energies and overlaps, the sandbox state hash); `corebox bench pile` 10^6 balls 32.01, 31.88 and 31.85 ms a
+// frame against 32.94, 32.87 and 32.94 (the last second 25.9 against 27.1; an H200, fp32, separate binaries alternating
+// in one call), the sweeps 3.87 s over the 5 s against 4.21 and the virials 132 ms against 79 (CUPTI). In the same call
 // the packed virial read with the row's bodies instead of after the update (the code of 4498cc5) took 32.82, 32.79
 // and 32.88. Tried and not kept: each colour's first two rows' fields read into registers before the barrier that opens
 // the colour (they do not depend on the colour before): 123 registers, the same resident blocks, 33.54 and 33.58 ms a
@@ -498,7 +498,8 @@ __device__ inline LoadedRow<Real> loadOwnRow(const ContactArgs<Real>& a, int64_t
 // One contact's Gauss-Seidel update from its packed own row as loadOwnRow read it: the velocity level,
 // then the position level (relaxPairContact; stopWallContact and a wall's full depth), as the CPU's
 // sweeps do them (each pair's mass terms computed once for both levels, pairMassesOf); the impulse given
-// goes to the owner's rows (impulse_sums.h): a wall's momentum at once, a pair's r . J into the packed row.
+// goes to the owner's rows (impulse_sums.h): a wall's momentum at once; a pair's r . J is taken after the
+// sweeps (pairVirialsKernel).
 template <class Real>
 __device__ void relaxLoadedRow(const ContactArgs<Real>& a, const LoadedRow<Real>& w, ContactResidual<Real>& r) {
     const int64_t e = w.e, i = w.i, p = w.p;
@@ -527,9 +528,7 @@ __device__ void relaxLoadedRow(const ContactArgs<Real>& a, const LoadedRow<Real>
     }
     const Real mj = w.vj.w, d = ai + w.xj.w;
     Vec3<Real> xj = vec3Of(w.xj), vj = vec3Of(w.vj);
-    Real dist;  // the pair virial is taken from the net impulse after the sweeps (pairVirialsKernel)
-    const bool moved =
-        relaxPairContact(xi, xj, vi, vj, pairMassesOf(mi, mj), d, a.up, w.target, lambda, r, a.omega, dist);
+    const bool moved = relaxPairContact(xi, xj, vi, vj, pairMassesOf(mi, mj), d, a.up, w.target, lambda, r, a.omega);
     if (lambda != before) {
         rowStore(a, a.packedLambda + e, lambda);
         vBody(a, i) = packed(vi, mi);
@@ -596,8 +595,9 @@ __global__ void __launch_bounds__(kBlock) gaussSeidelListingKernel(ContactArgs<R
 // Per row: it takes its pair's impulse from the packed own row (as Jacobi leaves both rows). A thread a
 // row, not a particle: a particle's rows one after another were a chain of three dependent reads each,
 // behind the stores of the row before. The settled 10^6-ball pile's listing (an H200, fp32, CUPTI kernel
-// times, the same bits): 71 us here and 66 for the virials (pairVirialsKernel) against 320 for both in one
-// kernel a thread a particle.
+// times, the same bits): 71 us here and 66 for the virials (pairVirialsKernel, then summing the packed
+// virials; 82 us now that it reads the positions, c84958f) against 320 for both in one kernel a thread a
+// particle.
 // Tried and not kept: both in one launch, a block's rows a thread a row and then its particles' virials a
 // thread a particle: 94.5 us a listing on average against 47.0 and 48.5 (the same pile over its 5 s).
 template <class Real>
@@ -613,7 +613,8 @@ __global__ void mirrorImpulsesKernel(ContactArgs<Real> a, int64_t rows) {
 // net impulse of the sweeps (its packed impulse less the one it began with, which the rows hold until
 // mirrorImpulsesKernel, after this) times the pair's separation where the sweeps left it. The sweeps'
 // updates each act at the separation of their moment, which the position level changes by a fraction of
-// the overlaps (1e-4 of a diameter in a settled pile), so the sum differs from theirs by that fraction.
+// the overlaps (a settled pile's are within 3e-4 of a diameter), so the sum differs from theirs by about
+// that fraction.
 // Before, each update added its r . J to a packed virial of the row (8 bytes read and written a pushing
 // row a sweep). The loop only reads, so a thread's rows are read in flight together.
 template <class Real>
@@ -770,7 +771,11 @@ bool launchGaussSeidelListing(const ContactArgs<Real>& a, const std::vector<int3
     RelaxationPlan schedule = plan;
     void* params[] = {&args, &colours, &schedule, &words};
     // A thread a row of the largest colour, no more than fit: the barriers cost more with more blocks
-    // (a thread a particle instead: the 10^5-ball pile 38.3 ms a frame against 34.1, an H200, fp32).
+    // (a thread a particle instead: the 10^5-ball pile 38.3 ms a frame against 34.1, an H200, fp32). Tried
+    // and not kept: fewer blocks, a grid for 2 or 4 rows a thread of the largest colour, so that each
+    // barrier waits on fewer: the sandbox example at 10^5 balls spent 4.49 / 4.21 and 5.30 / 5.25 ms a
+    // frame in its contact phase against 4.12 / 3.89, the 10^5-ball pile 8.78 and 10.38 ms a frame against
+    // 8.18 (an H200, fp32, one call, the same bits).
     int64_t blocks = std::min<int64_t>(resident, std::max<int64_t>(1, blocksFor(largest)));
     if (a.sweepBlocks > 0) blocks = std::min<int64_t>(blocks, a.sweepBlocks);
     launchPackBodies(a, stream);

@@ -587,14 +587,13 @@ COREBOX_HD inline bool relaxWallContact(Real& x, Real& v, int side, Real radius,
 // position, so the position level's line of centres is the one the velocity level used. (The CPU took
 // the levels in two passes over the contacts, the second computing every line again; the pile tests
 // and `corebox bench pile` settle as before either way.) Coincident centres carry no direction:
-// nothing is updated. `dist` receives the centre distance (the GPU's pair virial); returns whether the positions
-// moved.
+// nothing is updated. Returns whether the positions moved.
 template <class Real>
 COREBOX_HD inline bool relaxPairContact(Vec3<Real>& xi, Vec3<Real>& xj, Vec3<Real>& vi, Vec3<Real>& vj,
                                         const PairMasses<Real>& m, Real d, Vec3<Real> up, Real target, Real& lambda,
-                                        ContactResidual<Real>& residual, Real omega, Real& dist) {
+                                        ContactResidual<Real>& residual, Real omega) {
     const Vec3<Real> r = xi - xj;
-    dist = realSqrt(norm2(r));
+    const Real dist = realSqrt(norm2(r));
     if (!(dist > Real(0))) return false;
     const Vec3<Real> n = (Real(1) / dist) * r;
     stopPairContact(vi, vj, m, n, target, lambda, residual, omega);

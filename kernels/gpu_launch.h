@@ -635,8 +635,8 @@ bool launchGaussSeidelListing(const ContactArgs<Real>& args, const std::vector<i
                               unsigned long long* words,
                               cudaStream_t stream);
 // Each of the listing's `rows` rows takes its pair's impulse from the packed own row (as Jacobi leaves both
-// rows): the rows the next step's warm start and a checkpoint read; the packed pair virials join the
-// impulse rows.
+// rows): the rows the next step's warm start and a checkpoint read; before that, each own pair row's virial
+// of the listing (its net impulse at its separation after the sweeps) joins the impulse rows.
 template <class Real>
 void launchMirrorImpulses(const ContactArgs<Real>& args, int64_t rows, cudaStream_t stream);
 

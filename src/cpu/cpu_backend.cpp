@@ -723,9 +723,8 @@ public:
                     continue;
                 }
                 const size_t j = size_t(c.partner);
-                Real dist;
                 relaxPairContact(m_x[i], m_x[j], m_v[i], m_v[j], pairMasses(i, j), ai + m_radius[size_t(m_species[j])],
-                                 up, c.target, c.lambda, r, omega, dist);
+                                 up, c.target, c.lambda, r, omega);
             }
         }
         return ContactResidual<double>{double(r.speedChange), double(r.overlap)};
