@@ -371,9 +371,8 @@ __global__ void __launch_bounds__(kBlock) colourRowsKernel(ContactArgs<Real> a, 
 
 // The own rows packed in colour order, each colour's in row order (what a sweep reads of a row, in one
 // coalesced read each: its particle, partner, target and impulse), and rowRank[s] = e, the place of own
-// row s. A stable counting
-// sort by colour over tiles of kPackTileRows consecutive rows, a block a tile: each tile's rows of each
-// colour counted (colourTileCountsKernel), the counts scanned colour by colour, tile by tile (the place
+// row s. A stable counting sort by colour over tiles of kPackTileRows consecutive rows, a block a tile: each tile's
+// rows of each colour counted (colourTileCountsKernel), the counts scanned colour by colour, tile by tile (the place
 // colour c's rows of tile t begin at), and each tile's rows sorted by colour in the block (CUB's block
 // radix sort, stable) and written out colour run by colour run (packColouredRowsKernel). Uncoloured own
 // rows (where the colouring failed, the listing is relaxed with Jacobi sweeps, which read no packed row)
@@ -427,7 +426,7 @@ __global__ void __launch_bounds__(kBlock) packColouredRowsKernel(ContactArgs<Rea
                                                                  const int32_t* counts, const int32_t* start) {
     using Sort = cub::BlockRadixSort<uint8_t, kBlock, kPackItems, int32_t>;
     __shared__ typename Sort::TempStorage sort;
-    __shared__ int32_t runStart[kMaxContactColours + 1];  // the tile's sorted place of each colour's first row
+    __shared__ int32_t runStart[kMaxContactColours];  // the tile's sorted place of each colour's first row
     const int64_t tile = blockIdx.x, begin = tile * kPackTileRows;
     if (tile == 0)
         for (int c = int(threadIdx.x); c <= kMaxContactColours; c += kBlock)
@@ -441,7 +440,6 @@ __global__ void __launch_bounds__(kBlock) packColouredRowsKernel(ContactArgs<Rea
             runStart[c] = sum;
             sum += count;
         }
-        runStart[kMaxContactColours] = sum;
     }
     __syncthreads();  // runStart for every thread (the sort below has barriers of its own too)
     uint8_t keys[kPackItems];
@@ -656,34 +654,42 @@ size_t packScanBytes(int64_t rows) {
     return bytes;
 }
 
-// The scratch's parts, for n particles and `rows` rows.
-ColouringScratch carve(void* scratch, int64_t n, int64_t rows) {
+// Where the scratch's parts begin (bytes from its start), and its size, for n particles and `rows` rows:
+// the one layout that both sizes the scratch (contactColouringScratchBytes) and carves it.
+struct ColouringLayout {
+    size_t used, candidate, lists, tileCounts, tileStarts, scan, scanBytes, bytes;
+};
+
+ColouringLayout colouringLayout(int64_t n, int64_t rows) {
+    ColouringLayout l{};
+    const size_t countBytes = align256(size_t(packCountSlots(rows)) * sizeof(int32_t));
+    l.candidate = l.used + align256(size_t(n) * sizeof(unsigned long long));
+    l.lists = l.candidate + align256(size_t(rows));
+    l.tileCounts = l.lists + align256(2 * size_t(rows) * sizeof(int32_t));
+    l.tileStarts = l.tileCounts + countBytes;
+    l.scan = l.tileStarts + countBytes;
+    l.scanBytes = packScanBytes(rows);
+    l.bytes = l.scan + l.scanBytes;
+    return l;
+}
+
+ColouringScratch carve(void* scratch, const ColouringLayout& l, int64_t rows) {
     char* at = static_cast<char*>(scratch);
     ColouringScratch c{};
-    c.used = reinterpret_cast<unsigned long long*>(at);
-    at += align256(size_t(n) * sizeof(unsigned long long));
-    c.candidate = reinterpret_cast<uint8_t*>(at);
-    at += align256(size_t(rows));
-    c.lists = reinterpret_cast<int32_t*>(at);
-    at += align256(2 * size_t(rows) * sizeof(int32_t));
+    c.used = reinterpret_cast<unsigned long long*>(at + l.used);
+    c.candidate = reinterpret_cast<uint8_t*>(at + l.candidate);
+    c.lists = reinterpret_cast<int32_t*>(at + l.lists);
+    c.tileCounts = reinterpret_cast<int32_t*>(at + l.tileCounts);
+    c.tileStarts = reinterpret_cast<int32_t*>(at + l.tileStarts);
     c.tiles = packTiles(rows);
-    const size_t countBytes = align256(size_t(packCountSlots(rows)) * sizeof(int32_t));
-    c.tileCounts = reinterpret_cast<int32_t*>(at);
-    at += countBytes;
-    c.tileStarts = reinterpret_cast<int32_t*>(at);
-    at += countBytes;
-    c.scan = at;
-    c.scanBytes = packScanBytes(rows);
+    c.scan = at + l.scan;
+    c.scanBytes = l.scanBytes;
     return c;
 }
 
 }  // namespace
 
-size_t contactColouringScratchBytes(int64_t n, int64_t rows) {
-    return align256(size_t(n) * sizeof(unsigned long long)) + align256(size_t(rows)) +
-           align256(2 * size_t(rows) * sizeof(int32_t)) + 2 * align256(size_t(packCountSlots(rows)) * sizeof(int32_t)) +
-           packScanBytes(rows);
-}
+size_t contactColouringScratchBytes(int64_t n, int64_t rows) { return colouringLayout(n, rows).bytes; }
 
 template <class Real>
 bool launchColourContacts(const ContactArgs<Real>& a, int64_t rows, void* scratch, size_t scratchBytes, unsigned int* words,
@@ -692,8 +698,9 @@ bool launchColourContacts(const ContactArgs<Real>& a, int64_t rows, void* scratc
     if (a.p.n == 0 || rows == 0 || a.p.n > INT32_MAX || rows > INT32_MAX) return false;
     static const int resident = cooperativeResidentBlocks(colourRowsKernel<Real>);
     if (resident < 1) return false;
-    if (scratchBytes < contactColouringScratchBytes(a.p.n, rows)) throw DeviceError("contact colouring: scratch too small");
-    ColouringScratch c = carve(scratch, a.p.n, rows);
+    const ColouringLayout layout = colouringLayout(a.p.n, rows);
+    if (scratchBytes < layout.bytes) throw DeviceError("contact colouring: scratch too small");
+    ColouringScratch c = carve(scratch, layout, rows);
     cudaError_t e = cudaMemsetAsync(words, 0, 6 * sizeof(unsigned int), stream);
     if (e != cudaSuccess) throw DeviceError(std::string("contact colouring words: ") + cudaGetErrorString(e));
     e = cudaMemsetAsync(deepest, 0, sizeof(unsigned long long), stream);

@@ -266,9 +266,16 @@ template <class Real>
 double CudaDevice<Real>::kineticEnergy() {
     if (m_kineticCached) return m_cachedKinetic;  // read with the relaxation, nothing changed since
     gatherToHome();
+    const int blocks = queueKineticSum();
+    sync();
+    return hostPartialSums(1, blocks)[0];
+}
+
+template <class Real>
+int CudaDevice<Real>::queueKineticSum() {
     m_rows.resize(size_t(m_n));
     gpu::launchKineticRow(arrays(), table(), m_rows.data(), stream());
-    return sumRows(1)[0];
+    return queuePartialSums(m_rows.data(), 1);
 }
 
 template <class Real>

@@ -878,12 +878,7 @@ bool CudaDevice<Real>::colourListing(int64_t rows, bool keepColours, bool withKi
     cudaCheck(cudaMemcpyAsync(words, m_colouringWords.data(), m_colouringWords.size() * sizeof(unsigned int),
                               cudaMemcpyDeviceToHost, s),
               "contact colouring");
-    int kineticBlocks = 0;
-    if (withKinetic) {
-        m_rows.resize(size_t(m_n));
-        gpu::launchKineticRow(arrays(), table(), m_rows.data(), s);
-        kineticBlocks = queuePartialSums(m_rows.data(), 1);
-    }
+    const int kineticBlocks = withKinetic ? queueKineticSum() : 0;
     sync();
     if (withKinetic) {
         m_cachedKinetic = hostPartialSums(1, kineticBlocks)[0];

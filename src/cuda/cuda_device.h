@@ -186,6 +186,9 @@ private:
     void download(const DeviceBuffer<Vec3<Real>>& x, const DeviceBuffer<Vec3<Real>>& v, ParticleState& out) const;
     // Sums of `rows` rows of m_rows (each n long); block partials are added on the host in order.
     std::vector<double> sumRows(int rows);
+    // The kinetic energy's row and its block partials queued (kineticEnergy, colourListing); returns the
+    // blocks for hostPartialSums(1, blocks) after a sync.
+    int queueKineticSum();
     template <class T>
     T readBack(const DeviceBuffer<T>& buffer, size_t offset = 0) {  // one value, after a sync
         const T* value = queueReadBack(buffer, offset);
