@@ -1,7 +1,8 @@
 // A posteriori collision rounds on the GPU (DESIGN.md sec. 2) with the shared event and resolution
 // functions of collision_resolution.h. Contacts are found through the cell list (cell_list.h, cells at
 // least the largest contact distance of the particles in them wide, a few large ones walked apart),
-// rebuilt by cell_list_kernels.cu every round since resolution moves particles.
+// rebuilt by cell_list_kernels.cu where a round's resolution moved a particle out of its cell, or
+// through candidate rows (impact_candidates.cuh, a Verlet list of the rounds) where the rounds have them.
 // Tried and not kept: the search reading its partners from a copy of the state gathered in the grid's
 // order each round (position with radius, velocity with the active flag, side by side; a row of cells
 // one contiguous range), the partner's index read only for an event. The same bits, no gain: an H200,
@@ -19,6 +20,7 @@
 
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
+#include "impact_candidates.cuh"
 #include "neighbour_walk.cuh"
 #include "step_check.cuh"
 
@@ -108,9 +110,9 @@ __global__ void findEventsKernel(CollisionArgs<Real> a) {
         considerPair(xi, vi, ri, a.p.x[j], a.p.v[j], a.table.radius[a.p.species[j]], j, a.window, best);
     };
     if (G == 1) {
-        forEachNeighbour(a.grid, xi, ri, consider);
+        forEachCandidate(a.grid, a.candidates, i, xi, ri, consider);
     } else {
-        forEachNeighbourShared<G>(a.grid, xi, ri, rank, consider);
+        forEachCandidateShared<G>(a.grid, a.candidates, i, xi, ri, rank, consider);
         best = groupBest<G>(best, groupMask<G>());
         if (rank != 0) return;
     }
@@ -127,7 +129,8 @@ __global__ void markSearchersKernel(CollisionArgs<Real> a) {
     const int64_t t = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if ((a.gate && *a.gate == 0u) || !narrowed(a) || t >= int64_t(*a.activeInCount)) return;
     const int64_t i = a.activeIn[t];
-    forEachNeighbour(a.grid, a.p.x[i], a.table.radius[a.p.species[i]], [&](int64_t j) { a.walker[j] = 1; });
+    forEachCandidate(a.grid, a.candidates, i, a.p.x[i], a.table.radius[a.p.species[i]],
+                     [&](int64_t j) { a.walker[j] = 1; });
 }
 
 // The scattered search (launchScatteredSearch). An fp32 pair event as one word that orders as isBetter
@@ -178,7 +181,8 @@ __global__ void scatterEventsKernel(CollisionArgs<float> a, unsigned long long* 
     const Vec3<float> xi = a.p.x[i], vi = a.p.v[i];
     const float ri = a.table.radius[a.p.species[i]];
     CollisionEvent best = noEvent();
-    forEachNeighbour(a.grid, xi, ri, [&](int64_t j) { offerPair(a, offered, i, xi, vi, ri, j, best); });
+    forEachCandidate(a.grid, a.candidates, i, xi, ri,
+                     [&](int64_t j) { offerPair(a, offered, i, xi, vi, ri, j, best); });
     considerWalls(xi, vi, ri, a.box, a.window, best);
     recordEvent(a, i, best);
 }
@@ -212,7 +216,7 @@ __global__ void scatterListedEventsKernel(CollisionArgs<float> a, unsigned long 
         const Vec3<float> xi = a.p.x[i], vi = a.p.v[i];
         const float ri = a.table.radius[a.p.species[i]];
         CollisionEvent best = noEvent();
-        forEachNeighbourShared<G>(a.grid, xi, ri, rank,
+        forEachCandidateShared<G>(a.grid, a.candidates, i, xi, ri, rank,
                                   [&](int64_t j) { offerPair(a, offered, i, xi, vi, ri, j, best); });
         best = groupBest<G>(best, mask);
         if (rank == 0) {
@@ -278,11 +282,16 @@ __device__ void recordImpact(const CollisionArgs<Real>& a, int64_t i, int kind, 
 }
 
 // Where the search's cells are tracked (CollisionArgs::cellKeys): particle i, moved to x, flags the cells
-// stale when it left the cell its key names.
+// stale when it left the cell its key names. Where the searches read candidate rows, it flags the next
+// round's cells and rows when it has moved too far from where they were made.
 template <class Real>
 __device__ void flagCellChange(const CollisionArgs<Real>& a, int64_t i, const Vec3<Real>& x) {
     if (a.cellKeys && uint32_t(cellKeyOfParticle(a.grid.geometry, a.cellSplit, i, x)) != a.cellKeys[i])
         *a.cellsMoved = 1u;
+    if (a.staleNext && leftCandidates(a.candidates, i, x)) {
+        a.staleNext[0] = 1u;
+        a.staleNext[1] = 1u;
+    }
 }
 
 // Particle i's part of the resolution of the mutual-earliest events (its event e, valid): the pair by

@@ -350,6 +350,58 @@ template <class Real>
 void launchCellListIfMoved(const CellListArgs<Real>& args, unsigned int* moved, int32_t* blockTotals,
                            cudaStream_t stream);
 
+// ---- impact candidate rows (impact_candidate_kernels.cu; walks in impact_candidates.cuh) ----
+// Design note. A stage's impact rounds search the same neighbourhoods again and again, and in a landing
+// every round moves some particle out of its cell, so each round built the cells again and each search
+// walked 27 cells (about 30 particles in a dense pile) for its dozen neighbours. Candidate rows are a
+// Verlet list for the rounds: each particle's row holds the particles that were within a_i + a_j +
+// margin when the rows were made, and they hold every pair that can overlap until some particle has
+// moved half the margin since (checked where positions change: a stage's start, each resolution).
+// The searches then read the row (the same events: each particle's earliest by a total order,
+// collision_resolution.h isBetter, from any superset of its overlapping pairs), and the cells and rows
+// are made again only when stale, gated on the device. A row that overflowed (more than `slots`
+// candidates: large particles among small ones) is walked in the cells of the rows' build around the
+// particle's position at that build, which hold the same superset.
+// Measured on an H200 (fp32, the same bits with rows and with cells, separate runs in one call): the
+// sandbox example at 10^5 balls spent 12.1 and 11.6 ms a landing frame (frames 158 to 183) in its impact
+// rounds against 18.7 and 18.7 (a round's build, search and resolution 27 us of kernels against about 60,
+// CUPTI); `corebox bench pile` 10^6 balls 28.47 and 28.49 ms a frame against 31.71, and in another call
+// 28.36 against 32.22; 10^5 balls 7.47 against 8.25.
+// Slots a row: in a dense packing of equal spheres 12 touch each one, and within a margin of 0.3 of a
+// diameter the second shell is not reached (1.41 diameters in a close packing).
+constexpr int kCandidateSlots = 32;
+template <class Real>
+struct CandidateRows {
+    const int32_t* rows = nullptr;       // n rows of `slots`: row i at rows[i * slots], counts[i] used
+    const int32_t* counts = nullptr;     // candidates of particle i; above `slots`: the row overflowed
+    const Vec3<Real>* xBuilt = nullptr;  // each particle's position when the rows were made
+    int slots = 0;
+    Real halfMargin2 = 0;  // a particle farther than this (squared) from xBuilt makes the rows stale [sigma^2]
+};
+template <class Real>
+struct CandidateFillArgs {
+    const Vec3<Real>* x;
+    const int32_t* species;
+    const Real* radius;  // per species
+    int64_t n;
+    CellListView grid;  // built from x, cells at least the largest small a_i + a_j + margin wide
+    Real margin;        // [sigma]
+    int32_t* rows;
+    int32_t* counts;
+    Vec3<Real>* xBuilt;
+    int slots;
+    const unsigned int* gate;  // nothing where *gate == 0 (the rows still hold); null: always
+};
+// Every particle's row, count and xBuilt from x (CandidateRows): its candidates in the order of its
+// cell walk (cell_list.h forEachNeighbour), the same on every run. Gated on `gate`.
+template <class Real>
+void launchFillCandidates(const CandidateFillArgs<Real>& args, cudaStream_t stream);
+// flags[0] = flags[1] = 1 where some particle of x is farther than sqrt(halfMargin2) from xBuilt (or
+// not finite); flags left as they are otherwise.
+template <class Real>
+void launchCandidateStaleness(const Vec3<Real>* x, const Vec3<Real>* xBuilt, int64_t n, Real halfMargin2,
+                              unsigned int* flags, cudaStream_t stream);
+
 // ---- collisions (collision_kernels.cu) ----
 // One impact of the contact log (backend.h ContactRecord, before the host converts it): the particle
 // that resolved it, the round, its event's partner code and how it went.
@@ -360,6 +412,17 @@ struct ImpactRecord {
     int32_t round;
     ImpactDetail<Real> detail;
 };
+
+// The contact log in the CPU's order, by round and then by the resolving particle (one record each a
+// round: the keys are unique), sorted on the device: each record's key radix-sorted with its place,
+// then the records gathered in that order into `sorted`. rounds: more than the largest round of the
+// log. Scratch of impactLogSortBytes(count) bytes. Sorted on the host (std::sort), the sandbox example
+// at 10^5 balls (an H200, fp32, one call) took 23.6 and 23.7 ms of simulation a landing frame against
+// 21.3 and 21.4: the sort stood between the steps, the GPU idle.
+size_t impactLogSortBytes(int64_t count);
+template <class Real>
+void launchSortImpactLog(const ImpactRecord<Real>* log, int64_t count, int32_t rounds, ImpactRecord<Real>* sorted,
+                         void* scratch, size_t scratchBytes, cudaStream_t stream);
 
 template <class Real>
 struct CollisionArgs {
@@ -414,6 +477,12 @@ struct CollisionArgs {
     const uint32_t* cellKeys;
     CellSplit<Real> cellSplit;
     unsigned int* cellsMoved;
+    // When candidates.rows is set, the searches read each particle's candidate row instead of walking
+    // the cells around it (`grid` is then the rows' build: CandidateRows), and the resolution sets
+    // staleNext[0] and staleNext[1] where a particle it moves ends farther than the rows allow from its
+    // xBuilt (the next round's cells and rows are then made again).
+    CandidateRows<Real> candidates;
+    unsigned int* staleNext;
 };
 // A collision stage opened in one launch (CudaDevice::beginCollisions): for every particle i, where
 // active is set, active[i] = startsActive(v[i], restingSpeed) (the first round's active particles);

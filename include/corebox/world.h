@@ -6,8 +6,9 @@
 //   (every core) or on CUDA GPUs, in fp32 or fp64. The header carries no GL, CUDA, ImGui or CLI11:
 //   the implementation sits behind a pointer (pimpl), so the library can change without breaking you.
 // - Particles have stable ids (ParticleId): an id is never reused in a world, and survives the
-//   removal of others. Internally particles live in slots that removal compacts; the id <-> slot maps
-//   are the World's business.
+//   removal of others. Ids count up from 0 in the order particles are added (the initial ones first),
+//   so a table indexed by id is a map from ids. Internally particles live in slots that removal
+//   compacts; the id <-> slot maps are the World's business.
 // - Edits between steps (add, remove, impulses, teleports, velocities, fields) are collected on a host
 //   copy of the state and reach the simulation, in one upload, at the next step. The energy they bring
 //   in is counted as external work, so the energy balance (energy()) still closes.

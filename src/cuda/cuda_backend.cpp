@@ -70,6 +70,9 @@ CudaDevice<Real>::CudaDevice(const CudaBackendOptions& options) : m_partition(de
     m_gaussSeidelContacts = options.gaussSeidelContacts;
     if (options.narrowedSearchFrom >= 0) m_narrowedSearchFrom = options.narrowedSearchFrom;
     m_skipUnmovedCellBuilds = options.skipUnmovedCellBuilds;
+    m_impactCandidates = options.impactCandidates;
+    if (options.candidateSlots > 0) m_candidateSlots = options.candidateSlots;
+    if (options.candidateRowsFrom >= 0) m_candidateRowsFrom = options.candidateRowsFrom;
     m_scatteredSearch = options.scatteredSearch;
     if (options.listedScatterMax >= 0) m_listedScatterMax = options.listedScatterMax;
     m_sweepBlocks = options.sweepBlocks;
@@ -152,6 +155,7 @@ void CudaDevice<Real>::setModel(const DeviceModel& model) {
     m_gravity = vec3Cast<Real>(model.gravity);
     m_box = vec3Cast<Real>(model.box);
     m_listedThisStep = m_warmValid = false;  // no warm start across a change of masses or radii
+    m_candidatesMade = false;                // rows made for other radii and another box
 }
 
 template <class Real>
@@ -170,6 +174,7 @@ void CudaDevice<Real>::setState(const ParticleState& state) {
     m_accelerationMatchesX = false;
     m_listAtX = false;
     m_listedThisStep = m_warmValid = false;  // indices may now mean other particles: no warm start
+    m_candidatesMade = false;                // and the candidate rows hold other particles
     m_n = int64_t(state.size());
     m_partition.resize(m_n);
     // Full-length arrays are padded to P equal chunks (NCCL); padding rows are never read as particles.

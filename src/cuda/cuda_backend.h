@@ -66,6 +66,17 @@ struct CudaBackendOptions {
     // since the last build moved no particle out of its cell (cuda_collisions.cpp: runImpactRounds);
     // false: every round builds (the same bits, for comparison and tests).
     bool skipUnmovedCellBuilds = true;
+    // The batched impact rounds (fusedSteps) of more than 32,768 particles read candidate rows, a Verlet
+    // list made when some particle has moved half its margin since the last (gpu_launch.h CandidateRows),
+    // instead of walking cells built again each round; false: cells (the same bits, for comparison and
+    // tests).
+    bool impactCandidates = true;
+    // Tests only: slots in a candidate row (0: gpu::kCandidateSlots); a particle with more candidates
+    // walks the cells of the rows' build, so that a few make rows overflow.
+    int candidateSlots = 0;
+    // Tests only: the particle count from which the rounds read candidate rows (-1: more than 32,768;
+    // never at 4,096 or fewer, whose cell builds do not gate themselves).
+    int64_t candidateRowsFrom = -1;
     // Tests only: take every pair of GPUs to have no peer access (peer_exchange.h), so that corebox's
     // decisions for machines without it run where the GPUs have it: DA refused, no peer access enabled
     // by corebox, no pass shared across GPUs, auto never DA. The copies themselves are not forced through

@@ -268,6 +268,7 @@ void CudaDevice<Real>::beginCollisions(const ImpactWindow<double>& window) {
     m_wallsCountedOnDevice = false;
     gatherToHome();
     m_cellsMatchPositions = false;  // the integration moved everything
+    m_roundsOnCandidates = false;
     m_window = ImpactWindow<Real>{Real(window.maxRewind), Real(window.restingSpeed)};
     const size_t n = size_t(m_n);
     m_events.resize(n);
@@ -463,9 +464,71 @@ void CudaDevice<Real>::trackCellMoves(gpu::CollisionArgs<Real>& a) {
     a.cellsMoved = cellsMovedFlag();
 }
 
+// Candidate rows (gpu_launch.h CandidateRows) where the rounds are batched (runImpactRounds), pairs can
+// meet, there are more than 32,768 particles (m_candidateRowsFrom: below, a search gives a particle
+// several lanes and a round is its launches), and the cells' build can gate itself on the device (the
+// rows' own gate follows it).
+template <class Real>
+bool CudaDevice<Real>::roundsReadCandidates() const {
+    return m_impactCandidates && !m_pairsClear && m_n >= m_candidateRowsFrom && m_n < INT32_MAX &&
+           !gpu::cellListBuildIsOneLaunch(m_n) && gpu::cellListIfMovedBlocks<Real>() > 0;
+}
+
+// The margin a row holds beyond each pair's contact distance: 0.3 of the largest small diameter, the
+// CPU's candidate margin (cpu_backend.cpp kCandidateMargin). A landing's balls fall about 0.1 of a
+// diameter a step at dt = 1/240, so the rows are made again every step or two while they fall, and
+// last while a pile rests.
+template <class Real>
+Real CudaDevice<Real>::candidateMargin() const {
+    return Real(0.3 * 2.0 * m_cellSplit.gridRadius);
+}
+
+template <class Real>
+CellGeometry CudaDevice<Real>::candidateGeometry() const {
+    return cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_cellSplit.gridRadius + double(candidateMargin()));
+}
+
+template <class Real>
+void CudaDevice<Real>::prepareCandidates(int round, unsigned int* flags, gpu::CollisionArgs<Real>& a) {
+    cudaStream_t s = stream();
+    const size_t n = size_t(m_n);
+    const Real margin = candidateMargin();
+    // Not quite half the margin: what fp rounds of a distance and of the moves cannot take back.
+    const Real half = Real(0.49) * margin;
+    bool gated = false;
+    if (!m_candidatesMade) {
+        m_candidateRows.resize(n * size_t(m_candidateSlots));
+        m_candidateCounts.resize(n);
+        m_candidateX.resize(n);
+        m_cellList = m_candidateCells.build(home().x.data(), m_n, candidateGeometry(), contactCellSplit(),
+                                            m_cellSplit.gridRadius, s);
+    } else {
+        if (round == 0) gpu::launchCandidateStaleness(home().x.data(), m_candidateX.data(), m_n, half * half, flags, s);
+        m_cellList = m_candidateCells.rebuildIfMoved(home().x.data(), m_n, candidateGeometry(), contactCellSplit(),
+                                                     m_cellSplit.gridRadius, flags, s, &gated);
+    }
+    const gpu::CandidateFillArgs<Real> fill{home().x.data(),
+                                            a.p.species,
+                                            a.table.radius,
+                                            m_n,
+                                            m_cellList,
+                                            margin,
+                                            m_candidateRows.data(),
+                                            m_candidateCounts.data(),
+                                            m_candidateX.data(),
+                                            m_candidateSlots,
+                                            gated ? flags + 1 : nullptr};
+    gpu::launchFillCandidates(fill, s);
+    m_candidatesMade = true;
+    a.grid = m_cellList;
+    a.candidates = gpu::CandidateRows<Real>{m_candidateRows.data(), m_candidateCounts.data(), m_candidateX.data(),
+                                            m_candidateSlots, half * half};
+}
+
 template <class Real>
 int64_t CudaDevice<Real>::findEvents(EventScope scope) {
     cudaStream_t s = stream();
+    m_roundsOnCandidates = false;
     m_cellList = impactCells();
     m_cellsMatchPositions = !m_pairsClear;
     gpu::CollisionArgs<Real> a = collisionArgs();
@@ -556,6 +619,8 @@ void CudaDevice<Real>::applyEvents() {
 // 707; `corebox bench pile` (two calls of each, alternating) 10^6 balls 38.02 and 38.33 ms a frame against 38.78
 // and 38.89, the landing's frames (60 to 140) 65.4 and 66.0 against 67.9. Not below: at 10^5 balls (the
 // sandbox example) a round's resolution and clearing took 8.1 us against 6.1 for a thread a particle.
+// Above 32,768 particles the rounds read candidate rows instead (prepareCandidates; gpu_launch.h
+// CandidateRows), made again only where some particle moved most of half their margin; below, cells:
 // Cell lists skipped. A round's build (then a radix sort of every particle's cell key, now a counting
 // sort: device_cell_list.h; a third of the kernel time of the sandbox example's landing, ncu) makes the
 // same arrays as the last build wherever no particle changed cell since, the arrays depending on the
@@ -603,10 +668,17 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
     f.rowIndex = nullptr;
     if (!m_model.anyPairForce) gpu::launchForces(f, s);
     f.rowIndex = m_needList.data();
-    if (!(m_roundCountersZeroed && m_roundCounters.size() >= 2 * size_t(maxRounds))) {  // else zeroed by beginCollisions
-        m_roundCounters.resize(2 * size_t(maxRounds));
-        cudaCheck(cudaMemsetAsync(m_roundCounters.data(), 0, 2 * size_t(maxRounds) * sizeof(unsigned int), s), "memset");
+    // Two counters a round, then the candidate rows' two flags a round and one round more (the last
+    // round's resolution sets the next one's).
+    const size_t counterWords = 2 * size_t(maxRounds) + 2 * size_t(maxRounds + 1);
+    if (!(m_roundCountersZeroed && m_roundCounters.size() >= counterWords)) {  // else zeroed by beginCollisions
+        m_roundCounters.resize(counterWords);
+        cudaCheck(cudaMemsetAsync(m_roundCounters.data(), 0, counterWords * sizeof(unsigned int), s), "memset");
     }
+    unsigned int* candidateFlags = m_roundCounters.data() + 2 * size_t(maxRounds);
+    const bool candidates = roundsReadCandidates();
+    m_roundsOnCandidates = candidates;
+    bool tailCells = false;  // the last batch's tail built the listing's cells behind it (queueStageTail)
     m_roundCountersZeroed = false;
     ImpactRounds result;
     bool applied = false;
@@ -626,10 +698,16 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
             // Only the rounds' resolutions move particles between builds here: a round after the first
             // builds where the one before moved a particle out of its cell, or leaves the arrays that build
             // would make (the same keys). The first round builds: the integration moved everything.
-            const bool gated = r > 0 && m_skipUnmovedCellBuilds;
-            m_cellList = gated ? impactCellsIfMoved() : impactCells();
             gpu::CollisionArgs<Real> a = collisionArgs();
-            if (m_skipUnmovedCellBuilds) trackCellMoves(a);
+            if (candidates) {
+                prepareCandidates(r, candidateFlags + 2 * r, a);
+                a.staleNext = candidateFlags + 2 * (r + 1);
+            } else {
+                const bool gated = r > 0 && m_skipUnmovedCellBuilds;
+                m_cellList = gated ? impactCellsIfMoved() : impactCells();
+                a.grid = m_cellList;
+                if (m_skipUnmovedCellBuilds) trackCellMoves(a);
+            }
             a.logRound = m_logRound + (r - first);  // every round before r in the batch found events, or r does nothing
             a.counters = m_roundCounters.data() + 2 * r;
             a.gate = r > first ? a.counters - 1 : nullptr;  // the round before (known to have found events when r == first)
@@ -659,6 +737,7 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
         // The tail is read only where the batch's last round finds nothing: not queued behind a batch that
         // follows a round with many events (queueStageTail says why).
         const StageTail tail = lastEvents <= kTailAfterEvents ? queueStageTail() : StageTail{};
+        tailCells = tail.listing;
         sync();
         if (m_logging) m_logBound = counts[2 * queued];
         for (int k = 0; k < queued && !result.settled; ++k) {
@@ -678,8 +757,10 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
         m_eventsApplied = true;
         homeChanged();
     }
-    // Cells at the positions the rounds leave when the last found nothing to move.
-    m_cellsMatchPositions = result.settled && !m_pairsClear;
+    // Cells at the positions the rounds leave when the last found nothing to move: the rounds' own, or
+    // where they read rows (whose cells are where the particles were when the rows were made) those the
+    // last batch's tail built.
+    m_cellsMatchPositions = result.settled && !m_pairsClear && (!candidates || tailCells);
     return result;
 }
 
@@ -705,7 +786,11 @@ typename CudaDevice<Real>::StageTail CudaDevice<Real>::queueStageTail() {
     int rows = kImpulseRows + 1;
     const RestingContact<double> resting{m_stageWindow.restingSpeed, m_screenGap};
     // m_screenGap < 0: screenStage was not called, no resting contact known.
-    if (m_screenGap >= 0 && (m_pairsClear || sameGeometry(listingGeometry(resting), m_cellList.geometry))) {
+    // Where the rounds read candidate rows, their cells are the rows' build, not the positions': the
+    // listing's cells are built here, behind the rounds, rather than after the wait.
+    const bool listingCells = m_roundsOnCandidates && !m_pairsClear;
+    if (m_screenGap >= 0 &&
+        (m_pairsClear || listingCells || sameGeometry(listingGeometry(resting), m_cellList.geometry))) {
         gatherToHome();
         forgetRunAhead();  // its words are about to be written
         m_wordsFresh = false;
@@ -713,6 +798,9 @@ typename CudaDevice<Real>::StageTail CudaDevice<Real>::queueStageTail() {
                       "one memset for the health counts and the contact total");
         cudaCheck(cudaMemsetAsync(w->healthCounts, 0, sizeof w->healthCounts + sizeof w->listedContacts, s), "memset");
         m_resting = RestingContact<Real>{Real(resting.speed), Real(resting.gap)};
+        if (listingCells)
+            m_cellList = m_contactCells.build(home().x.data(), m_n, listingGeometry(resting), contactCellSplit(),
+                                              m_cellSplit.gridRadius, s);
         countContacts(false, &w->listedContacts);
         gpu::StepCheckArgs<Real> a = stepCheckArgs(m_impactRows.data() + size_t(kImpulseRows + 1) * size_t(m_n));
         tail.checkForecast = a.forecast.moves != nullptr;
@@ -779,18 +867,21 @@ std::vector<ContactRecord> CudaDevice<Real>::contactLog() const {
     unsigned int count = 0;
     cudaCheck(cudaMemcpyAsync(&count, m_counters.data() + 2, sizeof(count), cudaMemcpyDeviceToHost, stream()), "contact log");
     sync();
-    std::vector<gpu::ImpactRecord<Real>> records(count);
-    const size_t bytes = records.size() * sizeof(gpu::ImpactRecord<Real>);
-    if (bytes > 0) {
-        cudaCheck(cudaMemcpyAsync(records.data(), m_log.data(), bytes, cudaMemcpyDeviceToHost, stream()), "contact log");
-        sync();
-    }
-    // The CPU's order: by round, then by the resolving particle (one impact each per round).
-    std::sort(records.begin(), records.end(), [](const gpu::ImpactRecord<Real>& l, const gpu::ImpactRecord<Real>& r) {
-        return l.round != r.round ? l.round < r.round : l.particle < r.particle;
-    });
-    std::vector<ContactRecord> out(records.size());
-    for (size_t k = 0; k < records.size(); ++k) {
+    if (count == 0) return {};
+    // The CPU's order: by round, then by the resolving particle (one impact each per round), sorted on
+    // the device (gpu::launchSortImpactLog).
+    m_logSorted.resize(count);
+    const size_t scratch = gpu::impactLogSortBytes(count);
+    if (m_logSortScratch.size() < scratch) m_logSortScratch.resize(scratch);
+    gpu::launchSortImpactLog(m_log.data(), count, m_logRound, m_logSorted.data(), m_logSortScratch.data(),
+                             m_logSortScratch.size(), stream());
+    const gpu::ImpactRecord<Real>* records = m_hostLog.resize(count);
+    cudaCheck(cudaMemcpyAsync(m_hostLog.data(), m_logSorted.data(), count * sizeof(gpu::ImpactRecord<Real>),
+                              cudaMemcpyDeviceToHost, stream()),
+              "contact log");
+    sync();
+    std::vector<ContactRecord> out(count);
+    for (size_t k = 0; k < out.size(); ++k) {
         const gpu::ImpactRecord<Real>& r = records[k];
         ContactRecord& c = out[k];
         c.a = r.particle;

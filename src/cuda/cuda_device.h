@@ -485,6 +485,14 @@ private:
     // build gave it, where those cells are in use and hold keys.
     void trackCellMoves(gpu::CollisionArgs<Real>& a);
     unsigned int* cellsMovedFlag();
+    // The batched rounds' candidate rows (gpu_launch.h CandidateRows; runImpactRounds): whether this
+    // stage's rounds read them, and round r's cells and rows, made again where stale (flags: the round's
+    // two words, set by the round before's resolution or, in a stage's first round, by the staleness
+    // check; the first rows of a state are made unconditionally).
+    bool roundsReadCandidates() const;
+    void prepareCandidates(int round, unsigned int* flags, gpu::CollisionArgs<Real>& a);
+    CellGeometry candidateGeometry() const;
+    Real candidateMargin() const;
     void applyPendingWarmStart();
     int64_t m_refreshes = 0;
     // Verlet's refresh after collisions (one GPU, lists): A matched X at the last full pass and X has
@@ -519,6 +527,14 @@ private:
     static constexpr int64_t kNarrowedSearchMin = int64_t(1) << 19;
     int64_t m_narrowedSearchFrom = kNarrowedSearchMin;
     bool m_skipUnmovedCellBuilds = true;  // CudaBackendOptions::skipUnmovedCellBuilds
+    bool m_impactCandidates = true;       // CudaBackendOptions::impactCandidates
+    int m_candidateSlots = gpu::kCandidateSlots;  // CudaBackendOptions::candidateSlots
+    int64_t m_candidateRowsFrom = 32769;          // CudaBackendOptions::candidateRowsFrom
+    DeviceCellList<Real> m_candidateCells;        // the rows' build (prepareCandidates)
+    DeviceBuffer<int32_t> m_candidateRows, m_candidateCounts;
+    DeviceBuffer<Vec3<Real>> m_candidateX;  // CandidateRows::xBuilt
+    bool m_candidatesMade = false;          // rows made for the current state and model (setState, setModel clear it)
+    bool m_roundsOnCandidates = false;      // the last rounds read rows: m_cellList is their build, not the positions'
     DeviceCellList<Real> m_contactCells;
     CellListView m_cellList{};  // of the last findEvents or listContacts
     bool m_cellsMatchPositions = false;  // m_cellList was built from the current positions
@@ -609,6 +625,10 @@ private:
     double m_logMinImpulse = 0;  // setContactLog: impacts below this impulse are not recorded
     bool m_logging = false;
     DeviceBuffer<gpu::ImpactRecord<Real>> m_log;
+    // contactLog's sorted copy, the sort's scratch and the host's copy (mutable: a read sorts).
+    mutable DeviceBuffer<gpu::ImpactRecord<Real>> m_logSorted;
+    mutable DeviceBuffer<unsigned char> m_logSortScratch;
+    mutable PinnedBuffer<gpu::ImpactRecord<Real>> m_hostLog;
     size_t m_logBound = 0;       // records written this step, at most
     int32_t m_logRound = 0;      // applyEvents calls this step
     double m_stepDt = 0;         // the step the impacts' times are within [tau]
@@ -619,8 +639,11 @@ private:
     // found at most this many events (queueStageTail); after more, a batch that does end the stage
     // leaves the calls after it up to three waits (the tally, the listing's count, the step check).
     static constexpr unsigned int kTailAfterEvents = 64;
-    // The contact log's room for a batch of impact rounds (runImpactRounds): 64 MiB, 13 rounds of 10^5 particles.
-    static constexpr size_t kLogBatchBytes = size_t(64) << 20;
+    // The contact log's room for a batch of impact rounds (runImpactRounds): 256 MiB, 55 rounds of 10^5
+    // particles, so that a landing's rounds to the cap (64) take two batches rather than five. With 64 MiB
+    // (13 rounds) the sandbox example at 10^5 balls (an H200, fp32, one call) took 25.3 and 22.3 ms of
+    // simulation a landing frame (frames 158 to 183) against 21.3 and 21.4.
+    static constexpr size_t kLogBatchBytes = size_t(256) << 20;
     PinnedBuffer<unsigned long long> m_hostWords;
     PinnedBuffer<long long> m_hostHealthExamples;
     PinnedBuffer<double> m_hostPartials;

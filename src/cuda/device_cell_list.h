@@ -59,11 +59,14 @@ public:
     // count's atomics then found the counts' lines out of L2); the counted builds of launch() as this
     // cooperative launch too (no graph, no IF node): 1,213 ms of builds against 1,145, the pile 34.6 ms a
     // frame against 33.9 (separate binaries in one call).
+    // *gated (where given): whether the build was gated (else it was made).
     CellListView rebuildIfMoved(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry,
                                 const CellSplit<Real>& split, double gridRadius, unsigned int* moved,
-                                cudaStream_t stream) {
+                                cudaStream_t stream, bool* gated = nullptr) {
         const gpu::CellListArgs<Real> a = argsFor(x, n, geometry, split, gridRadius);
-        if (!(m_keysValid && sameBuild(a, m_last)) || !gatesOnDevice(a)) {
+        const bool gate = m_keysValid && sameBuild(a, m_last) && gatesOnDevice(a);
+        if (gated) *gated = gate;
+        if (!gate) {
             launch(a, stream);
             return a.view();
         }

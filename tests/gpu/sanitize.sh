@@ -8,8 +8,9 @@
 # Both also run the pairs-once all-pairs pass (shared-memory column sums; memcheck also its share of
 # two GPUs, peer reads) and the list pass with its collision screen and the walls-at-once stage
 # (CudaPairsOnce.*, CudaNeighbourList.TheCollisionScreen*); memcheck also the steps that run ahead into buffers of their
-# own (CudaNeighbourList.RunningAhead*) and a small pile, whose contact sweeps
-# run in one cooperative launch (CudaSanitized.ASmallPile*); racecheck does not, since it did not get through
+# own (CudaNeighbourList.RunningAhead*), a small pile, whose contact sweeps
+# run in one cooperative launch (CudaSanitized.ASmallPile*), and impact rounds on candidate rows
+# (CudaSanitized.ImpactRoundsOnCandidateRows); racecheck does not, since it did not get through
 # that launch's grid-wide barriers (80 steps of 160 balls still running after 120 s on an H100).
 set -u
 tool=$1 binary=$2

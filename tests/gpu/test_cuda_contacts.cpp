@@ -305,6 +305,51 @@ TEST(CudaContacts, SkippedCellBuildsGiveTheBitsOfBuiltOnes) {
     }
 }
 
+TEST(CudaContacts, CandidateRowsGiveTheBitsOfCellWalks) {
+    // The batched impact rounds of more than 32,768 particles read candidate rows made when some
+    // particle has moved most of half their margin since the last (gpu_launch.h CandidateRows) instead
+    // of walking cells built again each round: against cells, the same state, impacts, rounds,
+    // dissipation and log, in fp32 and fp64, with rows of 32 slots and of 4 (most rows then overflow
+    // and are walked in the cells of the rows' build), and with a few heavier balls of radius 0.65 kept
+    // out of the cells (cell_list.h: large particles, walked apart).
+    COREBOX_REQUIRE_GPU();
+    auto run = [](const Scene& scene, bool candidates, int slots, bool log) {
+        CudaBackendOptions options;
+        options.precision = scene.integrator.precision;
+        options.impactCandidates = candidates;
+        options.candidateSlots = slots;
+        return runImpacts(scene, options, 240, log);
+    };
+    for (Precision p : {Precision::Fp32, Precision::Fp64}) {
+        Scene scene = deepPile(p);
+        scene.box.size = {40.0, 40.0, 60.0};
+        scene.species[0].count = 40000;
+        SpeciesDef heavy = scene.species[0];
+        heavy.name = "heavy";
+        heavy.count = 24;
+        heavy.radius = 0.65;
+        heavy.mass = 2.2;
+        scene.species.push_back(heavy);
+        ASSERT_TRUE(gpu::searchWalksAlone(40024)) << "rows are read where a search walks a thread a particle";
+        ASSERT_GT(gpu::cellListIfMovedBlocks<float>(), 0) << "rows are made where the cells' build gates itself";
+        for (bool log : {false, true}) {
+            if (log && p == Precision::Fp64) continue;  // the log's path is the same code in both
+            const ImpactOutcome cells = run(scene, false, 0, log);
+            for (int slots : {0, 4}) {
+                const ImpactOutcome rows = run(scene, true, slots, log);
+                const std::string where = std::string(precisionName(p)) + (slots ? ", rows of 4" : ", rows of 32") +
+                                          (log ? ", contact log on" : "");
+                expectSameImpacts(rows, cells, where);
+                expectSameLog(rows, cells, where);
+            }
+            EXPECT_GT(cells.rounds, 2 * 240) << "rounds beyond the first of a step";
+            EXPECT_GT(cells.pairs, 40000) << "the balls met";
+            std::printf("%s%s: %lld impacts in %lld rounds\n", precisionName(p), log ? ", contact log on" : "",
+                        (long long)(cells.pairs + cells.walls), (long long)cells.rounds);
+        }
+    }
+}
+
 TEST(CudaContacts, SearchesNarrowedToTheActiveParticlesGiveTheBitsOfFullOnes) {
     // After a stage's first search, only the particles in the cells around the last round's active
     // ones search (cuda_collisions.cpp: narrowSearch), from 524,288 particles by default: here from any

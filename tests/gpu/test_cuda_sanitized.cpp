@@ -77,11 +77,10 @@ Scene oneSpecies(const char* name, int64_t count, double radius, std::array<doub
 
 // `scene` run for `steps` steps on one GPU in fp64, then in fp32: each run's sum of count(report).
 template <class Count>
-std::vector<int64_t> sumOverSteps(Scene scene, int steps, Count count) {
+std::vector<int64_t> sumOverSteps(Scene scene, int steps, Count count, CudaBackendOptions options = {}) {
     std::vector<int64_t> sums;
     for (Precision p : {Precision::Fp64, Precision::Fp32}) {
         scene.integrator.precision = p;
-        CudaBackendOptions options;
         options.precision = p;
         Simulation sim(scene, makeCudaBackend(options), makeInitialState(scene));
         int64_t sum = 0;
@@ -111,6 +110,27 @@ TEST(CudaSanitized, ASmallPileRelaxedInOneLaunch) {
     scene.integrator.dt = 1.0 / 240.0;
     scene.init.temperature = 0.1;
     for (int64_t sweeps : sumOverSteps(scene, 80, [](const StepReport& r) { return r.contactSweeps; })) EXPECT_GT(sweeps, 80);
+}
+
+// The impact rounds reading candidate rows (gpu_launch.h CandidateRows), made from the first step and
+// again as the balls fall, some rows overflowed (4 slots: walked in the cells of the rows' build), from
+// 5,000 balls here (the default: more than 32,768).
+TEST(CudaSanitized, ImpactRoundsOnCandidateRows) {
+    COREBOX_REQUIRE_GPU();
+    Scene scene = oneSpecies("ball", 5000, 0.5, {16, 16, 36});
+    scene.species[0].epsilon = 0;
+    scene.box.wallRestitution = 0.5;
+    scene.interaction.restitution = 0.5;
+    scene.interaction.gravity = {0, 0, -9.81};
+    scene.integrator.method = Method::Verlet;
+    scene.integrator.dt = 1.0 / 240.0;
+    scene.init.temperature = 0.1;
+    CudaBackendOptions options;
+    options.candidateRowsFrom = 0;
+    options.candidateSlots = 4;
+    for (int64_t rounds : sumOverSteps(
+             scene, 48, [](const StepReport& r) { return r.rounds; }, options))
+        EXPECT_GT(rounds, 96);
 }
 
 // RK4 with all pairs and hard cores: the step as one graph (cuda_rk_graph.cpp, launched from the third
