@@ -366,7 +366,9 @@ void launchCellListIfMoved(const CellListArgs<Real>& args, unsigned int* moved, 
 // sandbox example at 10^5 balls spent 12.1 and 11.6 ms a landing frame (frames 158 to 183) in its impact
 // rounds against 18.7 and 18.7 (a round's build, search and resolution 27 us of kernels against about 60,
 // CUPTI); `corebox bench pile` 10^6 balls 28.47 and 28.49 ms a frame against 31.71, and in another call
-// 28.36 against 32.22; 10^5 balls 7.47 against 8.25.
+// 28.36 against 32.22; 10^5 balls 7.47 against 8.25. Where the integrator swaps its position buffers
+// every step (the Runge-Kutta methods), the cells' build sees new arguments and is made each step, and
+// the rows with it: the same results, the saving then only within a step's rounds.
 // Slots a row: in a dense packing of equal spheres 12 touch each one, and within a margin of 0.3 of a
 // diameter the second shell is not reached (1.41 diameters in a close packing).
 constexpr int kCandidateSlots = 32;

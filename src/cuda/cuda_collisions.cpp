@@ -11,6 +11,7 @@
 #include <climits>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <cstring>
 #include <numeric>
 #include <stdexcept>
@@ -488,18 +489,37 @@ CellGeometry CudaDevice<Real>::candidateGeometry() const {
     return cellGeometry(vec3Cast<double>(m_box), m_n, 2.0 * m_cellSplit.gridRadius + double(candidateMargin()));
 }
 
+// The rows' buffers for this state (n rows of m_candidateSlots, 128 bytes a particle by default: 1.3 GB
+// at 10^7 particles). Where the device has not the room, the rounds walk cells from then on, as before
+// the rows (and the failed allocation's error is cleared, so that no later launch check reports it).
+template <class Real>
+bool CudaDevice<Real>::allocateCandidates() {
+    const size_t n = size_t(m_n);
+    try {
+        m_candidateRows.resize(n * size_t(m_candidateSlots));
+        m_candidateCounts.resize(n);
+        m_candidateX.resize(n);
+        return true;
+    } catch (const DeviceError& e) {
+        (void)cudaGetLastError();
+        m_candidateRows = DeviceBuffer<int32_t>{};
+        m_candidateCounts = DeviceBuffer<int32_t>{};
+        m_candidateX = DeviceBuffer<Vec3<Real>>{};
+        m_impactCandidates = false;
+        std::fprintf(stderr, "corebox: no device memory for the impact rounds' candidate rows (%s); they walk cells\n",
+                     e.what());
+        return false;
+    }
+}
+
 template <class Real>
 void CudaDevice<Real>::prepareCandidates(int round, unsigned int* flags, gpu::CollisionArgs<Real>& a) {
     cudaStream_t s = stream();
-    const size_t n = size_t(m_n);
     const Real margin = candidateMargin();
     // Not quite half the margin: what fp rounds of a distance and of the moves cannot take back.
     const Real half = Real(0.49) * margin;
     bool gated = false;
     if (!m_candidatesMade) {
-        m_candidateRows.resize(n * size_t(m_candidateSlots));
-        m_candidateCounts.resize(n);
-        m_candidateX.resize(n);
         m_cellList = m_candidateCells.build(home().x.data(), m_n, candidateGeometry(), contactCellSplit(),
                                             m_cellSplit.gridRadius, s);
     } else {
@@ -676,7 +696,7 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
         cudaCheck(cudaMemsetAsync(m_roundCounters.data(), 0, counterWords * sizeof(unsigned int), s), "memset");
     }
     unsigned int* candidateFlags = m_roundCounters.data() + 2 * size_t(maxRounds);
-    const bool candidates = roundsReadCandidates();
+    const bool candidates = roundsReadCandidates() && (m_candidatesMade || allocateCandidates());
     m_roundsOnCandidates = candidates;
     bool tailCells = false;  // the last batch's tail built the listing's cells behind it (queueStageTail)
     m_roundCountersZeroed = false;
@@ -787,7 +807,8 @@ typename CudaDevice<Real>::StageTail CudaDevice<Real>::queueStageTail() {
     const RestingContact<double> resting{m_stageWindow.restingSpeed, m_screenGap};
     // m_screenGap < 0: screenStage was not called, no resting contact known.
     // Where the rounds read candidate rows, their cells are the rows' build, not the positions': the
-    // listing's cells are built here, behind the rounds, rather than after the wait.
+    // listing's cells are built here, behind the rounds, rather than after the wait (a build wasted
+    // where the batch does not end the stage, which a round of few events before it makes rare).
     const bool listingCells = m_roundsOnCandidates && !m_pairsClear;
     if (m_screenGap >= 0 &&
         (m_pairsClear || listingCells || sameGeometry(listingGeometry(resting), m_cellList.geometry))) {

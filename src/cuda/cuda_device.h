@@ -490,6 +490,7 @@ private:
     // two words, set by the round before's resolution or, in a stage's first round, by the staleness
     // check; the first rows of a state are made unconditionally).
     bool roundsReadCandidates() const;
+    bool allocateCandidates();
     void prepareCandidates(int round, unsigned int* flags, gpu::CollisionArgs<Real>& a);
     CellGeometry candidateGeometry() const;
     Real candidateMargin() const;

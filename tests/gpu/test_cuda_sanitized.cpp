@@ -75,7 +75,22 @@ Scene oneSpecies(const char* name, int64_t count, double radius, std::array<doub
     return scene;
 }
 
-// `scene` run for `steps` steps on one GPU in fp64, then in fp32: each run's sum of count(report).
+// `count` balls of radius 0.5 on a lattice in a box of `size`, dropped: hard cores only, restitution
+// 0.5 on each other and on the walls, gravity, Verlet at 1/240.
+Scene droppedBalls(int64_t count, std::array<double, 3> size) {
+    Scene scene = oneSpecies("ball", count, 0.5, size);
+    scene.species[0].epsilon = 0;
+    scene.box.wallRestitution = 0.5;
+    scene.interaction.restitution = 0.5;
+    scene.interaction.gravity = {0, 0, -9.81};
+    scene.integrator.method = Method::Verlet;
+    scene.integrator.dt = 1.0 / 240.0;
+    scene.init.temperature = 0.1;
+    return scene;
+}
+
+// `scene` run for `steps` steps on one GPU in fp64, then in fp32 (with `options`): each run's sum of
+// count(report).
 template <class Count>
 std::vector<int64_t> sumOverSteps(Scene scene, int steps, Count count, CudaBackendOptions options = {}) {
     std::vector<int64_t> sums;
@@ -101,14 +116,7 @@ TEST(CudaSanitized, SmallSceneWithCollisions) {
 // (grid-wide barriers, a block reduction in shared memory).
 TEST(CudaSanitized, ASmallPileRelaxedInOneLaunch) {
     COREBOX_REQUIRE_GPU();
-    Scene scene = oneSpecies("ball", 160, 0.5, {4, 4, 12});  // packing fraction 0.44: the lattice's balls nearly touch
-    scene.species[0].epsilon = 0;
-    scene.box.wallRestitution = 0.5;
-    scene.interaction.restitution = 0.5;
-    scene.interaction.gravity = {0, 0, -9.81};
-    scene.integrator.method = Method::Verlet;
-    scene.integrator.dt = 1.0 / 240.0;
-    scene.init.temperature = 0.1;
+    const Scene scene = droppedBalls(160, {4, 4, 12});  // packing fraction 0.44: the lattice's balls nearly touch
     for (int64_t sweeps : sumOverSteps(scene, 80, [](const StepReport& r) { return r.contactSweeps; })) EXPECT_GT(sweeps, 80);
 }
 
@@ -117,14 +125,7 @@ TEST(CudaSanitized, ASmallPileRelaxedInOneLaunch) {
 // 5,000 balls here (the default: more than 32,768).
 TEST(CudaSanitized, ImpactRoundsOnCandidateRows) {
     COREBOX_REQUIRE_GPU();
-    Scene scene = oneSpecies("ball", 5000, 0.5, {16, 16, 36});
-    scene.species[0].epsilon = 0;
-    scene.box.wallRestitution = 0.5;
-    scene.interaction.restitution = 0.5;
-    scene.interaction.gravity = {0, 0, -9.81};
-    scene.integrator.method = Method::Verlet;
-    scene.integrator.dt = 1.0 / 240.0;
-    scene.init.temperature = 0.1;
+    const Scene scene = droppedBalls(5000, {16, 16, 36});
     CudaBackendOptions options;
     options.candidateRowsFrom = 0;
     options.candidateSlots = 4;
