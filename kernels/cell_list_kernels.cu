@@ -14,8 +14,9 @@
 // cell's entries in ascending index after an atomic scatter (launchCountedCellList): the same arrays,
 // with the radix sort as its fallback where a cell is crowded (a conditional graph node). The impact
 // rounds' builds after a stage's first (DeviceCellList::rebuildIfMoved) are the counting sort in one
-// cooperative launch that skips itself where no particle changed cell (launchCellListIfMoved), a crowded
-// cell sorted there by a heap sort: the same arrays.
+// cooperative launch that skips itself where no particle changed cell (launchCellListIfMoved; the kernel
+// in cell_list_if_moved.cuh, which the impact rounds' candidate rows launch with work of their own after
+// the build), a crowded cell sorted there by a heap sort: the same arrays.
 // Up to kOneBlockItems (4096) particles the three steps run in one block (cub::BlockRadixSort, stable
 // too, the keys then binary-searched in shared memory), and up to 1024 as a counting sort in shared
 // memory (smallCellListKernel): one launch instead of five or so. At that size a build is all launch
@@ -32,6 +33,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "cell_list_if_moved.cuh"
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
 
@@ -94,16 +96,6 @@ __global__ void __launch_bounds__(Threads) oneBlockCellListKernel(CellListArgs<R
             else hi = mid;
         }
         a.cellStart[c] = lo;
-    }
-}
-
-// sorted[b .. e) in ascending order by insertion, in one thread: a cell's few entries.
-__device__ inline void insertionSortRange(int32_t* sorted, int32_t b, int32_t e) {
-    for (int32_t x = b + 1; x < e; ++x) {
-        const int32_t v = sorted[x];
-        int32_t y = x - 1;
-        for (; y >= b && sorted[y] > v; --y) sorted[y + 1] = sorted[y];
-        sorted[y + 1] = v;
     }
 }
 
@@ -242,102 +234,11 @@ __global__ void crowdedGateKernel(cudaGraphConditionalHandle handle, const unsig
     cudaGraphSetConditional(handle, *crowded != 0u ? 1u : 0u);
 }
 
-// sorted[b .. e) in ascending order by a heap sort in one thread: a cell crowded by a blow-up, which the
-// insertion sort of a cell's few entries would take in quadratic time.
-__device__ void heapSortRange(int32_t* sorted, int32_t b, int32_t e) {
-    int32_t* h = sorted + b;
-    const int32_t k = e - b;
-    auto siftDown = [&](int32_t root, int32_t end) {
-        for (;;) {
-            int32_t child = 2 * root + 1;
-            if (child >= end) return;
-            if (child + 1 < end && h[child] < h[child + 1]) ++child;
-            if (!(h[root] < h[child])) return;
-            const int32_t t = h[root];
-            h[root] = h[child];
-            h[child] = t;
-            root = child;
-        }
-    };
-    for (int32_t root = k / 2 - 1; root >= 0; --root) siftDown(root, k);
-    for (int32_t end = k - 1; end > 0; --end) {
-        const int32_t t = h[0];
-        h[0] = h[end];
-        h[end] = t;
-        siftDown(0, end);
-    }
-}
-
-// The counted build of launchCountedCellList in one cooperative launch that does nothing where *moved is
-// 0, and clears it otherwise (launchCellListIfMoved): counts, a scan of them (each block a contiguous
-// run of cells, the blocks' totals added across), the places, each cell's entries put in ascending index
-// (a crowded cell's by a heap sort, so that no fallback build is needed). The same arrays as every build.
-template <class Real>
-__global__ void __launch_bounds__(kBlock)
-    cellListIfMovedKernel(CellListArgs<Real> a, unsigned int* moved, int32_t* blockTotals) {
-    if (__ldcg(moved) == 0u) return;  // every block alike: nothing writes it before the first barrier
-    cooperative_groups::grid_group grid = cooperative_groups::this_grid();
-    using Scan = cub::BlockScan<int32_t, kBlock>;
-    using Reduce = cub::BlockReduce<int32_t, kBlock>;
-    __shared__ union {
-        typename Scan::TempStorage scan;
-        typename Reduce::TempStorage reduce;
-    } shared;
-    __shared__ int32_t blockOffset;
-    const int cells = a.geometry.cellCount();
-    const int64_t slots = int64_t(cells) + 1;  // the cells and the large particles' tail
-    const int64_t first = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    const int64_t stride = int64_t(gridDim.x) * blockDim.x;
-    for (int64_t c = first; c < slots; c += stride) a.counts[c] = 0;
-    grid.sync();
-    if (first == 0) *moved = 0u;
-    for (int64_t i = first; i < a.n; i += stride) {
-        const int key = cellKeyOfParticle(a.geometry, a.split, i, a.x[i]);
-        a.keys[i] = uint32_t(key);
-        a.indices[i] = atomicAdd(&a.counts[key], 1);
-    }
-    grid.sync();
-    // The scan: block b's run of cells [begin, end), thread t's consecutive share of it.
-    const int64_t chunk = (slots + gridDim.x - 1) / gridDim.x;
-    const int64_t begin = std::min<int64_t>(int64_t(blockIdx.x) * chunk, slots),
-                  end = std::min<int64_t>(begin + chunk, slots);
-    const int64_t share = (chunk + blockDim.x - 1) / blockDim.x;
-    const int64_t mine = std::min<int64_t>(begin + int64_t(threadIdx.x) * share, end);
-    const int64_t mineEnd = std::min<int64_t>(mine + share, end);
-    int32_t sum = 0;
-    for (int64_t c = mine; c < mineEnd; ++c) sum += a.counts[c];
-    int32_t before = 0, total = 0;
-    Scan(shared.scan).ExclusiveSum(sum, before, total);
-    if (threadIdx.x == 0) blockTotals[blockIdx.x] = total;
-    grid.sync();
-    int32_t earlier = 0;
-    for (int64_t b = threadIdx.x; b < int64_t(blockIdx.x); b += blockDim.x) earlier += __ldcg(&blockTotals[b]);
-    __syncthreads();  // the scan's storage becomes the reduction's
-    earlier = Reduce(shared.reduce).Sum(earlier);
-    if (threadIdx.x == 0) blockOffset = earlier;
-    __syncthreads();
-    int32_t start = blockOffset + before;
-    for (int64_t c = mine; c < mineEnd; ++c) {
-        a.cellStart[c] = start;
-        start += a.counts[c];
-    }
-    grid.sync();
-    for (int64_t i = first; i < a.n; i += stride) a.sorted[a.cellStart[a.keys[i]] + a.indices[i]] = int32_t(i);
-    grid.sync();
-    for (int64_t c = first; c < slots; c += stride) {
-        const int32_t b = a.cellStart[c], e = c < cells ? a.cellStart[c + 1] : int32_t(a.n);
-        if (e - b > kCountedCellMost)
-            heapSortRange(a.sorted, b, e);
-        else
-            insertionSortRange(a.sorted, b, e);
-    }
-}
-
 }  // namespace
 
 template <class Real>
 int cellListIfMovedBlocks() {
-    static const int resident = cooperativeResidentBlocks(cellListIfMovedKernel<Real>);
+    static const int resident = cooperativeResidentBlocks(cellListIfMovedKernel<Real, NothingAfterBuild>);
     return resident;
 }
 template int cellListIfMovedBlocks<float>();
@@ -350,9 +251,11 @@ void launchCellListIfMoved(const CellListArgs<Real>& a, unsigned int* moved, int
     if (blocks < 1 || a.n <= kOneBlockItems || a.counts == nullptr)
         throw std::logic_error("launchCellListIfMoved: not a cooperative counted build");
     CellListArgs<Real> args = a;
-    void* params[] = {&args, &moved, &blockTotals};
-    const cudaError_t e = cudaLaunchCooperativeKernel(reinterpret_cast<void*>(cellListIfMovedKernel<Real>),
-                                                      dim3(unsigned(blocks)), dim3(kBlock), params, 0, stream);
+    NothingAfterBuild after;
+    void* params[] = {&args, &moved, &blockTotals, &after};
+    const cudaError_t e =
+        cudaLaunchCooperativeKernel(reinterpret_cast<void*>(cellListIfMovedKernel<Real, NothingAfterBuild>),
+                                    dim3(unsigned(blocks)), dim3(kBlock), params, 0, stream);
     if (e != cudaSuccess) throw DeviceError(std::string("cell list build if moved: ") + cudaGetErrorString(e));
 }
 template void launchCellListIfMoved<float>(const CellListArgs<float>&, unsigned int*, int32_t*, cudaStream_t);

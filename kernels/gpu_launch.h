@@ -392,17 +392,27 @@ struct CandidateFillArgs {
     int32_t* counts;
     Vec3<Real>* xBuilt;
     int slots;
-    const unsigned int* gate;  // nothing where *gate == 0 (the rows still hold); null: always
 };
 // Every particle's row, count and xBuilt from x (CandidateRows): its candidates in the order of its
-// cell walk (cell_list.h forEachNeighbour), the same on every run. Gated on `gate`.
+// cell walk (cell_list.h forEachNeighbour), the same on every run.
 template <class Real>
 void launchFillCandidates(const CandidateFillArgs<Real>& args, cudaStream_t stream);
-// flags[0] = flags[1] = 1 where some particle of x is farther than sqrt(halfMargin2) from xBuilt (or
-// not finite); flags left as they are otherwise.
+// The cells' gated build of launchCellListIfMoved (where *moved != 0, which it clears) and then, in the
+// same cooperative launch of candidateBuildBlocks blocks, the rows of launchFillCandidates from those
+// cells (fill.grid their view): one launch a round where there were two, each with its own gate. An
+// H200, fp32, against the two launches (separate libraries in one call, the same bits): the sandbox at
+// 10^5 balls 10.6 and 10.5 ms a landing frame in its impact rounds against 11.0 and 10.9; `corebox bench
+// pile` 10^6 balls 28.21 ms a frame against 28.32, 10^5 7.19 against 7.09.
+template <class Real>
+int candidateBuildBlocks();
+template <class Real>
+void launchCellListIfMovedThenFill(const CellListArgs<Real>& args, unsigned int* moved, int32_t* blockTotals,
+                                   const CandidateFillArgs<Real>& fill, cudaStream_t stream);
+// *stale = 1 where some particle of x is farther than sqrt(halfMargin2) from xBuilt (or not finite);
+// left as it is otherwise.
 template <class Real>
 void launchCandidateStaleness(const Vec3<Real>* x, const Vec3<Real>* xBuilt, int64_t n, Real halfMargin2,
-                              unsigned int* flags, cudaStream_t stream);
+                              unsigned int* stale, cudaStream_t stream);
 
 // ---- collisions (collision_kernels.cu) ----
 // One impact of the contact log (backend.h ContactRecord, before the host converts it): the particle
@@ -481,8 +491,8 @@ struct CollisionArgs {
     unsigned int* cellsMoved;
     // When candidates.rows is set, the searches read each particle's candidate row instead of walking
     // the cells around it (`grid` is then the rows' build: CandidateRows), and the resolution sets
-    // staleNext[0] and staleNext[1] where a particle it moves ends farther than the rows allow from its
-    // xBuilt (the next round's cells and rows are then made again).
+    // *staleNext where a particle it moves ends farther than the rows allow from its xBuilt (the next
+    // round's cells and rows are then made again).
     CandidateRows<Real> candidates;
     unsigned int* staleNext;
 };

@@ -1,5 +1,7 @@
 // The impact rounds' candidate rows (gpu_launch.h CandidateRows: the design note): made from a cell
-// list at least the largest small contact distance plus the margin wide, and checked for staleness.
+// list at least the largest small contact distance plus the margin wide, where stale in the gated build's
+// own cooperative launch (cell_list_if_moved.cuh), and checked for staleness.
+#include "cell_list_if_moved.cuh"
 #include "gpu_common.cuh"
 #include "gpu_launch.h"
 #include "impact_candidates.cuh"
@@ -7,11 +9,9 @@
 namespace corebox::gpu {
 namespace {
 
-// A thread a particle, in the cells' order (a warp's walks overlap in the caches).
+// The row of the particle at place k of the cells' order (a warp's walks then overlap in the caches).
 template <class Real>
-__global__ void fillCandidatesKernel(CandidateFillArgs<Real> a) {
-    const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (k >= a.n || (a.gate && *a.gate == 0u)) return;
+__device__ void fillCandidateRow(const CandidateFillArgs<Real>& a, int64_t k) {
     const int64_t i = a.grid.sorted[k];
     const Vec3<Real> xi = a.x[i];
     const Real ri = a.radius[a.species[i]];
@@ -29,17 +29,29 @@ __global__ void fillCandidatesKernel(CandidateFillArgs<Real> a) {
 }
 
 template <class Real>
+__global__ void fillCandidatesKernel(CandidateFillArgs<Real> a) {
+    const int64_t k = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+    if (k < a.n) fillCandidateRow(a, k);
+}
+
+// The rows, after the cells' build in its launch (cellListIfMovedKernel's `after`).
+template <class Real>
+struct FillAfterBuild {
+    CandidateFillArgs<Real> fill;
+    __device__ void operator()(int64_t first, int64_t stride) const {
+        for (int64_t k = first; k < fill.n; k += stride) fillCandidateRow(fill, k);
+    }
+};
+
+template <class Real>
 __global__ void candidateStalenessKernel(const Vec3<Real>* x, const Vec3<Real>* xBuilt, int64_t n, Real halfMargin2,
-                                         unsigned int* flags) {
+                                         unsigned int* stale) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i >= n) return;
     CandidateRows<Real> c;
     c.xBuilt = xBuilt;
     c.halfMargin2 = halfMargin2;
-    if (leftCandidates(c, i, x[i])) {
-        flags[0] = 1u;
-        flags[1] = 1u;
-    }
+    if (leftCandidates(c, i, x[i])) *stale = 1u;
 }
 
 }  // namespace
@@ -52,15 +64,39 @@ void launchFillCandidates(const CandidateFillArgs<Real>& a, cudaStream_t stream)
 }
 
 template <class Real>
+int candidateBuildBlocks() {
+    static const int resident = cooperativeResidentBlocks(cellListIfMovedKernel<Real, FillAfterBuild<Real>>);
+    return resident;
+}
+
+template <class Real>
+void launchCellListIfMovedThenFill(const CellListArgs<Real>& a, unsigned int* moved, int32_t* blockTotals,
+                                   const CandidateFillArgs<Real>& fill, cudaStream_t stream) {
+    const int blocks = candidateBuildBlocks<Real>();
+    if (blocks < 1 || cellListBuildIsOneLaunch(a.n) || a.counts == nullptr)
+        throw std::logic_error("launchCellListIfMovedThenFill: not a cooperative counted build");
+    CellListArgs<Real> args = a;
+    FillAfterBuild<Real> after{fill};
+    void* params[] = {&args, &moved, &blockTotals, &after};
+    const cudaError_t e =
+        cudaLaunchCooperativeKernel(reinterpret_cast<void*>(cellListIfMovedKernel<Real, FillAfterBuild<Real>>),
+                                    dim3(unsigned(blocks)), dim3(kBlock), params, 0, stream);
+    if (e != cudaSuccess) throw DeviceError(std::string("candidate cells and rows: ") + cudaGetErrorString(e));
+}
+
+template <class Real>
 void launchCandidateStaleness(const Vec3<Real>* x, const Vec3<Real>* xBuilt, int64_t n, Real halfMargin2,
-                              unsigned int* flags, cudaStream_t stream) {
+                              unsigned int* stale, cudaStream_t stream) {
     if (n <= 0) return;
-    candidateStalenessKernel<Real><<<blocksFor(n), kBlock, 0, stream>>>(x, xBuilt, n, halfMargin2, flags);
+    candidateStalenessKernel<Real><<<blocksFor(n), kBlock, 0, stream>>>(x, xBuilt, n, halfMargin2, stale);
     checkLaunch("candidate staleness kernel");
 }
 
 #define COREBOX_INSTANTIATE(Real)                                                                                    \
     template void launchFillCandidates<Real>(const CandidateFillArgs<Real>&, cudaStream_t);                          \
+    template int candidateBuildBlocks<Real>();                                                                       \
+    template void launchCellListIfMovedThenFill<Real>(const CellListArgs<Real>&, unsigned int*, int32_t*,            \
+                                                      const CandidateFillArgs<Real>&, cudaStream_t);                 \
     template void launchCandidateStaleness<Real>(const Vec3<Real>*, const Vec3<Real>*, int64_t, Real, unsigned int*, \
                                                  cudaStream_t);
 COREBOX_INSTANTIATE(float)

@@ -472,7 +472,8 @@ void CudaDevice<Real>::trackCellMoves(gpu::CollisionArgs<Real>& a) {
 template <class Real>
 bool CudaDevice<Real>::roundsReadCandidates() const {
     return m_impactCandidates && !m_pairsClear && m_n >= m_candidateRowsFrom && m_n < INT32_MAX &&
-           !gpu::cellListBuildIsOneLaunch(m_n) && gpu::cellListIfMovedBlocks<Real>() > 0;
+           !gpu::cellListBuildIsOneLaunch(m_n) && gpu::cellListIfMovedBlocks<Real>() > 0 &&
+           gpu::candidateBuildBlocks<Real>() > 0;
 }
 
 // The margin a row holds beyond each pair's contact distance: 0.3 of the largest small diameter, the
@@ -513,32 +514,33 @@ bool CudaDevice<Real>::allocateCandidates() {
 }
 
 template <class Real>
-void CudaDevice<Real>::prepareCandidates(int round, unsigned int* flags, gpu::CollisionArgs<Real>& a) {
+void CudaDevice<Real>::prepareCandidates(int round, unsigned int* stale, gpu::CollisionArgs<Real>& a) {
     cudaStream_t s = stream();
     const Real margin = candidateMargin();
     // Not quite half the margin: what fp rounds of a distance and of the moves cannot take back.
     const Real half = Real(0.49) * margin;
+    gpu::CandidateFillArgs<Real> fill{
+        home().x.data(),     a.p.species,     a.table.radius,         m_n,
+        CellListView{},      margin,          m_candidateRows.data(), m_candidateCounts.data(),
+        m_candidateX.data(), m_candidateSlots};
+    gpu::CellListArgs<Real> build{};
+    int32_t* blockTotals = nullptr;
     bool gated = false;
     if (!m_candidatesMade) {
         m_cellList = m_candidateCells.build(home().x.data(), m_n, candidateGeometry(), contactCellSplit(),
                                             m_cellSplit.gridRadius, s);
     } else {
-        if (round == 0) gpu::launchCandidateStaleness(home().x.data(), m_candidateX.data(), m_n, half * half, flags, s);
-        m_cellList = m_candidateCells.rebuildIfMoved(home().x.data(), m_n, candidateGeometry(), contactCellSplit(),
-                                                     m_cellSplit.gridRadius, flags, s, &gated);
+        if (round == 0) gpu::launchCandidateStaleness(home().x.data(), m_candidateX.data(), m_n, half * half, stale, s);
+        gated = m_candidateCells.gatedBuild(home().x.data(), m_n, candidateGeometry(), contactCellSplit(),
+                                            m_cellSplit.gridRadius, gpu::candidateBuildBlocks<Real>(), s, &build,
+                                            &blockTotals);
+        m_cellList = build.view();
     }
-    const gpu::CandidateFillArgs<Real> fill{home().x.data(),
-                                            a.p.species,
-                                            a.table.radius,
-                                            m_n,
-                                            m_cellList,
-                                            margin,
-                                            m_candidateRows.data(),
-                                            m_candidateCounts.data(),
-                                            m_candidateX.data(),
-                                            m_candidateSlots,
-                                            gated ? flags + 1 : nullptr};
-    gpu::launchFillCandidates(fill, s);
+    fill.grid = m_cellList;
+    if (gated)  // the cells and the rows where stale, in one launch
+        gpu::launchCellListIfMovedThenFill(build, stale, blockTotals, fill, s);
+    else  // cells just built: their rows
+        gpu::launchFillCandidates(fill, s);
     m_candidatesMade = true;
     a.grid = m_cellList;
     a.candidates = gpu::CandidateRows<Real>{m_candidateRows.data(), m_candidateCounts.data(), m_candidateX.data(),
@@ -688,14 +690,14 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
     f.rowIndex = nullptr;
     if (!m_model.anyPairForce) gpu::launchForces(f, s);
     f.rowIndex = m_needList.data();
-    // Two counters a round, then the candidate rows' two flags a round and one round more (the last
-    // round's resolution sets the next one's).
-    const size_t counterWords = 2 * size_t(maxRounds) + 2 * size_t(maxRounds + 1);
+    // Two counters a round, then the candidate rows' staleness word a round and one round more (the
+    // last round's resolution sets the next one's).
+    const size_t counterWords = 2 * size_t(maxRounds) + size_t(maxRounds + 1);
     if (!(m_roundCountersZeroed && m_roundCounters.size() >= counterWords)) {  // else zeroed by beginCollisions
         m_roundCounters.resize(counterWords);
         cudaCheck(cudaMemsetAsync(m_roundCounters.data(), 0, counterWords * sizeof(unsigned int), s), "memset");
     }
-    unsigned int* candidateFlags = m_roundCounters.data() + 2 * size_t(maxRounds);
+    unsigned int* candidateStale = m_roundCounters.data() + 2 * size_t(maxRounds);
     const bool candidates = roundsReadCandidates() && (m_candidatesMade || allocateCandidates());
     m_roundsOnCandidates = candidates;
     bool tailCells = false;  // the last batch's tail built the listing's cells behind it (queueStageTail)
@@ -720,8 +722,8 @@ ImpactRounds CudaDevice<Real>::runImpactRounds(int maxRounds) {
             // would make (the same keys). The first round builds: the integration moved everything.
             gpu::CollisionArgs<Real> a = collisionArgs();
             if (candidates) {
-                prepareCandidates(r, candidateFlags + 2 * r, a);
-                a.staleNext = candidateFlags + 2 * (r + 1);
+                prepareCandidates(r, candidateStale + r, a);
+                a.staleNext = candidateStale + (r + 1);
             } else {
                 const bool gated = r > 0 && m_skipUnmovedCellBuilds;
                 m_cellList = gated ? impactCellsIfMoved() : impactCells();

@@ -486,12 +486,12 @@ private:
     void trackCellMoves(gpu::CollisionArgs<Real>& a);
     unsigned int* cellsMovedFlag();
     // The batched rounds' candidate rows (gpu_launch.h CandidateRows; runImpactRounds): whether this
-    // stage's rounds read them, and round r's cells and rows, made again where stale (flags: the round's
-    // two words, set by the round before's resolution or, in a stage's first round, by the staleness
-    // check; the first rows of a state are made unconditionally).
+    // stage's rounds read them, and round r's cells and rows, made again where stale (*stale: the round's
+    // word, set by the round before's resolution or, in a stage's first round, by the staleness check,
+    // and cleared by the build; the first rows of a state are made unconditionally).
     bool roundsReadCandidates() const;
     bool allocateCandidates();
-    void prepareCandidates(int round, unsigned int* flags, gpu::CollisionArgs<Real>& a);
+    void prepareCandidates(int round, unsigned int* stale, gpu::CollisionArgs<Real>& a);
     CellGeometry candidateGeometry() const;
     Real candidateMargin() const;
     void applyPendingWarmStart();

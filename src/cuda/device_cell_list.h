@@ -5,6 +5,7 @@
 
 #include <cuda_runtime_api.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <string>
@@ -59,20 +60,30 @@ public:
     // count's atomics then found the counts' lines out of L2); the counted builds of launch() as this
     // cooperative launch too (no graph, no IF node): 1,213 ms of builds against 1,145, the pile 34.6 ms a
     // frame against 33.9 (separate binaries in one call).
-    // *gated (where given): whether the build was gated (else it was made).
     CellListView rebuildIfMoved(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry,
                                 const CellSplit<Real>& split, double gridRadius, unsigned int* moved,
-                                cudaStream_t stream, bool* gated = nullptr) {
-        const gpu::CellListArgs<Real> a = argsFor(x, n, geometry, split, gridRadius);
-        const bool gate = m_keysValid && sameBuild(a, m_last) && gatesOnDevice(a);
-        if (gated) *gated = gate;
-        if (!gate) {
-            launch(a, stream);
-            return a.view();
-        }
-        m_blockTotals.resize(size_t(gpu::cellListIfMovedBlocks<Real>()));
-        gpu::launchCellListIfMoved(a, moved, m_blockTotals.data(), stream);
+                                cudaStream_t stream) {
+        gpu::CellListArgs<Real> a{};
+        int32_t* blockTotals = nullptr;
+        if (gatedBuild(x, n, geometry, split, gridRadius, gpu::cellListIfMovedBlocks<Real>(), stream, &a, &blockTotals))
+            gpu::launchCellListIfMoved(a, moved, blockTotals, stream);
         return a.view();
+    }
+    // rebuildIfMoved's choice, for a caller whose own cooperative launch makes the gated build and then
+    // work of its own (gpu::launchCellListIfMovedThenFill): where the build can gate itself, its arguments
+    // and the block totals' scratch for `blocks` blocks, and true; else the plain build made, its arguments,
+    // and false.
+    bool gatedBuild(const Vec3<Real>* x, int64_t n, const CellGeometry& geometry, const CellSplit<Real>& split,
+                    double gridRadius, int blocks, cudaStream_t stream, gpu::CellListArgs<Real>* args,
+                    int32_t** blockTotals) {
+        *args = argsFor(x, n, geometry, split, gridRadius);
+        if (!(m_keysValid && sameBuild(*args, m_last)) || !gatesOnDevice(*args)) {
+            launch(*args, stream);
+            return false;
+        }
+        m_blockTotals.resize(size_t(std::max(blocks, 1)));
+        *blockTotals = m_blockTotals.data();
+        return true;
     }
     // Each particle's cell key at the last build (device memory, n), where that build wrote them (the
     // builds above cellListBuildIsOneLaunch); null otherwise.
