@@ -624,6 +624,13 @@ public:
                       [](const Contact& a, const Contact& b) { return a.partner < b.partner; });
         });
         // Bottom-up; at one height the walls first, since they are what holds everything else.
+        // Tried and not kept: the count's and the fill's walks skipping the partners below i before the
+        // contact test (the pair is listed from its lower index anyway), and one std::sort by (height,
+        // walls first, i, partner) instead of the sort by partner within each particle and this stable
+        // sort (the same order; perf gave the sorts 11% of the sandbox's world thread in its settled
+        // pile): the same state hash, but the sandbox at 2,000 balls (this 2-core machine, three runs
+        // each, interleaved with separate libraries) spent 2.52 to 2.71 ms a frame in its listings
+        // against 2.59 to 2.70.
         std::stable_sort(m_contacts.begin(), m_contacts.end(), [](const Contact& a, const Contact& b) {
             return a.height < b.height || (a.height == b.height && isWallContact(a.partner) && !isWallContact(b.partner));
         });
