@@ -9,6 +9,8 @@
 #include <cub/block/block_scan.cuh>
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 
 #include "gpu_common.cuh"
@@ -123,6 +125,28 @@ __global__ void __launch_bounds__(kBlock)
         grid.sync();
         after(first, stride);
     }
+}
+
+// Blocks of cellListIfMovedKernel<Real, After> resident at once (0: no cooperative launch on this device).
+template <class Real, class After>
+int cellListIfMovedBlocksWith() {
+    static const int resident = cooperativeResidentBlocks(cellListIfMovedKernel<Real, After>);
+    return resident;
+}
+
+// The gated build, then `after`, in one cooperative launch of cellListIfMovedBlocksWith blocks; `what`
+// names it in errors. Above cellListBuildIsOneLaunch only, blockTotals of that many blocks.
+template <class Real, class After>
+void launchCellListIfMovedWith(const CellListArgs<Real>& a, unsigned int* moved, int32_t* blockTotals, After after,
+                               cudaStream_t stream, const char* what) {
+    const int blocks = cellListIfMovedBlocksWith<Real, After>();
+    if (blocks < 1 || cellListBuildIsOneLaunch(a.n) || a.counts == nullptr)
+        throw std::logic_error(std::string(what) + ": not a cooperative counted build");
+    CellListArgs<Real> args = a;
+    void* params[] = {&args, &moved, &blockTotals, &after};
+    const cudaError_t e = cudaLaunchCooperativeKernel(reinterpret_cast<void*>(cellListIfMovedKernel<Real, After>),
+                                                      dim3(unsigned(blocks)), dim3(kBlock), params, 0, stream);
+    if (e != cudaSuccess) throw DeviceError(std::string(what) + ": " + cudaGetErrorString(e));
 }
 
 }  // namespace corebox::gpu

@@ -238,8 +238,7 @@ __global__ void crowdedGateKernel(cudaGraphConditionalHandle handle, const unsig
 
 template <class Real>
 int cellListIfMovedBlocks() {
-    static const int resident = cooperativeResidentBlocks(cellListIfMovedKernel<Real, NothingAfterBuild>);
-    return resident;
+    return cellListIfMovedBlocksWith<Real, NothingAfterBuild>();
 }
 template int cellListIfMovedBlocks<float>();
 template int cellListIfMovedBlocks<double>();
@@ -247,16 +246,7 @@ template int cellListIfMovedBlocks<double>();
 template <class Real>
 void launchCellListIfMoved(const CellListArgs<Real>& a, unsigned int* moved, int32_t* blockTotals,
                            cudaStream_t stream) {
-    const int blocks = cellListIfMovedBlocks<Real>();
-    if (blocks < 1 || a.n <= kOneBlockItems || a.counts == nullptr)
-        throw std::logic_error("launchCellListIfMoved: not a cooperative counted build");
-    CellListArgs<Real> args = a;
-    NothingAfterBuild after;
-    void* params[] = {&args, &moved, &blockTotals, &after};
-    const cudaError_t e =
-        cudaLaunchCooperativeKernel(reinterpret_cast<void*>(cellListIfMovedKernel<Real, NothingAfterBuild>),
-                                    dim3(unsigned(blocks)), dim3(kBlock), params, 0, stream);
-    if (e != cudaSuccess) throw DeviceError(std::string("cell list build if moved: ") + cudaGetErrorString(e));
+    launchCellListIfMovedWith(a, moved, blockTotals, NothingAfterBuild{}, stream, "cell list build if moved");
 }
 template void launchCellListIfMoved<float>(const CellListArgs<float>&, unsigned int*, int32_t*, cudaStream_t);
 template void launchCellListIfMoved<double>(const CellListArgs<double>&, unsigned int*, int32_t*, cudaStream_t);

@@ -61,6 +61,17 @@ COREBOX_HD inline bool loggedImpact(const ImpactDetail<Real>& d, double minImpul
     return !(double(d.impulse < Real(0) ? -d.impulse : d.impulse) < minImpulse);
 }
 
+// The margin of the impact rounds' candidate lists (the CPU's of a dense step, the GPU's rows, gpu_launch.h
+// CandidateRows) beyond each pair's contact distance, as a fraction of a diameter (the CPU's largest, the
+// GPU's largest in its cells): wider lists are longer to read, narrower ones are made again more often.
+// The same events at any margin (the same state hashes and piles); on the CPU (a 2-core machine, fp32,
+// `corebox bench pile --bullet none` 2,000 / 10,000 balls with 0.1 / 0.2 / 0.3 / 0.4 / 0.6): 5.6 / 4.3 /
+// 4.0 / 4.6 / 3.6 and 63.9 / 56.9 / 55.0 / 54.5 / 54.3 ms a frame; the sandbox example (2,000 balls and a
+// heavy one, whose diameter sets the CPU's margin) 3.38 / 2.8 / 2.6 / 2.45 ms of impact rounds a frame from
+// 0.1 to 0.4. Not wider than 0.3: a row holds a fixed number of candidates, and a particle with more walks
+// its cells again (at 1.6 diameters dense packings reach the second shell).
+constexpr double kCandidateMargin = 0.3;
+
 COREBOX_HD inline CollisionEvent noEvent() { return CollisionEvent{-DBL_MAX, kNoPartner}; }
 COREBOX_HD inline bool isValid(const CollisionEvent& e) { return e.partner != kNoPartner; }
 // Deterministic order: earlier event first, then the lower partner code.

@@ -408,11 +408,11 @@ int candidateBuildBlocks();
 template <class Real>
 void launchCellListIfMovedThenFill(const CellListArgs<Real>& args, unsigned int* moved, int32_t* blockTotals,
                                    const CandidateFillArgs<Real>& fill, cudaStream_t stream);
-// *stale = 1 where some particle of x is farther than sqrt(halfMargin2) from xBuilt (or not finite);
-// left as it is otherwise.
+// *stale = 1 where some particle of x (n) has moved too far from where `rows` were made for them to hold
+// (or is not finite); left as it is otherwise.
 template <class Real>
-void launchCandidateStaleness(const Vec3<Real>* x, const Vec3<Real>* xBuilt, int64_t n, Real halfMargin2,
-                              unsigned int* stale, cudaStream_t stream);
+void launchCandidateStaleness(const Vec3<Real>* x, int64_t n, const CandidateRows<Real>& rows, unsigned int* stale,
+                              cudaStream_t stream);
 
 // ---- collisions (collision_kernels.cu) ----
 // One impact of the contact log (backend.h ContactRecord, before the host converts it): the particle

@@ -44,14 +44,10 @@ struct FillAfterBuild {
 };
 
 template <class Real>
-__global__ void candidateStalenessKernel(const Vec3<Real>* x, const Vec3<Real>* xBuilt, int64_t n, Real halfMargin2,
+__global__ void candidateStalenessKernel(const Vec3<Real>* x, int64_t n, CandidateRows<Real> rows,
                                          unsigned int* stale) {
     const int64_t i = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-    if (i >= n) return;
-    CandidateRows<Real> c;
-    c.xBuilt = xBuilt;
-    c.halfMargin2 = halfMargin2;
-    if (leftCandidates(c, i, x[i])) *stale = 1u;
+    if (i < n && leftCandidates(rows, i, x[i])) *stale = 1u;
 }
 
 }  // namespace
@@ -65,40 +61,30 @@ void launchFillCandidates(const CandidateFillArgs<Real>& a, cudaStream_t stream)
 
 template <class Real>
 int candidateBuildBlocks() {
-    static const int resident = cooperativeResidentBlocks(cellListIfMovedKernel<Real, FillAfterBuild<Real>>);
-    return resident;
+    return cellListIfMovedBlocksWith<Real, FillAfterBuild<Real>>();
 }
 
 template <class Real>
 void launchCellListIfMovedThenFill(const CellListArgs<Real>& a, unsigned int* moved, int32_t* blockTotals,
                                    const CandidateFillArgs<Real>& fill, cudaStream_t stream) {
-    const int blocks = candidateBuildBlocks<Real>();
-    if (blocks < 1 || cellListBuildIsOneLaunch(a.n) || a.counts == nullptr)
-        throw std::logic_error("launchCellListIfMovedThenFill: not a cooperative counted build");
-    CellListArgs<Real> args = a;
-    FillAfterBuild<Real> after{fill};
-    void* params[] = {&args, &moved, &blockTotals, &after};
-    const cudaError_t e =
-        cudaLaunchCooperativeKernel(reinterpret_cast<void*>(cellListIfMovedKernel<Real, FillAfterBuild<Real>>),
-                                    dim3(unsigned(blocks)), dim3(kBlock), params, 0, stream);
-    if (e != cudaSuccess) throw DeviceError(std::string("candidate cells and rows: ") + cudaGetErrorString(e));
+    launchCellListIfMovedWith(a, moved, blockTotals, FillAfterBuild<Real>{fill}, stream, "candidate cells and rows");
 }
 
 template <class Real>
-void launchCandidateStaleness(const Vec3<Real>* x, const Vec3<Real>* xBuilt, int64_t n, Real halfMargin2,
-                              unsigned int* stale, cudaStream_t stream) {
+void launchCandidateStaleness(const Vec3<Real>* x, int64_t n, const CandidateRows<Real>& rows, unsigned int* stale,
+                              cudaStream_t stream) {
     if (n <= 0) return;
-    candidateStalenessKernel<Real><<<blocksFor(n), kBlock, 0, stream>>>(x, xBuilt, n, halfMargin2, stale);
+    candidateStalenessKernel<Real><<<blocksFor(n), kBlock, 0, stream>>>(x, n, rows, stale);
     checkLaunch("candidate staleness kernel");
 }
 
-#define COREBOX_INSTANTIATE(Real)                                                                                    \
-    template void launchFillCandidates<Real>(const CandidateFillArgs<Real>&, cudaStream_t);                          \
-    template int candidateBuildBlocks<Real>();                                                                       \
-    template void launchCellListIfMovedThenFill<Real>(const CellListArgs<Real>&, unsigned int*, int32_t*,            \
-                                                      const CandidateFillArgs<Real>&, cudaStream_t);                 \
-    template void launchCandidateStaleness<Real>(const Vec3<Real>*, const Vec3<Real>*, int64_t, Real, unsigned int*, \
-                                                 cudaStream_t);
+#define COREBOX_INSTANTIATE(Real)                                                                         \
+    template void launchFillCandidates<Real>(const CandidateFillArgs<Real>&, cudaStream_t);               \
+    template int candidateBuildBlocks<Real>();                                                            \
+    template void launchCellListIfMovedThenFill<Real>(const CellListArgs<Real>&, unsigned int*, int32_t*, \
+                                                      const CandidateFillArgs<Real>&, cudaStream_t);      \
+    template void launchCandidateStaleness<Real>(const Vec3<Real>*, int64_t, const CandidateRows<Real>&,  \
+                                                 unsigned int*, cudaStream_t);
 COREBOX_INSTANTIATE(float)
 COREBOX_INSTANTIATE(double)
 #undef COREBOX_INSTANTIATE

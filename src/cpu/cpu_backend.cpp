@@ -1192,15 +1192,8 @@ private:
     int m_round = 0;              // findEvents calls this step
     bool m_moversFirst = true;    // CpuBackendOptions::moversFirst
     // Candidate lists of a dense step's rounds (buildCandidates): the partners of particle i are
-    // m_candidates[m_candidateStart[i] .. m_candidateStart[i + 1]), listed at m_xCandidates.
-    // The margin, of the largest diameter: wider lists are longer to read, narrower ones are made again
-    // more often. The same events at any margin (the same state hashes and piles); this 2-core machine,
-    // fp32, `corebox bench pile --bullet none` 2,000 / 10,000 balls with 0.1 / 0.2 / 0.3 / 0.4 / 0.6:
-    // 5.6 / 4.3 / 4.0 / 4.6 / 3.6 and 63.9 / 56.9 / 55.0 / 54.5 / 54.3 ms a frame; the sandbox example
-    // (2,000 balls and a heavy one, whose diameter sets the margin) 3.38 / 2.8 / 2.6 / 2.45 ms of impact
-    // rounds a frame from 0.1 to 0.4. Not wider than 0.3: a row holds kCandidateRow candidates, and a
-    // particle with more walks its cells twice (at 1.6 diameters dense packings reach the second shell).
-    static constexpr double kCandidateMargin = 0.3;
+    // m_candidates[m_candidateStart[i] .. m_candidateStart[i + 1]), listed at m_xCandidates, with a
+    // margin of kCandidateMargin (collision_resolution.h) of the largest diameter.
     // Candidates a particle keeps from its one walk (buildCandidates): in a dense packing of equal
     // spheres 12 touch each one; larger spheres among small ones may have more and walk twice.
     static constexpr int64_t kCandidateRow = 32;

@@ -476,13 +476,12 @@ bool CudaDevice<Real>::roundsReadCandidates() const {
            gpu::candidateBuildBlocks<Real>() > 0;
 }
 
-// The margin a row holds beyond each pair's contact distance: 0.3 of the largest small diameter, the
-// CPU's candidate margin (cpu_backend.cpp kCandidateMargin). A landing's balls fall about 0.1 of a
-// diameter a step at dt = 1/240, so the rows are made again every step or two while they fall, and
-// last while a pile rests.
+// The margin a row holds beyond each pair's contact distance: kCandidateMargin (collision_resolution.h) of
+// the largest diameter in the cells. A landing's balls fall about 0.1 of a diameter a step at dt = 1/240,
+// so the rows are made again every step or two while they fall, and last while a pile rests.
 template <class Real>
 Real CudaDevice<Real>::candidateMargin() const {
-    return Real(0.3 * 2.0 * m_cellSplit.gridRadius);
+    return Real(kCandidateMargin * 2.0 * m_cellSplit.gridRadius);
 }
 
 template <class Real>
@@ -519,6 +518,8 @@ void CudaDevice<Real>::prepareCandidates(int round, unsigned int* stale, gpu::Co
     const Real margin = candidateMargin();
     // Not quite half the margin: what fp rounds of a distance and of the moves cannot take back.
     const Real half = Real(0.49) * margin;
+    const gpu::CandidateRows<Real> rows{m_candidateRows.data(), m_candidateCounts.data(), m_candidateX.data(),
+                                        m_candidateSlots, half * half};
     gpu::CandidateFillArgs<Real> fill{
         home().x.data(),     a.p.species,     a.table.radius,         m_n,
         CellListView{},      margin,          m_candidateRows.data(), m_candidateCounts.data(),
@@ -530,7 +531,7 @@ void CudaDevice<Real>::prepareCandidates(int round, unsigned int* stale, gpu::Co
         m_cellList = m_candidateCells.build(home().x.data(), m_n, candidateGeometry(), contactCellSplit(),
                                             m_cellSplit.gridRadius, s);
     } else {
-        if (round == 0) gpu::launchCandidateStaleness(home().x.data(), m_candidateX.data(), m_n, half * half, stale, s);
+        if (round == 0) gpu::launchCandidateStaleness(home().x.data(), m_n, rows, stale, s);
         gated = m_candidateCells.gatedBuild(home().x.data(), m_n, candidateGeometry(), contactCellSplit(),
                                             m_cellSplit.gridRadius, gpu::candidateBuildBlocks<Real>(), s, &build,
                                             &blockTotals);
@@ -543,8 +544,7 @@ void CudaDevice<Real>::prepareCandidates(int round, unsigned int* stale, gpu::Co
         gpu::launchFillCandidates(fill, s);
     m_candidatesMade = true;
     a.grid = m_cellList;
-    a.candidates = gpu::CandidateRows<Real>{m_candidateRows.data(), m_candidateCounts.data(), m_candidateX.data(),
-                                            m_candidateSlots, half * half};
+    a.candidates = rows;
 }
 
 template <class Real>
