@@ -296,7 +296,10 @@ public:
         heavy.radius = options.heavyRadius;
         heavy.color = {0.25f, 0.5f, 0.95f};
         m_heavy = m_world.addSpecies(heavy);
-        for (int s = 0; s < m_world.speciesCount(); ++s) m_radius.push_back(m_world.species(s).radius);
+        for (int s = 0; s < m_world.speciesCount(); ++s) {
+            m_species.push_back(m_world.species(s));
+            m_radius.push_back(m_world.species(s).radius);
+        }
         placeLattice(options.balls);
     }
 
@@ -431,44 +434,64 @@ public:
         }
     }
 
-    // The renderer's particle view from the World's public spans: centre, radius and a colour key per
-    // ball. The key is the species' palette entry, or one of kFlashLevels entries fading from white.
-    void buildInstances(const ViewMap& map, std::vector<corebox::ParticleInstance>& out) {
+    // What a frame draws, copied out of the World's public spans while it is not stepping, so that the
+    // next frame's step can start before the drawing is built from it (pipelined frames). Before, the
+    // instances, the legend's counts and the HUD were built from the spans while the world waited: on an
+    // H200 at 10^5 balls (fp32, host probes, one call each) the GPU stood idle 3.5 ms between a frame's
+    // last step and the next frame's first, and 2.3 to 3.0 ms after; the frames took 8.9 ms on average
+    // instead of 10.1 to 10.3 (calls apart), the same state hash.
+    struct Drawn {
+        std::vector<Vec3d> x;
+        std::vector<int32_t> species;
+        std::vector<ParticleId> ids;
+        double time = 0;
+    };
+    void copyDrawn(Drawn& out) {
         const corebox::Span<Vec3d> x = m_world.positions();
         const corebox::Span<int32_t> species = m_world.speciesIndices();
         const corebox::Span<ParticleId> ids = m_world.ids();
-        const double now = m_world.time();
+        out.x.assign(x.begin(), x.end());
+        out.species.assign(species.begin(), species.end());
+        out.ids.assign(ids.begin(), ids.end());
+        out.time = m_world.time();
+    }
+
+    // The renderer's particle view: centre, radius and a colour key per ball. The key is the species'
+    // palette entry, or one of kFlashLevels entries fading from white.
+    void buildInstances(const ViewMap& map, const Drawn& drawn, std::vector<corebox::ParticleInstance>& out) const {
         const int nSpecies = int(m_radius.size());
-        out.resize(x.size);
-        for (size_t k = 0; k < x.size; ++k) {
-            const int s = species[k];
+        out.resize(drawn.x.size());
+        for (size_t k = 0; k < drawn.x.size(); ++k) {
+            const int s = drawn.species[k];
             float key = float(s);
-            const double until = ids[k] < m_flashUntil.size() ? m_flashUntil[size_t(ids[k])] : kNoFlash;
-            if (until > now) {
-                const double left = (until - now) / kFlashSeconds;  // 1 at the impact, 0 at the end
+            const ParticleId id = drawn.ids[k];
+            const double until = id < m_flashUntil.size() ? m_flashUntil[size_t(id)] : kNoFlash;
+            if (until > drawn.time) {
+                const double left = (until - drawn.time) / kFlashSeconds;  // 1 at the impact, 0 at the end
                 const int level = std::clamp(int((1.0 - left) * kFlashLevels), 0, kFlashLevels - 1);
                 key = float(nSpecies + s * kFlashLevels + level);
             }
-            const glm::vec3 r = map.toRender(x[k]);
+            const glm::vec3 r = map.toRender(drawn.x[k]);
             out[k] = corebox::ParticleInstance{r.x, r.y, r.z, float(m_radius[size_t(s)]), key};
         }
     }
 
     // Species colours, then each species' flash levels; the legend lists the species with their counts,
     // then the HUD's lines (text with an invisible swatch: the renderer's legend is its text overlay).
-    corebox::RenderStyle style(const std::vector<std::string>& hudLines) {
+    // From the species as made (the sandbox adds none later), not from the World, which may be stepping.
+    corebox::RenderStyle style(const Drawn& drawn, const std::vector<std::string>& hudLines) const {
         corebox::RenderStyle style;
         style.mode = corebox::ColorMode::Species;
-        const int nSpecies = int(m_radius.size());
+        const int nSpecies = int(m_species.size());
         std::vector<int64_t> counts(size_t(nSpecies), 0);
-        for (const int32_t s : m_world.speciesIndices()) ++counts[size_t(s)];
+        for (const int32_t s : drawn.species) ++counts[size_t(s)];
         for (int s = 0; s < nSpecies; ++s) {
-            const corebox::ParticleSpecies& sp = m_world.species(s);
+            const corebox::ParticleSpecies& sp = m_species[size_t(s)];
             style.palette.push_back(sp.color);
             style.speciesLegend.push_back({sp.name + "  " + std::to_string(counts[size_t(s)]), sp.color});
         }
         for (int s = 0; s < nSpecies; ++s) {
-            const std::array<float, 3> c = m_world.species(s).color;
+            const std::array<float, 3> c = m_species[size_t(s)].color;
             for (int level = 0; level < kFlashLevels; ++level) {
                 const float white = 1.0f - float(level) / float(kFlashLevels);
                 style.palette.push_back(
@@ -587,6 +610,7 @@ private:
     Vec3d m_box;
     double m_flashImpulse;
     int m_heavy = 1;
+    std::vector<corebox::ParticleSpecies> m_species;      // as made: names and colours for the legend
     std::vector<double> m_radius;                         // by species
     // The simulated time each ball's flash ends, by id (the World's ids count up from 0): a read a ball
     // a frame. A hash map cost the landing of 10^5 balls milliseconds a frame, its look-ups and the
@@ -850,6 +874,7 @@ int run(const Options& o) {
 
     corebox::ParticleRenderer renderer;
     std::vector<corebox::ParticleInstance> instances;
+    Sandbox::Drawn drawn;  // what the frame draws, copied out of the world (Sandbox::copyDrawn)
     corebox::OrbitCamera camera;
     int width = 0, height = 0;
     frontend->drawableSize(&width, &height);
@@ -860,8 +885,8 @@ int run(const Options& o) {
     sandbox::Window second;
     sandbox::Window shown;  // the last second's figures, on the HUD and in the title
     StepTotals steps;
-    // Pipelined frames: the step of frame k + 1 runs on the worker while frame k is drawn (the renderer
-    // reads its own copy of the state, the instances). The world is touched by one thread at a time:
+    // Pipelined frames: the step of frame k + 1 runs on the worker while frame k is drawn (the drawing is
+    // built from its own copy of the state, Sandbox::Drawn). The world is touched by one thread at a time:
     // the main thread waits for the step before it applies the next frame's input, so the world sees
     // the same calls in the same order as when it steps and then draws (the same state hash), and
     // input still acts on the next step. What is drawn is the state before that step.
@@ -964,23 +989,11 @@ int run(const Options& o) {
             steps.add(info);
         }
 
-        // Drawing: the particle view from the World's spans, the box, the legend and the HUD lines; what
-        // the frame reports of the world is read here too, before a pipelined step takes the world.
+        // Drawing: what the frame reports of the world is copied out of it here, before a pipelined step
+        // takes the world; the particle view, the legend and the HUD lines are built from that copy while
+        // the step runs.
         t = Clock::now();
-        game.buildInstances(map, instances);
-        const double worldTime = game.world().time();
-        const size_t balls = game.world().particleCount();
-        const std::vector<std::string> hud{
-            shown.frames == 0
-                ? std::string("measuring...")
-                : format("sim %.2f ms   render %.2f ms   frame %.2f ms   %.1f fps", shown.mean(shown.simMs),
-                         shown.mean(shown.renderMs), shown.mean(shown.frameMs), shown.fps()),
-            std::string(backendName(o.backend)) + " " + precisionName(o.precision) + "   " +
-                format("t %.2f   %.0f substeps of 1/240 this frame", worldTime, double(info.substeps)),
-            format("spawned %.0f (%.0f refused)   removed %.0f   fired %.0f", double(game.spawned),
-                   double(game.spawnRefused), double(game.removed), double(game.fired)),
-            "left click: spawn   right click: remove   space: fire   arrows: orbit"};
-        const corebox::RenderStyle style = game.style(hud);
+        game.copyDrawn(drawn);
         // Pipelined: the next frame's step, now that everything drawn is copied out of the world.
         if (worker) {
             worker->post([&] {
@@ -991,6 +1004,18 @@ int run(const Options& o) {
             });
             stepping = true;
         }
+        game.buildInstances(map, drawn, instances);
+        const std::vector<std::string> hud{
+            shown.frames == 0
+                ? std::string("measuring...")
+                : format("sim %.2f ms   render %.2f ms   frame %.2f ms   %.1f fps", shown.mean(shown.simMs),
+                         shown.mean(shown.renderMs), shown.mean(shown.frameMs), shown.fps()),
+            std::string(backendName(o.backend)) + " " + precisionName(o.precision) + "   " +
+                format("t %.2f   %.0f substeps of 1/240 this frame", drawn.time, double(info.substeps)),
+            format("spawned %.0f (%.0f refused)   removed %.0f   fired %.0f", double(game.spawned),
+                   double(game.spawnRefused), double(game.removed), double(game.fired)),
+            "left click: spawn   right click: remove   space: fire   arrows: orbit"};
+        const corebox::RenderStyle style = game.style(drawn, hud);
         renderer.upload(instances.data(), instances.size());
         frontend->bindTarget();
         renderer.render(camera, renderBox, style, width, height);
@@ -1021,13 +1046,14 @@ int run(const Options& o) {
         if (msSince(lastReport) >= 1000.0 || last) {
             const double simMs = second.mean(second.simMs), renderMs = second.mean(second.renderMs);
             const double frameMs = second.mean(second.frameMs);
-            frontend->setTitle("corebox sandbox - " + std::to_string(balls) + " balls - " +
+            frontend->setTitle("corebox sandbox - " + std::to_string(drawn.x.size()) + " balls - " +
                                format("sim %.2f ms, render %.2f ms, %.1f fps", simMs, renderMs, second.fps()));
             std::fprintf(stderr,
                          "[sandbox] frame %lld, t %.2f: %d frames, %.1f fps; sim %.2f ms (max %.2f; impacts %.2f, "
                          "contacts %.2f), render %.2f ms, frame %.2f ms; %zu balls\n",
-                         (long long)frame, worldTime, second.frames, second.fps(), simMs, second.simMaxMs,
-                         second.mean(second.impactsMs), second.mean(second.contactsMs), renderMs, frameMs, balls);
+                         (long long)frame, drawn.time, second.frames, second.fps(), simMs, second.simMaxMs,
+                         second.mean(second.impactsMs), second.mean(second.contactsMs), renderMs, frameMs,
+                         drawn.x.size());
             shown = second;
             second = sandbox::Window{};
             lastReport = Clock::now();

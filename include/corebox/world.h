@@ -18,7 +18,8 @@
 //   on the same backend and thread count (stateHash() compares).
 // - Reading state: positions(), velocities(), ids() and speciesOf() are spans into a host mirror of
 //   the state, refreshed on request (the first read after a step downloads once; later reads are
-//   free). CUDA users can instead read the GPU arrays in place (deviceState()) and order their kernels
+//   free; a read of positions() alone downloads only the positions: half the bytes, what drawing needs).
+//   CUDA users can instead read the GPU arrays in place (deviceState()) and order their kernels
 //   after the world's stream.
 // - contacts(): the impacts of the last step() or advance(), each a particle pair or a wall hit with
 //   its normal, impulse and time, as games need for sounds and effects. Resting contacts held by the

@@ -151,6 +151,7 @@ PlacementResult World::setPosition(ParticleId id, Vec3d position) {
     PlacementResult p = w.checkPlacement(w.speciesIndex[slot], position, slot);
     p.id = id;
     if (!p.placed) return p;
+    w.ensureMirror();  // an edit uploads the whole mirror (flushEdits)
     w.positions[slot] = position;
     w.simIndex[slot] = -1;  // its contacts stay behind
     w.gridFresh = false;
@@ -160,7 +161,7 @@ PlacementResult World::setPosition(ParticleId id, Vec3d position) {
 
 Vec3d World::position(ParticleId id) {
     const uint32_t slot = m_impl->slotOf(id);
-    m_impl->ensureMirror();
+    m_impl->ensurePositions();
     return m_impl->positions[slot];
 }
 
@@ -257,7 +258,7 @@ int64_t World::stepCount() const { return m_impl->steps; }
 Span<ParticleId> World::ids() { return Span<ParticleId>{m_impl->ids.data(), m_impl->ids.size()}; }
 
 Span<Vec3d> World::positions() {
-    m_impl->ensureMirror();
+    m_impl->ensurePositions();
     return Span<Vec3d>{m_impl->positions.data(), m_impl->positions.size()};
 }
 

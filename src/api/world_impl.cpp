@@ -34,7 +34,7 @@ void World::Impl::bindThread() {
 }
 
 void World::Impl::ensureMirror() {
-    if (mirrorFresh) return;
+    if (positionsFresh && velocitiesFresh) return;
     bindThread();
     sim->readState(readBuffer);
     const ParticleState& state = readBuffer;
@@ -42,12 +42,22 @@ void World::Impl::ensureMirror() {
         positions[i] = Vec3d{state.position[i].x, state.position[i].y, state.position[i].z};
         velocities[i] = Vec3d{state.velocity[i].x, state.velocity[i].y, state.velocity[i].z};
     }
-    mirrorFresh = true;
+    if (!positionsFresh) gridFresh = false;
+    positionsFresh = velocitiesFresh = true;
+}
+
+void World::Impl::ensurePositions() {
+    if (positionsFresh) return;
+    bindThread();
+    sim->readPositions(readBuffer.position);
+    const std::vector<Vec3<double>>& x = readBuffer.position;
+    for (size_t i = 0; i < x.size(); ++i) positions[i] = Vec3d{x[i].x, x[i].y, x[i].z};
+    positionsFresh = true;
     gridFresh = false;
 }
 
 void World::Impl::ensureGrid() {
-    ensureMirror();
+    ensurePositions();
     if (gridFresh) return;
     // Two of the largest radii: an overlap check then reaches one cell around the point.
     grid.build(positions, 2.0 * maxRadius);
@@ -99,6 +109,7 @@ PlacementResult World::Impl::checkPlacement(int s, const Vec3d& x, uint32_t self
 }
 
 void World::Impl::appendSlot(ParticleId id, const ParticleDef& p) {
+    ensureMirror();  // an edit uploads the whole mirror (flushEdits)
     const uint32_t slot = uint32_t(ids.size());
     ids.push_back(id);
     positions.push_back(p.position);
@@ -112,6 +123,7 @@ void World::Impl::appendSlot(ParticleId id, const ParticleDef& p) {
 }
 
 void World::Impl::removeSlot(uint32_t slot) {
+    ensureMirror();  // an edit uploads the whole mirror (flushEdits)
     const uint32_t last = uint32_t(ids.size() - 1);
     slots.erase(ids[slot]);
     if (slot != last) {  // the last slot fills the hole: O(1), and the order depends only on the calls
@@ -239,7 +251,8 @@ StepInfo World::Impl::stepOnce(double dt, double timeOffset, StepInfo info) {
         info.secondsContacts += r.secondsContacts;
         info.secondsListings += r.secondsListings;
         if (def.recordContacts) {
-            for (const ContactRecord& c : sim->backend().contactLog()) {
+            sim->backend().readContactLog(logBuffer);
+            for (const ContactRecord& c : logBuffer) {
                 Contact out;
                 out.a = ids[size_t(c.a)];
                 if (c.b >= 0) {
@@ -258,7 +271,7 @@ StepInfo World::Impl::stepOnce(double dt, double timeOffset, StepInfo info) {
                 contacts.push_back(out);
             }
         }
-        mirrorFresh = false;
+        positionsFresh = velocitiesFresh = false;
         gridFresh = false;
     }
     time += dt;

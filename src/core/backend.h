@@ -161,6 +161,12 @@ public:
     // library's host mirror), where fresh vectors cost their page faults and a pageable download its
     // staging.
     virtual void readState(ParticleState& out) const { out = state(); }
+    // The positions alone, into `out` (reusing its memory): a reader that only draws downloads half of
+    // readState's bytes and converts a third of its values.
+    virtual void readPositions(std::vector<Vec3<double>>& out) const {
+        ParticleState s = state();
+        out.swap(s.position);
+    }
     virtual void keepSnapshot() = 0;  // snapshot = (X, V), on the device
     virtual ParticleState snapshot() const = 0;
 
@@ -259,7 +265,13 @@ public:
     // Backends agree on the impulses to rounding, so an impact within rounding of the threshold may be
     // recorded by one and not another.
     virtual void setContactLog(bool on, double minImpulse) = 0;
-    virtual std::vector<ContactRecord> contactLog() const = 0;
+    // The log into `out`, reusing its memory (a game reads it every step).
+    virtual void readContactLog(std::vector<ContactRecord>& out) const = 0;
+    std::vector<ContactRecord> contactLog() const {
+        std::vector<ContactRecord> out;
+        readContactLog(out);
+        return out;
+    }
 
     // ---- collision stage, 2: contact relaxation (contact_relaxation.h) ----
     // Whether the backend sweeps the current listing Gauss-Seidel (contact_relaxation.h): a

@@ -82,6 +82,11 @@ public:
 
     ParticleState state() const override { return toHost(m_x, m_v); }
 
+    void readPositions(std::vector<Vec3<double>>& out) const override {
+        out.resize(m_x.size());
+        for (size_t i = 0; i < m_x.size(); ++i) out[i] = vec3Cast<double>(m_x[i]);
+    }
+
     void keepSnapshot() override {
         m_snapshotX = m_x;
         m_snapshotV = m_v;
@@ -492,7 +497,7 @@ public:
         m_logContacts = on;
         m_logMinImpulse = minImpulse;
     }
-    std::vector<ContactRecord> contactLog() const override { return m_log; }
+    void readContactLog(std::vector<ContactRecord>& out) const override { out.assign(m_log.begin(), m_log.end()); }
 
     void applyEvents() override {
         const int64_t n = size();

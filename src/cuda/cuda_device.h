@@ -75,6 +75,7 @@ public:
     void setState(const ParticleState& state) override;
     ParticleState state() const override;
     void readState(ParticleState& out) const override;
+    void readPositions(std::vector<Vec3<double>>& out) const override;
     void keepSnapshot() override;
     ParticleState snapshot() const override;
 
@@ -108,7 +109,7 @@ public:
         m_logContacts = on;
         m_logMinImpulse = minImpulse;
     }
-    std::vector<ContactRecord> contactLog() const override;
+    void readContactLog(std::vector<ContactRecord>& out) const override;
     int64_t listContacts(const RestingContact<double>& resting) override;
     bool relaxesGaussSeidel() const override { return m_gaussSeidel; }
     double listedOverlap() const override { return m_listedOverlap; }
@@ -246,6 +247,8 @@ private:
     void swapListingIntoWarmRows();  // the last listing's rows into m_warm*, for the next listing's fill
     // Room for `records` contact log records, keeping those written so far (at most m_logBound).
     void reserveLog(size_t records);
+    // Queues the sort of the log's `count` records by (round, particle) and their copy into m_hostLog.
+    void queueLogRead(size_t count) const;
     gpu::ContactArgs<Real> contactArgs();
 
     // ---- the one-wait step (cuda_step.cpp) ----
@@ -632,6 +635,10 @@ private:
     mutable PinnedBuffer<gpu::ImpactRecord<Real>> m_hostLog;
     size_t m_logBound = 0;       // records written this step, at most
     int32_t m_logRound = 0;      // applyEvents calls this step
+    // The log's sort and copy to m_hostLog queued behind the batched rounds (runImpactRounds: the count is
+    // known there), for the log as it stood after m_logQueuedRound rounds; -1: none queued this stage.
+    mutable int32_t m_logQueuedRound = -1;
+    mutable size_t m_logQueuedCount = 0;
     double m_stepDt = 0;         // the step the impacts' times are within [tau]
     // Read-back mailboxes in page-locked memory: words (event counts, collision kinds, residual bits,
     // health counts at kHealthWord..), health examples, block partial sums.

@@ -50,6 +50,19 @@ void CudaDevice<Real>::readState(ParticleState& out) const {
 }
 
 template <class Real>
+void CudaDevice<Real>::readPositions(std::vector<Vec3<double>>& out) const {
+    gatherToHome();
+    const size_t n = size_t(m_n);
+    Vec3<Real>* x = m_hostStateX.resize(n);
+    if (n > 0)
+        cudaCheck(cudaMemcpyAsync(x, home().x.data(), n * sizeof(Vec3<Real>), cudaMemcpyDeviceToHost, stream()),
+                  "positions");
+    sync();
+    out.resize(n);
+    for (size_t i = 0; i < n; ++i) out[i] = vec3Cast<double>(x[i]);
+}
+
+template <class Real>
 DeviceState CudaDevice<Real>::deviceState() {
     gatherToHome();  // the home GPU's full-length arrays then hold every slice
     DeviceState view;
