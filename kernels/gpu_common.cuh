@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <string>
+#include <utility>
 
 #include "gpu_launch.h"
 #include "errors.h"  // DeviceError: a failed launch is a device error (exit code 4), like any CUDA failure
@@ -109,6 +110,48 @@ __device__ inline void warpAggregatedAdd(unsigned long long* total, unsigned int
 __device__ inline bool gateOpen(const StageGate& g) {
     const bool open = g.runAheadOf ? runAheadOpen(*g.runAheadOf, g.freshLists) : !g.stage || ((g.stages >> *g.stage) & 1u) != 0u;
     return open && (!g.clear || *g.clear == 0u);
+}
+
+// Programmatic dependent launch (compute capability 9.0 on): a kernel launched by launchDependent may be
+// scheduled while the kernel before it on the stream is still ending, its launch latency hidden behind that
+// kernel's tail. Such a kernel calls waitForPrimary() before it reads or writes anything: that waits until
+// the kernel before has finished and its writes are visible, so the results are those of plain stream
+// order. In a kernel launched the usual way it returns at once.
+__device__ inline void waitForPrimary() {
+#if defined(__CUDA_ARCH__) && __CUDA_ARCH__ >= 900
+    cudaGridDependencySynchronize();
+#endif
+}
+
+// Whether the current device takes programmatic dependent launches, asked once per device.
+inline bool dependentLaunches() {
+    static int known[16] = {};  // 0 unknown, 1 no, 2 yes
+    int device = 0;
+    cudaGetDevice(&device);
+    if (device < 0 || device >= 16) return false;
+    if (known[device] == 0) {
+        int major = 0;
+        cudaDeviceGetAttribute(&major, cudaDevAttrComputeCapabilityMajor, device);
+        known[device] = major >= 9 ? 2 : 1;
+    }
+    return known[device] == 2;
+}
+
+// kernel<<<blocks, kBlock, 0, stream>>>(args...), as a programmatic dependent launch where the device
+// takes them (the kernel must begin with waitForPrimary()).
+template <class... Params, class... Args>
+void launchDependent(void (*kernel)(Params...), unsigned int blocks, cudaStream_t stream, Args&&... args) {
+    cudaLaunchConfig_t config{};
+    config.gridDim = dim3(blocks);
+    config.blockDim = dim3(kBlock);
+    config.dynamicSmemBytes = 0;
+    config.stream = stream;
+    cudaLaunchAttribute attribute[1];
+    attribute[0].id = cudaLaunchAttributeProgrammaticStreamSerialization;
+    attribute[0].val.programmaticStreamSerializationAllowed = dependentLaunches() ? 1 : 0;
+    config.attrs = attribute;
+    config.numAttrs = 1;
+    (void)cudaLaunchKernelEx(&config, kernel, std::forward<Args>(args)...);  // its error: checkLaunch
 }
 
 // Launch errors (bad configuration) surface at once; asynchronous faults at the next sync, where
