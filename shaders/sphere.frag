@@ -13,6 +13,14 @@ uniform int uPaletteSize;
 uniform vec2 uKeyRange;          // speed mode: key mapped from [x, y] to [0, 1]
 
 out vec4 fragColor;
+// The hit point is never nearer than the quad (sphere.vert puts it in the tangent plane nearest the eye):
+// with the depth only ever raised, the depth test rejects fragments behind what is drawn before shading
+// them, as it would for a shader that writes no depth. The sandbox example at 10^5 balls on an H200
+// (fp32, 4 samples, separate binaries alternating in one call, three runs each): 3.2 to 3.5 ms a frame of
+// drawing against 4.3 to 4.5 in the landing, and the step that draws alongside slowed less (frames 7.6 to
+// 7.9 ms on average against 8.2 to 8.3); the landing's frame at 180 differed from the old drawing in 0.2%
+// of its pixels (ties where touching spheres meet). Mesa's llvmpipe draws no faster for it.
+layout(depth_greater) out float gl_FragDepth;
 
 vec3 viridis(float t);
 

@@ -4,7 +4,11 @@
 # a new shader cannot slip past validation.
 set -u
 dir=${1:?shader directory}
-programs=("sphere.vert sphere.frag viridis.frag" "lines.vert flat.frag" "overlay.vert overlay.frag viridis.frag")
+# viridis.frag before sphere.frag: glslang's linker takes a redeclared gl_FragDepth layout
+# (sphere.frag's depth_greater) only from a unit after those without one, and otherwise reports
+# "Contradictory depth layouts" for a unit that, as viridis.frag, never writes the depth (which GLSL
+# allows: only shaders that assign gl_FragDepth must redeclare it).
+programs=("sphere.vert viridis.frag sphere.frag" "lines.vert flat.frag" "overlay.vert overlay.frag viridis.frag")
 failed=0
 covered=" "
 for program in "${programs[@]}"; do
