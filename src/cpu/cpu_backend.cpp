@@ -716,6 +716,12 @@ public:
         return m_pairMassTable[size_t(m_species[i]) * m_mass.size() + size_t(m_species[j])];
     }
 
+    // Measured and not pursued: skipping a contact in a sweep where neither of its particles changed since
+    // its last update and that update changed nothing (the same bits: the update would change nothing
+    // again). In the sandbox at 2,000 balls (fp64, 600 frames, 28,000 sweeps, a settled pile most of it)
+    // 9% of the updates changed nothing and fewer than 1% could have been skipped so; 36% moved positions
+    // (each listing's overlaps from a step of gravity), so the sweeps are far from a fixed point at the
+    // sweep cap, and a skip by a threshold would change the relaxation for little.
     ContactResidual<double> relaxContacts(int sweeps) override {
         m_nearValid = false;  // the sweeps move particles
         ContactResidual<Real> r{0, 0};
