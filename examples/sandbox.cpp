@@ -296,10 +296,7 @@ public:
         heavy.radius = options.heavyRadius;
         heavy.color = {0.25f, 0.5f, 0.95f};
         m_heavy = m_world.addSpecies(heavy);
-        for (int s = 0; s < m_world.speciesCount(); ++s) {
-            m_species.push_back(m_world.species(s));
-            m_radius.push_back(m_world.species(s).radius);
-        }
+        for (int s = 0; s < m_world.speciesCount(); ++s) m_species.push_back(m_world.species(s));
         placeLattice(options.balls);
     }
 
@@ -360,7 +357,7 @@ public:
         Outcome out;
         const Vec3d centre = 0.5 * m_box;
         const Vec3d dir = normalised(centre - eye);
-        const double margin = m_radius[size_t(m_heavy)] + 0.01;
+        const double margin = radius(m_heavy) + 0.01;
         // Where the ray enters the box shrunk by the heavy radius (slabs), and where it reaches the centre.
         double enter = 0.0;
         const double e[3] = {eye.x, eye.y, eye.z}, d[3] = {dir.x, dir.y, dir.z}, l[3] = {m_box.x, m_box.y, m_box.z};
@@ -397,17 +394,18 @@ public:
         const corebox::Span<int32_t> species = m_world.speciesIndices();
         if (x.size == 0) return out;
         out.kineticPerBall = m_world.energy().kinetic / double(x.size);
-        const double largest = *std::max_element(m_radius.begin(), m_radius.end());
+        double largest = 0;
+        for (const corebox::ParticleSpecies& sp : m_species) largest = std::max(largest, sp.radius);
         const double box[3] = {m_box.x, m_box.y, m_box.z};
         for (size_t k = 0; k < x.size; ++k) {
-            const double r = m_radius[size_t(species[k])];
+            const double r = radius(species[k]);
             const double at[3] = {x[k].x, x[k].y, x[k].z};
             for (int a = 0; a < 3; ++a)
                 out.maxOverlap = std::max({out.maxOverlap, (r - at[a]) / (2 * r), (at[a] + r - box[a]) / (2 * r)});
             for (const ParticleId other : m_world.queryRadius(x[k], r + largest)) {
                 if (other <= ids[k]) continue;  // each pair once
                 const Vec3d y = m_world.position(other);
-                const double d = r + m_radius[size_t(m_world.speciesOf(other))];
+                const double d = r + radius(m_world.speciesOf(other));
                 const double gap = std::sqrt((x[k].x - y.x) * (x[k].x - y.x) + (x[k].y - y.y) * (x[k].y - y.y) +
                                              (x[k].z - y.z) * (x[k].z - y.z));
                 out.maxOverlap = std::max(out.maxOverlap, (d - gap) / d);
@@ -459,7 +457,7 @@ public:
     // The renderer's particle view: centre, radius and a colour key per ball. The key is the species'
     // palette entry, or one of kFlashLevels entries fading from white.
     void buildInstances(const ViewMap& map, const Drawn& drawn, std::vector<corebox::ParticleInstance>& out) const {
-        const int nSpecies = int(m_radius.size());
+        const int nSpecies = int(m_species.size());
         out.resize(drawn.x.size());
         for (size_t k = 0; k < drawn.x.size(); ++k) {
             const int s = drawn.species[k];
@@ -472,7 +470,7 @@ public:
                 key = float(nSpecies + s * kFlashLevels + level);
             }
             const glm::vec3 r = map.toRender(drawn.x[k]);
-            out[k] = corebox::ParticleInstance{r.x, r.y, r.z, float(m_radius[size_t(s)]), key};
+            out[k] = corebox::ParticleInstance{r.x, r.y, r.z, float(radius(s)), key};
         }
     }
 
@@ -593,7 +591,7 @@ private:
         std::optional<Vec3d> hit;
         for (size_t k = 0; k < x.size; ++k) {
             const Vec3d oc = ray.origin - x[k];
-            const double r = m_radius[size_t(species[k])];
+            const double r = radius(species[k]);
             const double b = dot(oc, ray.direction), c = dot(oc, oc) - r * r;
             const double disc = b * b - c;
             if (disc < 0) continue;
@@ -610,8 +608,8 @@ private:
     Vec3d m_box;
     double m_flashImpulse;
     int m_heavy = 1;
-    std::vector<corebox::ParticleSpecies> m_species;      // as made: names and colours for the legend
-    std::vector<double> m_radius;                         // by species
+    std::vector<corebox::ParticleSpecies> m_species;  // as made: names, colours and radii
+    double radius(int species) const { return m_species[size_t(species)].radius; }
     // The simulated time each ball's flash ends, by id (the World's ids count up from 0): a read a ball
     // a frame. A hash map cost the landing of 10^5 balls milliseconds a frame, its look-ups and the
     // clearing of ended flashes on the main thread between steps.

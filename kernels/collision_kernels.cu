@@ -441,15 +441,14 @@ template <class Real>
 void launchFindEvents(const CollisionArgs<Real>& a, cudaStream_t stream) {
     switch (searchGroupFor(a.p.n)) {
         case 32:
-            launchDependent(findEventsKernel<Real, 32>, blocksFor(a.p.n * 32), stream, a);
+            launchDependent(findEventsKernel<Real, 32>, blocksFor(a.p.n * 32), stream, "event kernel", a);
             break;
         case 8:
-            launchDependent(findEventsKernel<Real, 8>, blocksFor(a.p.n * 8), stream, a);
+            launchDependent(findEventsKernel<Real, 8>, blocksFor(a.p.n * 8), stream, "event kernel", a);
             break;
         default:
-            launchDependent(findEventsKernel<Real, 1>, blocksFor(a.p.n), stream, a);
+            launchDependent(findEventsKernel<Real, 1>, blocksFor(a.p.n), stream, "event kernel", a);
     }
-    checkLaunch("event kernel");
 }
 
 bool searchWalksAlone(int64_t n) { return searchGroupFor(n) == 1; }
@@ -462,8 +461,8 @@ void launchListedScatter(const CollisionArgs<float>& a, unsigned long long* offe
     // Groups for the longest list the kernel takes (at least one: the other searches leave such a round to it).
     const int64_t groups = std::max<int64_t>(1, std::min<int64_t>(a.listedScatterMax, a.p.n / kListedScatterShare));
     const int64_t blocks = std::min<int64_t>(resident, blocksFor(groups * kListedScatterLanes));
-    launchDependent(scatterListedEventsKernel<kListedScatterLanes>, unsigned(blocks), stream, a, offered);
-    checkLaunch("listed scattered event kernel");
+    launchDependent(scatterListedEventsKernel<kListedScatterLanes>, unsigned(blocks), stream,
+                    "listed scattered event kernel", a, offered);
 }
 }  // namespace
 
@@ -476,8 +475,7 @@ void launchSparseOrFullSearch(const CollisionArgs<float>& a, unsigned long long*
     if (a.p.n == 0) return;
     launchListedScatter(a, offered, stream);
     launchFindEvents(a, stream);
-    launchDependent(collectOfferedEventsKernel, blocksFor(a.p.n), stream, a, offered);
-    checkLaunch("offered event kernel");
+    launchDependent(collectOfferedEventsKernel, blocksFor(a.p.n), stream, "offered event kernel", a, offered);
 }
 
 void launchScatteredSearch(const CollisionArgs<float>& a, unsigned long long* offered, cudaStream_t stream) {
@@ -485,8 +483,7 @@ void launchScatteredSearch(const CollisionArgs<float>& a, unsigned long long* of
     launchListedScatter(a, offered, stream);
     scatterEventsKernel<<<blocksFor(a.p.n), kBlock, 0, stream>>>(a, offered);
     checkLaunch("scattered event kernel");
-    launchDependent(collectOfferedEventsKernel, blocksFor(a.p.n), stream, a, offered);
-    checkLaunch("offered event kernel");
+    launchDependent(collectOfferedEventsKernel, blocksFor(a.p.n), stream, "offered event kernel", a, offered);
 }
 
 template <class Real>
@@ -498,8 +495,7 @@ void launchMarkSearchers(const CollisionArgs<Real>& a, cudaStream_t stream) {
 
 template <class Real>
 void launchResolve(const CollisionArgs<Real>& a, cudaStream_t stream) {
-    launchDependent(resolveKernel<Real>, blocksFor(a.p.n), stream, a, false);
-    checkLaunch("resolve kernel");
+    launchDependent(resolveKernel<Real>, blocksFor(a.p.n), stream, "resolve kernel", a, false);
 }
 
 template <class Real>
@@ -509,8 +505,7 @@ void launchResolveListed(const CollisionArgs<Real>& a, cudaStream_t stream) {
         clearActiveKernel<Real><<<blocksFor(a.p.n), kBlock, 0, stream>>>(a);
         checkLaunch("active flags kernel");
     }
-    launchDependent(resolveKernel<Real>, blocksFor(a.p.n), stream, a, true);
-    checkLaunch("listed resolve kernel");
+    launchDependent(resolveKernel<Real>, blocksFor(a.p.n), stream, "listed resolve kernel", a, true);
 }
 
 template <class Real>

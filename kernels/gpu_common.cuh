@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <mutex>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "gpu_launch.h"
 #include "errors.h"  // DeviceError: a failed launch is a device error (exit code 4), like any CUDA failure
@@ -123,24 +125,33 @@ __device__ inline void waitForPrimary() {
 #endif
 }
 
-// Whether the current device takes programmatic dependent launches, asked once per device.
-inline bool dependentLaunches() {
-    static int known[16] = {};  // 0 unknown, 1 no, 2 yes
+// Whether `kernel`, as it runs on the current device, was compiled for compute capability 9.0 or later,
+// and so with its waitForPrimary: asked once per kernel and device. Not the device's capability alone: a
+// build for older architectures runs on a newer device as PTX compiled without the wait.
+inline bool waitsForPrimary(const void* kernel) {
+    struct Known {
+        const void* kernel;
+        int device;
+        bool waits;
+    };
+    static std::mutex mutex;
+    static std::vector<Known> known;
     int device = 0;
     cudaGetDevice(&device);
-    if (device < 0 || device >= 16) return false;
-    if (known[device] == 0) {
-        int major = 0;
-        cudaDeviceGetAttribute(&major, cudaDevAttrComputeCapabilityMajor, device);
-        known[device] = major >= 9 ? 2 : 1;
-    }
-    return known[device] == 2;
+    const std::lock_guard<std::mutex> lock(mutex);
+    for (const Known& k : known)
+        if (k.kernel == kernel && k.device == device) return k.waits;
+    cudaFuncAttributes attributes{};
+    const bool waits = cudaFuncGetAttributes(&attributes, kernel) == cudaSuccess && attributes.ptxVersion >= 90;
+    known.push_back(Known{kernel, device, waits});
+    return waits;
 }
 
-// kernel<<<blocks, kBlock, 0, stream>>>(args...), as a programmatic dependent launch where the device
-// takes them (the kernel must begin with waitForPrimary()).
+// kernel<<<blocks, kBlock, 0, stream>>>(args...), as a programmatic dependent launch where the kernel
+// waits for it (it must begin with waitForPrimary()); `what` names it in errors.
 template <class... Params, class... Args>
-void launchDependent(void (*kernel)(Params...), unsigned int blocks, cudaStream_t stream, Args&&... args) {
+void launchDependent(void (*kernel)(Params...), unsigned int blocks, cudaStream_t stream, const char* what,
+                     Args&&... args) {
     cudaLaunchConfig_t config{};
     config.gridDim = dim3(blocks);
     config.blockDim = dim3(kBlock);
@@ -148,10 +159,15 @@ void launchDependent(void (*kernel)(Params...), unsigned int blocks, cudaStream_
     config.stream = stream;
     cudaLaunchAttribute attribute[1];
     attribute[0].id = cudaLaunchAttributeProgrammaticStreamSerialization;
-    attribute[0].val.programmaticStreamSerializationAllowed = dependentLaunches() ? 1 : 0;
+    attribute[0].val.programmaticStreamSerializationAllowed =
+        waitsForPrimary(reinterpret_cast<const void*>(kernel)) ? 1 : 0;
     config.attrs = attribute;
     config.numAttrs = 1;
-    (void)cudaLaunchKernelEx(&config, kernel, std::forward<Args>(args)...);  // its error: checkLaunch
+    const cudaError_t e = cudaLaunchKernelEx(&config, kernel, std::forward<Args>(args)...);
+    if (e != cudaSuccess) {
+        (void)cudaGetLastError();  // reported here, not again by a later launch's check
+        throw DeviceError(std::string(what) + ": " + cudaGetErrorString(e));
+    }
 }
 
 // Launch errors (bad configuration) surface at once; asynchronous faults at the next sync, where

@@ -13,7 +13,7 @@ uniform int uPaletteSize;
 uniform vec2 uKeyRange;          // speed mode: key mapped from [x, y] to [0, 1]
 
 out vec4 fragColor;
-// The hit point is never nearer than the quad (sphere.vert puts it in the tangent plane nearest the eye):
+// The hit point is never nearer than the quad (sphere.vert puts it before the tangent plane nearest the eye):
 // with the depth only ever raised, the depth test rejects fragments behind what is drawn before shading
 // them, as it would for a shader that writes no depth. The sandbox example at 10^5 balls on an H200
 // (fp32, 4 samples, separate binaries alternating in one call, three runs each): 3.2 to 3.5 ms a frame of

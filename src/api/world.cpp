@@ -83,6 +83,7 @@ int World::addSpecies(const ParticleSpecies& added) {
         mixing.emplace_back(mixing.size() + 1, 1.0);
     }
     validateWorldScene(next);  // names the rule broken; nothing changes when it throws
+    m_impl->ensureMirror();    // an edit uploads the whole mirror (flushEdits)
     m_impl->scene = std::move(next);
     m_impl->species.push_back(added);
     if (added.radius > m_impl->maxRadius) {
@@ -97,6 +98,7 @@ int World::addSpecies(const ParticleSpecies& added) {
 
 PlacementResult World::addParticle(const ParticleDef& particle) {
     Impl& w = *m_impl;
+    w.ensureMirror();  // the add uploads the whole mirror (flushEdits): one download, not positions and then both
     w.ensureGrid();
     PlacementResult p = w.checkPlacement(particle.species, particle.position, ~uint32_t(0));
     if (!p.placed) return p;
@@ -115,9 +117,7 @@ std::vector<PlacementResult> World::addParticles(const std::vector<ParticleDef>&
 
 void World::removeParticle(ParticleId id) {
     Impl& w = *m_impl;
-    const uint32_t slot = w.slotOf(id);
-    w.ensureMirror();
-    w.removeSlot(slot);
+    w.removeSlot(w.slotOf(id));
 }
 
 bool World::contains(ParticleId id) const { return m_impl->slots.count(id) > 0; }
@@ -147,11 +147,11 @@ void World::setVelocity(ParticleId id, Vec3d velocity) {
 PlacementResult World::setPosition(ParticleId id, Vec3d position) {
     Impl& w = *m_impl;
     const uint32_t slot = w.slotOf(id);
+    w.ensureMirror();  // the move uploads the whole mirror (flushEdits): one download, not positions and then both
     w.ensureGrid();
     PlacementResult p = w.checkPlacement(w.speciesIndex[slot], position, slot);
     p.id = id;
     if (!p.placed) return p;
-    w.ensureMirror();  // an edit uploads the whole mirror (flushEdits)
     w.positions[slot] = position;
     w.simIndex[slot] = -1;  // its contacts stay behind
     w.gridFresh = false;

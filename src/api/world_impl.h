@@ -80,7 +80,7 @@ struct World::Impl {
     std::vector<ParticleId> ids;
     std::vector<Vec3d> positions, velocities;
     std::vector<int32_t> speciesIndex;
-    ParticleState readBuffer;  // ensureMirror's download, kept for its memory
+    ParticleState readBuffer;              // ensureMirror's and ensurePositions' downloads, kept for their memory
     std::vector<ContactRecord> logBuffer;  // a step's contact log, kept for its memory
     std::vector<int64_t> simIndex;  // per slot: its index in the simulation's state; -1: added or teleported since
     std::unordered_map<ParticleId, uint32_t> slots;

@@ -163,10 +163,7 @@ public:
     virtual void readState(ParticleState& out) const { out = state(); }
     // The positions alone, into `out` (reusing its memory): a reader that only draws downloads half of
     // readState's bytes and converts a third of its values.
-    virtual void readPositions(std::vector<Vec3<double>>& out) const {
-        ParticleState s = state();
-        out.swap(s.position);
-    }
+    virtual void readPositions(std::vector<Vec3<double>>& out) const = 0;
     virtual void keepSnapshot() = 0;  // snapshot = (X, V), on the device
     virtual ParticleState snapshot() const = 0;
 

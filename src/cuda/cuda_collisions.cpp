@@ -622,7 +622,8 @@ void CudaDevice<Real>::applyEvents() {
 // whatever the positions: one pass over every row, before the rounds. With pair forces (all pairs on
 // the gathered state) each round's new rows get theirs at the positions that round found, as applyEvents
 // computes them, by a pass that reads the round's count on the device. The first batch is as long as
-// the last stage's rounds (a pile's rounds vary slowly), later ones four: a batch too long costs its
+// the last stage's rounds (a pile's rounds vary slowly), later ones four (or the rest of a batch the
+// contact log's room cut short, below): a batch too long costs its
 // extra rounds' launches (their cell-list builds skipped, below), one too short a read-back. Tried and
 // not kept: eight after a round of more than kTailAfterEvents events (a landing's rounds, to the cap):
 // the same bits, the sandbox at 10^5 balls (an H200, fp32, one call) 15.3 and 15.7 ms a frame against
@@ -931,6 +932,8 @@ void CudaDevice<Real>::readContactLog(std::vector<ContactRecord>& out) const {
         sync();
         count = written;
         if (count > 0) queueLogRead(count);
+        m_logQueuedRound = m_logRound;  // a second read takes the same copy
+        m_logQueuedCount = count;
     }
     if (count == 0) return;
     sync();

@@ -623,13 +623,14 @@ private:
     unsigned int m_needCount = 0;   // counters[0] of the last findEvents
     unsigned int m_eventCount = 0;  // counters[1] of the last findEvents: the next round resolves at most that many
     // The contact log (backend.h): records appended on the device by the resolution, in no order, and
-    // sorted by (round, particle) when read: no read-back per round. Growing the buffer keeps what is
+    // sorted by (round, particle) on the device behind the batched rounds or when read (queueLogRead): no
+    // read-back per round. Growing the buffer keeps what is
     // written, which the host bounds by counters[2] as findEvents reads it plus the events since.
     bool m_logContacts = false;  // asked for (setContactLog); m_logging: for this step, from beginCollisions
     double m_logMinImpulse = 0;  // setContactLog: impacts below this impulse are not recorded
     bool m_logging = false;
     DeviceBuffer<gpu::ImpactRecord<Real>> m_log;
-    // contactLog's sorted copy, the sort's scratch and the host's copy (mutable: a read sorts).
+    // The log's sorted copy, the sort's scratch and the host's copy (mutable: a read may sort).
     mutable DeviceBuffer<gpu::ImpactRecord<Real>> m_logSorted;
     mutable DeviceBuffer<unsigned char> m_logSortScratch;
     mutable PinnedBuffer<gpu::ImpactRecord<Real>> m_hostLog;

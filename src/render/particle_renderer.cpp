@@ -56,9 +56,11 @@ std::string formatValue(float v) {
 }  // namespace
 
 ParticleRenderer::ParticleRenderer() {
+    // viridis.frag before sphere.frag, the order tests/render/validate_shaders.sh links them in (glslang
+    // takes sphere.frag's redeclared gl_FragDepth layout only after the units without one).
     m_sphereProgram = buildProgram({{GL_VERTEX_SHADER, shaders::sphere_vert, "sphere.vert"},
-                                    {GL_FRAGMENT_SHADER, shaders::sphere_frag, "sphere.frag"},
-                                    {GL_FRAGMENT_SHADER, shaders::viridis_frag, "viridis.frag"}},
+                                    {GL_FRAGMENT_SHADER, shaders::viridis_frag, "viridis.frag"},
+                                    {GL_FRAGMENT_SHADER, shaders::sphere_frag, "sphere.frag"}},
                                    "sphere");
     m_lineProgram = buildProgram({{GL_VERTEX_SHADER, shaders::lines_vert, "lines.vert"},
                                   {GL_FRAGMENT_SHADER, shaders::flat_frag, "flat.frag"}},
@@ -150,7 +152,13 @@ void ParticleRenderer::render(const OrbitCamera& camera, const std::array<float,
         glUniform1i(glGetUniformLocation(m_sphereProgram, "uPaletteSize"), paletteSize);
         glUniform2f(glGetUniformLocation(m_sphereProgram, "uKeyRange"), style.keyMin, style.keyMax);
         glBindVertexArray(m_sphereVao);
+        // The impostors lie in each sphere's tangent plane nearest the eye (sphere.vert): a sphere whose
+        // nearest point is nearer than the near plane but whose centre is beyond it would lose its whole
+        // quad to the near clip. Clamped, the quad is drawn, and its fragments' hit depths (clamped as the
+        // old centre-plane quads' were) decide what shows.
+        glEnable(GL_DEPTH_CLAMP);
         glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(m_count));
+        glDisable(GL_DEPTH_CLAMP);
     }
     if (style.showBox) drawBox(projection * view, boxSize, style);
     if (style.showLegend) drawLegend(style, width, height);

@@ -325,6 +325,33 @@ TEST_P(WorldTest, ReadingPositionsAloneKeepsEditsWhole) {
     EXPECT_EQ(differ, 0u) << "positions that differ, of " << x.size;
 }
 
+// A species added after steps is an edit like any other (the next step uploads the mirror): it must not
+// take the particles back to the mirror's last download, whether nothing was read since the steps or the
+// positions alone were. A world that adds an unused species steps on as one that does not. Fails if
+// addSpecies uploads a stale mirror (the balls jump back by up to a ball's size).
+TEST_P(WorldTest, AddingASpeciesAfterStepsKeepsTheState) {
+    for (const bool readPositions : {false, true}) {
+        auto run = [&](std::unique_ptr<World>& w, bool addSpecies) {
+            addAll(*w, lattice(300, 9, 5.0));
+            for (int f = 0; f < 15; ++f) {
+                w->advance(1.0 / 60.0);
+                if (f == 5) (void)w->velocities();  // a whole download, older than what follows
+                if (f == 9 && readPositions) (void)w->positions();
+                if (f == 9 && addSpecies) {
+                    corebox::ParticleSpecies unused;
+                    unused.name = "unused";
+                    (void)w->addSpecies(unused);
+                }
+            }
+            return w->stateHash();
+        };
+        MAKE_OR_SKIP(adding, def());
+        MAKE_OR_SKIP(plain, def());
+        EXPECT_EQ(run(adding, true), run(plain, false))
+            << (readPositions ? "positions read before" : "nothing read before");
+    }
+}
+
 // The sandbox steps its world on a worker thread and edits and reads it on the main one. A world
 // driven from a new thread for every frame gives the bits of one driven from one thread; on CUDA the
 // world sits on device 1 where there is one, and the new threads start on device 0. This checks the
