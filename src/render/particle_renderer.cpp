@@ -152,7 +152,7 @@ void ParticleRenderer::render(const OrbitCamera& camera, const std::array<float,
         glUniform1i(glGetUniformLocation(m_sphereProgram, "uPaletteSize"), paletteSize);
         glUniform2f(glGetUniformLocation(m_sphereProgram, "uKeyRange"), style.keyMin, style.keyMax);
         glBindVertexArray(m_sphereVao);
-        // The impostors lie in each sphere's tangent plane nearest the eye (sphere.vert): a sphere whose
+        // The impostors lie just before each sphere's tangent plane nearest the eye (sphere.vert): a sphere whose
         // nearest point is nearer than the near plane but whose centre is beyond it would lose its whole
         // quad to the near clip. Clamped, the quad is drawn, and its fragments' hit depths (clamped as the
         // old centre-plane quads' were) decide what shows.
