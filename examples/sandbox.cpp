@@ -330,6 +330,7 @@ public:
             cube.push_back(corebox::ParticleDef{0, *out.at + offset, velocity});
         }
         for (const corebox::PlacementResult& p : m_world.addParticles(cube)) ++(p ? out.done : out.refused);
+        if (out.done > 0) ++m_setEdits;
         spawned += out.done;
         spawnRefused += out.refused;
         return out;
@@ -346,6 +347,7 @@ public:
             m_world.removeParticle(id);
             ++out.done;
         }
+        if (out.done > 0) ++m_setEdits;
         removed += out.done;
         return out;
     }
@@ -370,6 +372,7 @@ public:
         for (double t = enter; t <= reach; t += 0.25) {
             const corebox::PlacementResult p = m_world.addParticle({m_heavy, eye + t * dir, {0, 0, 0}});
             if (!p) continue;
+            ++m_setEdits;
             m_world.applyImpulse(p.id, (m_world.species(m_heavy).mass * kFireSpeed) * dir);
             out.at = eye + t * dir;
             out.done = 1;
@@ -438,25 +441,39 @@ public:
     // H200 at 10^5 balls (fp32, host probes, one call each) the GPU stood idle 3.5 ms between a frame's
     // last step and the next frame's first, and 2.3 to 3.0 ms after; the frames took 8.9 ms on average
     // instead of 10.1 to 10.3 (calls apart), the same state hash.
+    // The copy is on the frame's critical path (the GPU idles until the next step is posted), so it takes
+    // the fewest bytes, on every core: positions straight into the renderer's coordinates (floats),
+    // species and ids only after the sandbox added or removed balls. An H200 at 10^5 balls (fp32, host
+    // probes): 0.51 to 0.55 ms a landing frame when it copied positions as doubles and every species and
+    // id, 0.44 with the fewest bytes on one thread, 0.08 to 0.14 on every core. Tried and not kept:
+    // noteImpacts on every core (its contacts read twice, the flash times written atomically): 0.24 to
+    // 0.30 ms a landing frame against 0.27 to 0.41 on one thread, within the calls' spread.
     struct Drawn {
-        std::vector<Vec3d> x;
+        std::vector<glm::vec3> x;  // render coordinates (ViewMap::toRender)
         std::vector<int32_t> species;
         std::vector<ParticleId> ids;
         double time = 0;
+        int64_t setEdits = -1;  // Sandbox::m_setEdits when species and ids were copied
     };
-    void copyDrawn(Drawn& out) {
+    void copyDrawn(const ViewMap& map, Drawn& out) {
         const corebox::Span<Vec3d> x = m_world.positions();
-        const corebox::Span<int32_t> species = m_world.speciesIndices();
-        const corebox::Span<ParticleId> ids = m_world.ids();
-        out.x.assign(x.begin(), x.end());
-        out.species.assign(species.begin(), species.end());
-        out.ids.assign(ids.begin(), ids.end());
+        out.x.resize(x.size);
+        const int64_t n = int64_t(x.size);
+#pragma omp parallel for schedule(static) if (n >= 16384)
+        for (int64_t k = 0; k < n; ++k) out.x[size_t(k)] = map.toRender(x[size_t(k)]);
+        if (out.setEdits != m_setEdits) {
+            const corebox::Span<int32_t> species = m_world.speciesIndices();
+            const corebox::Span<ParticleId> ids = m_world.ids();
+            out.species.assign(species.begin(), species.end());
+            out.ids.assign(ids.begin(), ids.end());
+            out.setEdits = m_setEdits;
+        }
         out.time = m_world.time();
     }
 
     // The renderer's particle view: centre, radius and a colour key per ball. The key is the species'
     // palette entry, or one of kFlashLevels entries fading from white.
-    void buildInstances(const ViewMap& map, const Drawn& drawn, std::vector<corebox::ParticleInstance>& out) const {
+    void buildInstances(const Drawn& drawn, std::vector<corebox::ParticleInstance>& out) const {
         const int nSpecies = int(m_species.size());
         out.resize(drawn.x.size());
         for (size_t k = 0; k < drawn.x.size(); ++k) {
@@ -469,7 +486,7 @@ public:
                 const int level = std::clamp(int((1.0 - left) * kFlashLevels), 0, kFlashLevels - 1);
                 key = float(nSpecies + s * kFlashLevels + level);
             }
-            const glm::vec3 r = map.toRender(drawn.x[k]);
+            const glm::vec3& r = drawn.x[k];
             out[k] = corebox::ParticleInstance{r.x, r.y, r.z, float(radius(s)), key};
         }
     }
@@ -614,6 +631,7 @@ private:
     // a frame. A hash map cost the landing of 10^5 balls milliseconds a frame, its look-ups and the
     // clearing of ended flashes on the main thread between steps.
     std::vector<double> m_flashUntil;
+    int64_t m_setEdits = 0;  // calls that added or removed balls (Drawn copies species and ids after one)
     static constexpr double kNoFlash = -1e300;
     uint64_t m_seed = 0x9E3779B97F4A7C15ull;
 };
@@ -991,7 +1009,7 @@ int run(const Options& o) {
         // takes the world; the particle view, the legend and the HUD lines are built from that copy while
         // the step runs.
         t = Clock::now();
-        game.copyDrawn(drawn);
+        game.copyDrawn(map, drawn);
         // Pipelined: the next frame's step, now that everything drawn is copied out of the world.
         if (worker) {
             worker->post([&] {
@@ -1002,7 +1020,7 @@ int run(const Options& o) {
             });
             stepping = true;
         }
-        game.buildInstances(map, drawn, instances);
+        game.buildInstances(drawn, instances);
         const std::vector<std::string> hud{
             shown.frames == 0
                 ? std::string("measuring...")

@@ -67,6 +67,7 @@ struct World::Impl {
     // Applies the live parameters of m_scene (fields, restitution, dt) to the running simulation.
     void applyLiveParameters();
     StepInfo stepOnce(double dt, double timeOffset, StepInfo info);
+    int loopThreads() const;  // the mirror's long loops: WorldDef::threads, 0 for every core
     double externalWork() const;
     double dissipated() const;
 
@@ -80,7 +81,7 @@ struct World::Impl {
     std::vector<ParticleId> ids;
     std::vector<Vec3d> positions, velocities;
     std::vector<int32_t> speciesIndex;
-    ParticleState readBuffer;              // ensureMirror's and ensurePositions' downloads, kept for their memory
+    ParticleState readBuffer;              // ensureMirror's downloads, kept for their memory
     std::vector<ContactRecord> logBuffer;  // a step's contact log, kept for its memory
     std::vector<int64_t> simIndex;  // per slot: its index in the simulation's state; -1: added or teleported since
     std::unordered_map<ParticleId, uint32_t> slots;

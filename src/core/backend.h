@@ -23,7 +23,9 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -95,6 +97,10 @@ struct ContactRecord {
     double speed = 0;          // normal approach speed at contact [sigma / tau]
 };
 
+// Where a backend hands its positions (readPositions: first index, values, count), a chunk at a time,
+// possibly from several threads at once for disjoint chunks (position_chunks.h).
+using PositionSink = std::function<void(size_t first, const Vec3<double>* x, size_t count)>;
+
 // What a step's contact phase leaves the next one: the impulses its relaxation ended with, which
 // warm-start the next step's (contact_relaxation.h), and, from a backend that keeps its contacts'
 // Gauss-Seidel colours from step to step (the CUDA backend, between fresh colourings), each record's
@@ -161,9 +167,11 @@ public:
     // library's host mirror), where fresh vectors cost their page faults and a pageable download its
     // staging.
     virtual void readState(ParticleState& out) const { out = state(); }
-    // The positions alone, into `out` (reusing its memory): a reader that only draws downloads half of
-    // readState's bytes and converts a third of its values.
-    virtual void readPositions(std::vector<Vec3<double>>& out) const = 0;
+    // The positions alone, handed to `sink` a chunk at a time (first index, values, count; PositionSink):
+    // a reader that only draws downloads half of readState's bytes and converts a third of its
+    // values, and converts them into its own memory from a chunk still in cache, with no full-length copy
+    // between (the World's mirror). A backend holding doubles hands its own array at once.
+    virtual void readPositions(const PositionSink& sink) const = 0;
     virtual void keepSnapshot() = 0;  // snapshot = (X, V), on the device
     virtual ParticleState snapshot() const = 0;
 

@@ -97,7 +97,7 @@ public:
     double lastKineticEnergy() const { return m_lastKinetic; }
     ParticleState state() const { return m_backend->state(); }
     void readState(ParticleState& out) const { m_backend->readState(out); }
-    void readPositions(std::vector<Vec3<double>>& out) const { m_backend->readPositions(out); }
+    void readPositions(const PositionSink& sink) const { m_backend->readPositions(sink); }
     // The pair-force model in use and why (force_model.h); re-chosen at every parameter edit.
     const ForceChoice& forceChoice() const { return m_forceChoice; }
     ParticleState lastGoodState() const { return m_backend->snapshot(); }

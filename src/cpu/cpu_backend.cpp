@@ -15,6 +15,7 @@
 #include "host_info.h"
 #include "list_forces.h"
 #include "pair_table.h"
+#include "position_chunks.h"
 #include "rk_stage.h"
 #include "verlet_list.h"
 
@@ -82,9 +83,12 @@ public:
 
     ParticleState state() const override { return toHost(m_x, m_v); }
 
-    void readPositions(std::vector<Vec3<double>>& out) const override {
-        out.resize(m_x.size());
-        for (size_t i = 0; i < m_x.size(); ++i) out[i] = vec3Cast<double>(m_x[i]);
+    void readPositions(const PositionSink& sink) const override {
+        if constexpr (std::is_same<Real, double>::value) {
+            if (!m_x.empty()) sink(0, m_x.data(), m_x.size());
+        } else {
+            handInChunks(m_x.data(), m_x.size(), sink, m_threads);
+        }
     }
 
     void keepSnapshot() override {

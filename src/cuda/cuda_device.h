@@ -75,7 +75,7 @@ public:
     void setState(const ParticleState& state) override;
     ParticleState state() const override;
     void readState(ParticleState& out) const override;
-    void readPositions(std::vector<Vec3<double>>& out) const override;
+    void readPositions(const PositionSink& sink) const override;
     void keepSnapshot() override;
     ParticleState snapshot() const override;
 

@@ -2,6 +2,7 @@
 // slice to the home GPU before whole-state work, the scatter of what the home GPU changed back to
 // the slices' owners, and the downloads and device views that read the gathered state.
 #include "cuda_device.h"
+#include "position_chunks.h"
 
 namespace corebox {
 
@@ -50,16 +51,18 @@ void CudaDevice<Real>::readState(ParticleState& out) const {
 }
 
 template <class Real>
-void CudaDevice<Real>::readPositions(std::vector<Vec3<double>>& out) const {
+void CudaDevice<Real>::readPositions(const PositionSink& sink) const {
     gatherToHome();
     const size_t n = size_t(m_n);
+    if (n == 0) return;
     Vec3<Real>* x = m_hostStateX.resize(n);
-    if (n > 0)
-        cudaCheck(cudaMemcpyAsync(x, home().x.data(), n * sizeof(Vec3<Real>), cudaMemcpyDeviceToHost, stream()),
-                  "positions");
+    cudaCheck(cudaMemcpyAsync(x, home().x.data(), n * sizeof(Vec3<Real>), cudaMemcpyDeviceToHost, stream()),
+              "positions");
     sync();
-    out.resize(n);
-    for (size_t i = 0; i < n; ++i) out[i] = vec3Cast<double>(x[i]);
+    if constexpr (std::is_same<Real, double>::value)
+        sink(0, x, n);
+    else
+        handInChunks(x, n, sink, 0);
 }
 
 template <class Real>
