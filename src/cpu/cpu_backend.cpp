@@ -586,7 +586,14 @@ public:
         // The impact rounds' candidate lists hold every pair within the resting gap while they still
         // hold (the sweeps of an earlier listing of this step moved particles: checked again); else
         // cells wide enough for resting pairs a resting gap apart.
-        const bool fromCandidates = m_candidatesValid && rest.gap <= m_candidateNearGap && candidatesStillHold();
+        bool fromCandidates = m_candidatesValid && rest.gap <= m_candidateNearGap && candidatesStillHold();
+        // A settled pile's rounds end before their third, where candidate lists are made (findEvents), so
+        // every listing walked the cells. Made here, the lists serve this listing and, while they hold,
+        // the next steps' listings and rounds: the same contacts and events.
+        if (!fromCandidates && rest.gap <= m_nearGap) {
+            buildCandidates();
+            fromCandidates = true;
+        }
         if (!fromCandidates) buildContactGrid(resting.gap);
         const Vec3<double> up = vec3Cast<double>(upOf(m_gravity));
         // Each pair once, from its lower index: counted, offsets, then filled in place (no allocation
