@@ -22,21 +22,31 @@ def row(path):
     hz = 1000.0 / frame["mean"]
     # Files from before pipelined frames and the samples choice: sequential frames, 4 samples a pixel.
     frames = "pipelined" if d.get("pipelined", False) else "sequential"
-    sweeps = re.search(r"--contact-sweeps (\d+)", d["command_line"])
-    rounds = re.search(r"--impact-rounds (\d+)", d["command_line"])
-    solver = f", {sweeps.group(1)} sweeps" if sweeps else ""
-    solver += f", {rounds.group(1)} impact rounds" if rounds else ""
+    # The solver's caps as the run set them (0: corebox's own, 64 impact rounds and 16 sweeps); files from
+    # before the fields name them on the command line only.
+    def cap(field, flag):
+        if field in d:
+            return d[field]
+        found = re.search(flag + r" (\d+)", d["command_line"])
+        return int(found.group(1)) if found else 0
+    sweeps, rounds = cap("contact_sweeps", "--contact-sweeps"), cap("impact_rounds", "--impact-rounds")
+    solver = f", {rounds} impact rounds" if rounds else ""
+    solver += f", {sweeps} sweeps" if sweeps else ""
     samples = d.get("samples", 4)
+    # Frames past 1/60 s and the slowest, after the skipped start-up frames.
+    measured = d.get("per_frame_frame_ms", [])[d.get("skipped_frames", 10):]
+    past = sum(1 for ms in measured if ms > 1000.0 / 60.0)
+    late = f"{past} of {len(measured)}, {max(measured):.1f}" if measured else "n/a"
     return (d["n_start"], d["backend"], frames != "pipelined", solver,
             f"| {d['n_start']:,} | {d['backend']} {d['precision']} | {where} | {d['gl_renderer'].split(' (')[0]}, {samples or 1} sample{'s' if samples > 1 else ''} "
             f"| {frames}{solver} | {sim['mean']:.1f} / {sim['median']:.1f} / {sim['p95']:.1f} | {render['mean']:.1f} "
             f"| {frame['mean']:.1f} / {frame['median']:.1f} / {frame['p95']:.1f} "
-            f"| {hz:.0f} | {d['pair_collisions']:,} | `{os.path.basename(path)}` |")
+            f"| {hz:.0f} | {late} | {d['pair_collisions']:,} | `{os.path.basename(path)}` |")
 
 
 rows = sorted(row(p) for p in glob.glob(os.path.join(root, "docs", "results", "sandbox_*.json")))
-table = ["| balls | backend | hardware | GL | frames | simulation ms mean / median / p95 | render ms | frame ms mean / median / p95 | frames/s | ball impacts | file |",
-         "|---|---|---|---|---|---|---|---|---|---|---|"] + [r[-1] for r in rows]
+table = ["| balls | backend | hardware | GL | frames, solver caps | simulation ms mean / median / p95 | render ms | frame ms mean / median / p95 | frames/s | frames past 1/60 s, slowest ms | ball impacts | file |",
+         "|---|---|---|---|---|---|---|---|---|---|---|---|"] + [r[-1] for r in rows]
 text = open(doc).read()
 block = "<!-- sandbox-table:begin -->\n" + "\n".join(table) + "\n<!-- sandbox-table:end -->"
 text, n = re.subn(r"<!-- sandbox-table:begin -->.*?<!-- sandbox-table:end -->", block, text, flags=re.S)
