@@ -77,9 +77,9 @@ constexpr int64_t kMaxBalls = 2000000;
 //   the landing (frames 158 to 183) 13.1 to 13.8 ms a frame. With corebox's own (two calls): 7.0 to
 //   7.3 ms, 20 or 21 frames past, the slowest 21.4 to 22.4, the landing 17.6 to 18.5. At the end 0.0037
 //   kinetic energy a ball against 0.0029, the deepest overlap 1.7e-4 of a diameter against 6.9e-5.
-// - 2,000 balls on the CPU (2 cores, fp64, Xvfb, 600 frames, five runs): 10.0 to 10.6 ms a frame, 4 to
-//   9 frames past, the slowest 18.7 to 22.3 ms; with corebox's own (two runs) 12.2 to 12.9 ms, 15 and
-//   62 past. At the end 0.0086 kinetic energy a ball against 0.0049, the deepest overlap 9.5e-6 against
+// - 2,000 balls on the CPU (2 cores, fp64, Xvfb, 600 frames, five runs): 8.3 to 8.8 ms a frame, 1 or 2
+//   frames past, the slowest 16.8 to 18.9 ms; with corebox's own (two runs) 10.1 and 10.2 ms, none
+//   past. At the end 0.0086 kinetic energy a ball against 0.0049, the deepest overlap 9.5e-6 against
 //   7.9e-6.
 constexpr int kGameImpactRounds = 16;
 constexpr int kGameContactSweeps = 8;
