@@ -16,7 +16,7 @@ namespace {
 
 std::string idText(ParticleId id) { return "particle " + std::to_string(id); }
 
-// The mirror's conversion is a memory-bound loop on the thread that steps, while the GPU idles: long
+// The mirror's conversions are memory-bound loops on the thread that steps, while the GPU idles: long
 // loops run on the World's threads (short ones are not worth waking them). At 10^5 balls on an H200's
 // host (16 cores, the sandbox example, fp32, host probes) a landing frame's positions() took 0.27 ms
 // against 0.77 (two full-length passes on one thread) and 0.56 (chunked, one thread). Tried and not
@@ -56,12 +56,14 @@ int World::Impl::loopThreads() const { return def.threads > 0 ? def.threads : om
 void World::Impl::ensureMirror() {
     if (positionsFresh && velocitiesFresh) return;
     bindThread();
-    sim->readState(readBuffer);
-    const ParticleState& state = readBuffer;
-    for (size_t i = 0; i < state.size(); ++i) {
-        positions[i] = Vec3d{state.position[i].x, state.position[i].y, state.position[i].z};
-        velocities[i] = Vec3d{state.velocity[i].x, state.velocity[i].y, state.velocity[i].z};
-    }
+    sim->readState(stateBuffer);
+    const ParticleState& state = stateBuffer;
+    mirrorLoop(loopThreads(), int64_t(state.size()), [&](int64_t i) {
+        positions[size_t(i)] =
+            Vec3d{state.position[size_t(i)].x, state.position[size_t(i)].y, state.position[size_t(i)].z};
+        velocities[size_t(i)] =
+            Vec3d{state.velocity[size_t(i)].x, state.velocity[size_t(i)].y, state.velocity[size_t(i)].z};
+    });
     if (!positionsFresh) gridFresh = false;
     positionsFresh = velocitiesFresh = true;
 }
@@ -173,13 +175,14 @@ void World::Impl::flushEdits() {
         dropSimulation();
         return;
     }
-    ParticleState state;
+    ParticleState& state = stateBuffer;
     state.resize(ids.size());
-    for (size_t i = 0; i < ids.size(); ++i) {
+    mirrorLoop(loopThreads(), int64_t(ids.size()), [&](int64_t k) {
+        const size_t i = size_t(k);
         state.position[i] = Vec3<double>{positions[i].x, positions[i].y, positions[i].z};
         state.velocity[i] = Vec3<double>{velocities[i].x, velocities[i].y, velocities[i].z};
         state.species[i] = speciesIndex[i];
-    }
+    });
     if (sim) {
         const ContactCarryOver contacts = carriedImpulses(sim->backend().contactWarmStart(), sim->particleCount());
         sim->replaceParticles(scene.species, state);

@@ -634,6 +634,7 @@ private:
     mutable DeviceBuffer<gpu::ImpactRecord<Real>> m_logSorted;
     mutable DeviceBuffer<unsigned char> m_logSortScratch;
     mutable PinnedBuffer<gpu::ImpactRecord<Real>> m_hostLog;
+    std::vector<Vec3<Real>> m_uploadX, m_uploadV;  // setState's converted arrays, kept for their memory
     size_t m_logBound = 0;       // records written this step, at most
     int32_t m_logRound = 0;      // applyEvents calls this step
     // The log's sort and copy to m_hostLog queued behind the batched rounds (runImpactRounds: the count is
