@@ -305,7 +305,10 @@ Ray cursorRay(const corebox::OrbitCamera& camera, const ViewMap& map, double u, 
 class Sandbox {
 public:
     explicit Sandbox(const Options& options)
-        : m_world(worldDef(options)), m_box(m_world.boxSize()), m_flashImpulse(options.flashImpulse) {
+        : m_world(worldDef(options)),
+          m_box(m_world.boxSize()),
+          m_flashImpulse(options.flashImpulse),
+          m_worldOnGpu(options.backend == corebox::BackendKind::Cuda) {
         corebox::ParticleSpecies heavy;
         heavy.name = "heavy";
         heavy.mass = 20.0;
@@ -475,7 +478,9 @@ public:
         const corebox::Span<Vec3d> x = m_world.positions();
         out.x.resize(x.size);
         const int64_t n = int64_t(x.size);
-#pragma omp parallel for schedule(static) if (n >= 16384)
+        // Not beside a CPU world: its OpenMP team would spin on after the loop on the cores the step needs.
+        const bool everyCore = n >= 16384 && m_worldOnGpu;
+#pragma omp parallel for schedule(static) if (everyCore)
         for (int64_t k = 0; k < n; ++k) out.x[size_t(k)] = map.toRender(x[size_t(k)]);
         if (out.setEdits != m_setEdits) {
             const corebox::Span<int32_t> species = m_world.speciesIndices();
@@ -648,6 +653,7 @@ private:
     // clearing of ended flashes on the main thread between steps.
     std::vector<double> m_flashUntil;
     int64_t m_setEdits = 0;  // calls that added or removed balls (Drawn copies species and ids after one)
+    bool m_worldOnGpu = false;
     static constexpr double kNoFlash = -1e300;
     uint64_t m_seed = 0x9E3779B97F4A7C15ull;
 };

@@ -590,7 +590,10 @@ public:
         bool fromCandidates = m_candidatesValid && rest.gap <= m_candidateNearGap && candidatesStillHold();
         // A settled pile's rounds end before their third, where candidate lists are made (findEvents), so
         // every listing walked the cells. Made here, the lists serve this listing and, while they hold,
-        // the next steps' listings and rounds: the same contacts and events.
+        // the next steps' listings and rounds: the same contacts and events. A sparse scene pays a build
+        // where they do not hold; here assets/bouncing.toml (300 balls raining on a floor, 20,000 steps)
+        // took 4.41 and 4.48 s against 4.48 and 4.53, assets/pile.toml (600 steps) 3.79 and 3.82 against
+        // 3.78 and 3.78, with the same final states.
         if (!fromCandidates && rest.gap <= m_nearGap) {
             buildCandidates();
             fromCandidates = true;
@@ -671,6 +674,8 @@ public:
     // showed). With this sort (three runs each, interleaved, separate libraries, under Xvfb; the same state
     // hash): its contact phase 3.9 to 4.2 ms a frame against 4.5 to 4.7, frames 8.2 to 9.0 ms against 9.0
     // to 9.4, and 1, 0 and 1 frames past 1/60 s against 4, 2 and 1.
+    // The order is held in 32-bit indices (a listing of 2^32 contacts would need 200 GB); the buffers keep
+    // the largest listing's memory.
     void sortBottomUp() {
         const size_t m = m_contacts.size();
         m_sortKey.resize(m);
