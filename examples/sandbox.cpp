@@ -72,13 +72,13 @@ constexpr int64_t kMaxBalls = 2000000;
 // impact rounds and 8 contact sweeps a listing instead of corebox's 64 and 16. What a capped step leaves
 // goes to the contact solver, which stops it (restitution 0) rather than bounce it: a dense landing
 // bounces a little less; energy is never gained. Measured with the scripted session (the same code):
-// - 10^5 balls on an H200 (fp32, 420 frames, six runs in two calls): 5.8 to 6.0 ms a frame; no frame
-//   past 1/60 s in four runs, one in two (22.2 ms after the scripted shot's edit, 17.5 in the landing);
-//   the landing (frames 158 to 183) 13.1 to 13.8 ms a frame. With corebox's own (two calls): 7.0 to
-//   7.3 ms, 20 or 21 frames past, the slowest 21.4 to 22.4, the landing 17.6 to 18.5. At the end 0.0037
-//   kinetic energy a ball against 0.0029, the deepest overlap 1.7e-4 of a diameter against 6.9e-5.
-// - 2,000 balls on the CPU (2 cores, fp64, Xvfb, 600 frames, five runs): 8.3 to 8.8 ms a frame, 1 or 2
-//   frames past, the slowest 16.8 to 18.9 ms; with corebox's own (two runs) 10.1 and 10.2 ms, none
+// - 10^5 balls on an H200 (fp32, 420 frames, six runs in two calls): 5.6 to 5.8 ms a frame; no frame
+//   past 1/60 s in four runs, one in two (frame 177 of the landing, 16.8 and 17.1 ms); the landing
+//   (frames 158 to 183) 13.3 to 13.7 ms a frame. With corebox's own (two runs): 6.9 and 7.0 ms, 20 and
+//   21 frames past, the slowest 21.7 and 22.6, the landing 17.6 and 18.3. At the end 0.0037 kinetic
+//   energy a ball against 0.0029, the deepest overlap 1.7e-4 of a diameter against 6.9e-5.
+// - 2,000 balls on the CPU (2 cores, fp64, Xvfb, 600 frames, five runs): 8.6 to 9.1 ms a frame, 2 to 12
+//   frames past, the slowest 17.3 to 21.3 ms; with corebox's own (two runs) 9.9 and 11.5 ms, 2 and 17
 //   past. At the end 0.0086 kinetic energy a ball against 0.0049, the deepest overlap 9.5e-6 against
 //   7.9e-6.
 constexpr int kGameImpactRounds = 16;
