@@ -1,13 +1,12 @@
 #include "world_impl.h"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
 
 #include "errors.h"
+#include "state_conversions.h"
 #include "world_scene.h"
 
 namespace corebox {
@@ -16,21 +15,12 @@ namespace {
 
 std::string idText(ParticleId id) { return "particle " + std::to_string(id); }
 
-// The mirror's conversions are memory-bound loops on the thread that steps, while the GPU idles: long
-// loops run on the World's threads (short ones are not worth waking them). At 10^5 balls on an H200's
-// host (16 cores, the sandbox example, fp32, host probes) a landing frame's positions() took 0.27 ms
-// against 0.77 (two full-length passes on one thread) and 0.56 (chunked, one thread). Tried and not
-// kept: the contact log's two conversions (device records to the core's, then to the World's Contact)
-// chunked, then on every core: 0.24 ms a landing step against 0.27 and 0.22 against 0.23 (two calls;
-// about 25,000 impacts a step above the sandbox's flash threshold), most likely bound by the growth of
-// the contacts vector, which initialises each Contact on one thread (not measured apart).
-constexpr int64_t kParallelLoopFrom = 16384;
-
-template <class Fn>
-void mirrorLoop(int threads, int64_t n, Fn&& fn) {
-#pragma omp parallel for schedule(static) num_threads(threads) if (n >= kParallelLoopFrom && threads > 1)
-    for (int64_t i = 0; i < n; ++i) fn(i);
-}
+// The mirror's conversions run on the World's threads (state_conversions.h). Tried and not kept: the
+// contact log's two conversions (device records to the core's, then to the World's Contact) chunked,
+// then on every core: 0.24 ms a landing step against 0.27 and 0.22 against 0.23 (an H200's host, the
+// sandbox at 10^5 balls, two calls; about 25,000 impacts a step above the sandbox's flash threshold),
+// most likely bound by the growth of the contacts vector, which initialises each Contact on one thread
+// (not measured apart).
 
 }  // namespace
 
@@ -51,14 +41,12 @@ void World::Impl::bindThread() {
     else if (idleBackend) idleBackend->bindCallingThread();
 }
 
-int World::Impl::loopThreads() const { return def.threads > 0 ? def.threads : omp_get_max_threads(); }
-
 void World::Impl::ensureMirror() {
     if (positionsFresh && velocitiesFresh) return;
     bindThread();
     sim->readState(stateBuffer);
     const ParticleState& state = stateBuffer;
-    mirrorLoop(loopThreads(), int64_t(state.size()), [&](int64_t i) {
+    conversionLoop(int64_t(state.size()), def.threads, [&](int64_t i) {
         positions[size_t(i)] =
             Vec3d{state.position[size_t(i)].x, state.position[size_t(i)].y, state.position[size_t(i)].z};
         velocities[size_t(i)] =
@@ -71,10 +59,9 @@ void World::Impl::ensureMirror() {
 void World::Impl::ensurePositions() {
     if (positionsFresh) return;
     bindThread();
-    const int threads = loopThreads();
     sim->readPositions([&](size_t first, const Vec3<double>* x, size_t count) {
         Vec3d* out = positions.data() + first;
-        mirrorLoop(threads, int64_t(count), [&](int64_t k) { out[k] = Vec3d{x[k].x, x[k].y, x[k].z}; });
+        conversionLoop(int64_t(count), def.threads, [&](int64_t k) { out[k] = Vec3d{x[k].x, x[k].y, x[k].z}; });
     });
     positionsFresh = true;
     gridFresh = false;
@@ -177,7 +164,7 @@ void World::Impl::flushEdits() {
     }
     ParticleState& state = stateBuffer;
     state.resize(ids.size());
-    mirrorLoop(loopThreads(), int64_t(ids.size()), [&](int64_t k) {
+    conversionLoop(int64_t(ids.size()), def.threads, [&](int64_t k) {
         const size_t i = size_t(k);
         state.position[i] = Vec3<double>{positions[i].x, positions[i].y, positions[i].z};
         state.velocity[i] = Vec3<double>{velocities[i].x, velocities[i].y, velocities[i].z};

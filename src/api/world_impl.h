@@ -67,7 +67,6 @@ struct World::Impl {
     // Applies the live parameters of m_scene (fields, restitution, dt) to the running simulation.
     void applyLiveParameters();
     StepInfo stepOnce(double dt, double timeOffset, StepInfo info);
-    int loopThreads() const;  // the mirror's long loops: WorldDef::threads, 0 for every core
     double externalWork() const;
     double dissipated() const;
 

@@ -98,7 +98,7 @@ struct ContactRecord {
 };
 
 // Where a backend hands its positions (readPositions: first index, values, count), a chunk at a time,
-// possibly from several threads at once for disjoint chunks (position_chunks.h), inside a parallel
+// possibly from several threads at once for disjoint chunks (state_conversions.h), inside a parallel
 // region: a sink must not throw.
 using PositionSink = std::function<void(size_t first, const Vec3<double>* x, size_t count)>;
 

@@ -16,8 +16,8 @@
 #include "host_info.h"
 #include "list_forces.h"
 #include "pair_table.h"
-#include "position_chunks.h"
 #include "rk_stage.h"
+#include "state_conversions.h"
 #include "verlet_list.h"
 
 namespace corebox {

@@ -5,6 +5,7 @@
 
 #include "cuda_device.h"
 #include "pair_table.h"
+#include "state_conversions.h"
 
 namespace corebox {
 
@@ -187,11 +188,10 @@ void CudaDevice<Real>::setState(const ParticleState& state) {
     x.resize(padded);
     v.resize(padded);
     const int64_t n = int64_t(state.size());
-#pragma omp parallel for schedule(static) if (n >= 16384)
-    for (int64_t i = 0; i < int64_t(padded); ++i) {
+    conversionLoop(int64_t(padded), 0, [&](int64_t i) {
         x[size_t(i)] = i < n ? vec3Cast<Real>(state.position[size_t(i)]) : Vec3<Real>{0, 0, 0};
         v[size_t(i)] = i < n ? vec3Cast<Real>(state.velocity[size_t(i)]) : Vec3<Real>{0, 0, 0};
-    }
+    });
     onEachGpu([&](int k, Replica<Real>& r) {
         const size_t rows = size_t(slice(k).size());
         r.x.upload(x.data(), padded);
@@ -235,12 +235,11 @@ void CudaDevice<Real>::download(const DeviceBuffer<Vec3<Real>>& xd, const Device
     sync();
     out.resize(n);
     // On every core where long (the World reads the state back before each edit).
-#pragma omp parallel for schedule(static) if (n >= 16384)
-    for (int64_t i = 0; i < int64_t(n); ++i) {
+    conversionLoop(int64_t(n), 0, [&](int64_t i) {
         out.position[size_t(i)] = vec3Cast<double>(x[i]);
         out.velocity[size_t(i)] = vec3Cast<double>(v[i]);
         out.species[size_t(i)] = m_hostSpecies[size_t(i)];
-    }
+    });
 }
 
 // ---- reductions ----

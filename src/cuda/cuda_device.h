@@ -436,6 +436,7 @@ private:
     }
     CellSplit<Real> contactCellSplit();
     mutable PinnedBuffer<Vec3<Real>> m_hostStateX, m_hostStateV;  // the state downloads' staging
+    std::vector<Vec3<Real>> m_uploadX, m_uploadV;                 // setState's converted arrays, kept for their memory
 
     // A step's timing marks: Integrate, Collide, Done, and a pair around each force pass. Two sets, a
     // step's in one while the last step's may still be unread (phaseSeconds: read without a wait).
@@ -634,7 +635,6 @@ private:
     mutable DeviceBuffer<gpu::ImpactRecord<Real>> m_logSorted;
     mutable DeviceBuffer<unsigned char> m_logSortScratch;
     mutable PinnedBuffer<gpu::ImpactRecord<Real>> m_hostLog;
-    std::vector<Vec3<Real>> m_uploadX, m_uploadV;  // setState's converted arrays, kept for their memory
     size_t m_logBound = 0;       // records written this step, at most
     int32_t m_logRound = 0;      // applyEvents calls this step
     // The log's sort and copy to m_hostLog queued behind the batched rounds (runImpactRounds: the count is

@@ -2,7 +2,7 @@
 // slice to the home GPU before whole-state work, the scatter of what the home GPU changed back to
 // the slices' owners, and the downloads and device views that read the gathered state.
 #include "cuda_device.h"
-#include "position_chunks.h"
+#include "state_conversions.h"
 
 namespace corebox {
 
