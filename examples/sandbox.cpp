@@ -83,6 +83,7 @@ constexpr int64_t kMaxBalls = 2000000;
 //   7.9e-6.
 constexpr int kGameImpactRounds = 16;
 constexpr int kGameContactSweeps = 8;
+constexpr int kGameContactListings = 2;
 
 volatile std::sig_atomic_t g_interrupted = 0;
 void onSignal(int) { g_interrupted = 1; }
@@ -112,6 +113,7 @@ struct Options {
     int threads = 0;  // 0: worldThreads() picks
     int contactSweeps = kGameContactSweeps;  // WorldDef::contactSweeps; 0: corebox's own
     int impactRounds = kGameImpactRounds;    // WorldDef::impactRounds; 0: corebox's own
+    int contactListings = kGameContactListings;  // WorldDef::contactListings; 0: corebox's own
     bool headless = false;
     bool softwareGl = false;
     bool vsync = true;
@@ -135,6 +137,7 @@ const char* const kUsage =
     "                         pipelined: the main thread draws on it)\n"
     "  --contact-sweeps N     the contact solver's sweeps per listing (default 8; 0: corebox's own, 16)\n"
     "  --impact-rounds N      cap on the impact rounds per substep (default 16; 0: corebox's own, 64)\n"
+    "  --contact-listings N   cap on the contact solver's listings per substep (default 2; 0: corebox's own, 32)\n"
     "  --frames F             exit after F frames (default: until the window closes; headless 300)\n"
     "  --headless             no window: an EGL context rendering offscreen (same loop)\n"
     "  --software-gl          headless on Mesa's software renderer even where a GPU is present\n"
@@ -217,6 +220,8 @@ Options parseOptions(int argc, char** argv) {
             o.contactSweeps = int(parseInteger(flag, value(), 0, 1024));
         } else if (flag == "--impact-rounds") {
             o.impactRounds = int(parseInteger(flag, value(), 0, 4096));
+        } else if (flag == "--contact-listings") {
+            o.contactListings = int(parseInteger(flag, value(), 0, 32));
         } else if (flag == "--frames") {
             o.frames = parseInteger(flag, value(), 1);
             framesGiven = true;
@@ -564,6 +569,7 @@ private:
         def.threads = worldThreads(o);
         def.contactSweeps = o.contactSweeps;
         def.impactRounds = o.impactRounds;
+        def.contactListings = o.contactListings;
         def.recordContacts = o.flashes;
         def.contactMinImpulse = o.flashImpulse;  // only the impacts that flash
         return def;
@@ -798,10 +804,12 @@ const char* backendName(corebox::BackendKind b) { return b == corebox::BackendKi
 
 // What the World reported over the run (the sum of every advance()'s StepInfo).
 struct StepTotals {
-    int64_t substeps = 0, pairCollisions = 0, wallCollisions = 0, roundCapHits = 0;
-    double droppedTime = 0;
+    int64_t substeps = 0, pairCollisions = 0, wallCollisions = 0, roundCapHits = 0, contactListings = 0;
+    double droppedTime = 0, overlapLeft = 0;
     void add(const corebox::StepInfo& i) {
         substeps += i.substeps;
+        contactListings += i.contactListings;
+        overlapLeft = std::max(overlapLeft, i.overlapLeft);
         pairCollisions += i.pairCollisions;
         wallCollisions += i.wallCollisions;
         roundCapHits += i.roundCapHits;
@@ -836,8 +844,9 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         .add("samples", int64_t(frameSamples))
         .add("pipelined", o.pipelined)
         .add("record_contacts", o.flashes)
-        .add("contact_sweeps", int64_t(o.contactSweeps))  // 0: corebox's own cap
-        .add("impact_rounds", int64_t(o.impactRounds))    // 0: corebox's own cap
+        .add("contact_sweeps", int64_t(o.contactSweeps))          // 0: corebox's own cap
+        .add("impact_rounds", int64_t(o.impactRounds))            // 0: corebox's own cap
+        .add("contact_listings_cap", int64_t(o.contactListings))  // 0: corebox's own cap
         .add("width", int64_t(o.width))
         .add("height", int64_t(o.height))
         .add("frames", int64_t(samples.size()))
@@ -856,6 +865,8 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         .add("pair_collisions", steps.pairCollisions)
         .add("wall_collisions", steps.wallCollisions)
         .add("round_cap_hits", steps.roundCapHits)
+        .add("contact_listings", steps.contactListings)
+        .add("overlap_left_max", steps.overlapLeft)  // the deepest a step's contact phase left [contact distances]
         .add("simulated_time", game.world().time())
         .add("state_hash", hex(game.world().stateHash()))  // same inputs, backend and threads: same hash
         .add("dropped_time", steps.droppedTime)
@@ -875,7 +886,9 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         .add("per_frame_sim_ms", sandbox::column(samples, 0, &FrameSample::simMs))
         .add("per_frame_impacts_ms", sandbox::column(samples, 0, &FrameSample::impactsMs))
         .add("per_frame_contacts_ms", sandbox::column(samples, 0, &FrameSample::contactsMs))
-        .add("per_frame_render_ms", sandbox::column(samples, 0, &FrameSample::renderMs));
+        .add("per_frame_render_ms", sandbox::column(samples, 0, &FrameSample::renderMs))
+        .add("per_frame_listings", sandbox::column(samples, 0, &FrameSample::listings))
+        .add("per_frame_overlap_left", sandbox::column(samples, 0, &FrameSample::overlapLeft));
     std::ofstream out(o.statsPath);
     out << json.text(true) << "\n";
     out.close();
@@ -1077,6 +1090,8 @@ int run(const Options& o) {
         sample.impactsMs = 1e3 * info.secondsImpacts;
         sample.contactsMs = 1e3 * info.secondsContacts;
         sample.listingsMs = 1e3 * info.secondsListings;
+        sample.listings = info.contactListings;
+        sample.overlapLeft = info.overlapLeft;
         samples.push_back(sample);
         second.add(sample);
 

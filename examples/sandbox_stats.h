@@ -18,6 +18,8 @@ struct FrameSample {
     // Of simMs, the collision stage (corebox::StepInfo): impact rounds, the contact phase, and of it
     // the contact lists.
     double impactsMs = 0, contactsMs = 0, listingsMs = 0;
+    // The contact lists the step made, and the deepest overlap its contact phase left [contact distances].
+    double listings = 0, overlapLeft = 0;
 };
 
 struct Summary {

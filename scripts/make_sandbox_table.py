@@ -22,16 +22,18 @@ def row(path):
     hz = 1000.0 / frame["mean"]
     # Files from before pipelined frames and the samples choice: sequential frames, 4 samples a pixel.
     frames = "pipelined" if d.get("pipelined", False) else "sequential"
-    # The solver's caps as the run set them (0: corebox's own, 64 impact rounds and 16 sweeps); files from
-    # before the fields name them on the command line only.
+    # The solver's caps as the run set them (0: corebox's own, 64 impact rounds, 16 sweeps and 32 listings);
+    # files from before the fields name them on the command line only.
     def cap(field, flag):
         if field in d:
             return d[field]
         found = re.search(flag + r" (\d+)", d["command_line"])
         return int(found.group(1)) if found else 0
     sweeps, rounds = cap("contact_sweeps", "--contact-sweeps"), cap("impact_rounds", "--impact-rounds")
+    listings = cap("contact_listings_cap", "--contact-listings")
     solver = f", {rounds} impact rounds" if rounds else ""
     solver += f", {sweeps} sweeps" if sweeps else ""
+    solver += f", {listings} listings" if listings else ""
     samples = d.get("samples", 4)
     # Frames past 1/60 s and the slowest, after the skipped start-up frames.
     measured = d.get("per_frame_frame_ms", [])[d.get("skipped_frames", 10):]

@@ -66,6 +66,7 @@ typedef struct corebox_world_def {
     int device;                /* first CUDA device */
     int contact_sweeps;        /* cap on the contact solver's sweeps per listing; 0: corebox's own (16) */
     int impact_rounds;         /* cap on the impact rounds per step, 0 to 4096; 0: corebox's own (64) */
+    int contact_listings;      /* cap on the contact solver's listings per step, 0 to 32; 0: corebox's own (32) */
 } corebox_world_def;
 
 typedef struct corebox_step_info {
@@ -76,6 +77,8 @@ typedef struct corebox_step_info {
     double seconds;                              /* wall time of the call [s] */
     /* of seconds: the impact rounds, the contact phase, and of it the contact lists [s] */
     double seconds_impacts, seconds_contacts, seconds_listings;
+    int contact_listings; /* contact lists made (all steps) */
+    double overlap_left;  /* deepest overlap the contact phase left at a step's end [fraction of a contact distance] */
 } corebox_step_info;
 
 typedef struct corebox_contact {

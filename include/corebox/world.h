@@ -137,6 +137,15 @@ struct WorldDef {
     // slowest 68 / 54 / 49 / 47 (the landing's contact phase stays), the cap hit in 87 / 117 / 150 /
     // 211 of 1680 steps, 21 / 19 / 14 / 9 million pair impacts; the same rest and overlaps.
     int impactRounds = 0;
+    // Cap on the contact solver's listings per step: overlaps deeper than 2% of a diameter after a
+    // listing's sweeps are listed again, as the sweeps' moves bring neighbours into contact; 0: corebox's
+    // own, 32; at most 32. What the last listing leaves, the next step's contact solver takes on, as a
+    // game engine's fixed iteration budget does. Where it pays: a landing of many balls at once. The
+    // sandbox example at 10^5 balls (one H200, fp32, scripted, 16 impact rounds and 8 sweeps, one call)
+    // with caps 32 / 2 / 1: the landing 13.7 to 13.9 / 11.7 to 11.8 / 8.8 to 9.0 ms a frame, the slowest
+    // frame 16.1 to 16.5 / 13.8 to 14.4 / 11.5 to 11.7; the deepest overlap a step left 0.56% / 0.81% /
+    // 6.5% of a diameter (StepInfo::overlapLeft); the same rest at the end.
+    int contactListings = 0;
 };
 
 // One particle to add.
@@ -188,6 +197,12 @@ struct StepInfo {
     // kernels end inside the impact rounds' time). The rest is the integration as the host saw it,
     // edits flushed to the backend and the contact records.
     double secondsImpacts = 0, secondsContacts = 0, secondsListings = 0;
+    // The contact phase: the contact lists it made (a landing lists again where overlaps are deep;
+    // WorldDef::contactListings caps them a step), and the deepest overlap it left at the end of a step,
+    // as its last sweep measured it [fraction of a contact distance]. What one step leaves, the next
+    // step's contact phase takes on.
+    int contactListings = 0;
+    double overlapLeft = 0;
 };
 
 // The energy balance [m sigma^2 / tau^2]: kinetic + potential + dissipated - external stays constant
@@ -210,7 +225,7 @@ public:
     // A world from a scene file (DESIGN.md sec. 3: box, species, interaction, integrator, the initial
     // particles with ids 0 .. N-1, its thermostat if it has one), on `def`'s backend, threads, device,
     // recordContacts and contactMinImpulse; the scene's precision, [devices], dt (as substep) and
-    // [interaction] (its contact_sweeps and max_collision_rounds too) apply.
+    // [interaction] (its contact_sweeps, contact_listings and max_collision_rounds too) apply.
     static World fromSceneFile(const std::string& path, const WorldDef& def = WorldDef{});
     ~World();
     World(World&&) noexcept;

@@ -88,6 +88,8 @@ void putInfo(const StepInfo& s, corebox_step_info* info) {
     info->seconds_impacts = s.secondsImpacts;
     info->seconds_contacts = s.secondsContacts;
     info->seconds_listings = s.secondsListings;
+    info->contact_listings = s.contactListings;
+    info->overlap_left = s.overlapLeft;
 }
 
 void keepContacts(corebox_world* w) {
@@ -147,6 +149,7 @@ void corebox_world_def_default(corebox_world_def* def) {
     def->device = d.device;
     def->contact_sweeps = d.contactSweeps;
     def->impact_rounds = d.impactRounds;
+    def->contact_listings = d.contactListings;
 }
 
 corebox_status corebox_world_create(const corebox_world_def* def, corebox_world** world) {
@@ -168,6 +171,7 @@ corebox_status corebox_world_create(const corebox_world_def* def, corebox_world*
         d.device = def->device;
         d.contactSweeps = def->contact_sweeps;
         d.impactRounds = def->impact_rounds;
+        d.contactListings = def->contact_listings;
         *world = new corebox_world{World(d), {}};
         return COREBOX_OK;
     });

@@ -262,6 +262,8 @@ StepInfo World::Impl::stepOnce(double dt, double timeOffset, StepInfo info) {
         info.secondsImpacts += r.secondsImpacts;
         info.secondsContacts += r.secondsContacts;
         info.secondsListings += r.secondsListings;
+        info.contactListings += r.contactListings;
+        info.overlapLeft = std::max(info.overlapLeft, r.contactOverlap);
         if (def.recordContacts) {
             sim->backend().readContactLog(logBuffer);
             for (const ContactRecord& c : logBuffer) {

@@ -46,6 +46,11 @@ Scene sceneOfWorldDef(const WorldDef& def) {
         throw InputError("WorldDef: impactRounds: must be 0 to " + std::to_string(roundsLimit) +
                          " (0: corebox's own cap, 64)");
     if (def.impactRounds > 0) scene.interaction.maxCollisionRounds = def.impactRounds;
+    const int listingsLimit = InteractionDef::kMaxContactListings;
+    if (!(def.contactListings >= 0 && def.contactListings <= listingsLimit))
+        throw InputError("WorldDef: contactListings: must be 0 to " + std::to_string(listingsLimit) +
+                         " (0: corebox's own cap, " + std::to_string(listingsLimit) + ")");
+    scene.interaction.contactListings = def.contactListings;
     if (!parseMethod(def.method, &scene.integrator.method)) throw InputError("WorldDef: method: " + methodTable().unknown(def.method));
     scene.integrator.dt = def.substep;
     scene.integrator.precision = def.precision;

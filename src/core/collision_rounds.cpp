@@ -11,26 +11,22 @@ namespace {
 // check reads a residual back from the device.
 constexpr int kSweepBatch = 8;
 // A relaxation that started from overlaps deeper than this fraction of a diameter lists again, up to
-// kMaxListings times. Those listings are not wasted: in the landing of the 40,000-ball pile (CPU, fp32,
-// the first 2.6 s, 615 steps, 421 of them listing again, 938 listings after the first) every later
-// listing held pairs the one before did not, 195 / 1139 / 3685 of them at the 10th / 50th / 90th
-// percentile: the sweeps' position moves bring neighbours within the resting gap. So listing again only
-// when an unlisted pair touches would save no listing.
-// 2% of a diameter, not 0.5%: at 10^6 balls some pair of the landing pile always starts a listing deeper
-// than 0.5%, so nearly every step listed again (up to 5 listings a step, each with its sweeps over the
-// whole pile) to mend a few pairs. `corebox bench pile` (an H200, fp32, the same call, 0.5% / 1% / 2%):
-// 10^6 balls 58.5 / 53.5 / 49.8 ms a frame (the last second 40.8 / 41.2 / 40.8), the largest overlap at
-// the end 3e-4 / 3e-4 / 5e-4 of a diameter, rest at 2.20 s in each; 10^5 balls 14.8 against 13.0 (0.5% /
-// 2%), overlap 3e-4 in both. The CPU here (2 threads, 0.5% / 2%): 10,000 balls 1.25 / 1.0 listings a
-// step, 55.8 / 56.6 ms a frame (fp32) and 58.9 / 54.9 (fp64), overlaps within 5e-5 in both, the same
-// rest times. Not deeper: with the impact rounds' cell lists skipped and sorted by counting (an H200,
-// fp32, one call, 2% / 3.5% / 5%) 10^6 balls took 47.2 / 45.4 / 44.3 ms a frame, 10^5 11.0 / 10.6 / 10.4,
-// the sandbox example at 10^5 balls 13.6 / 12.2 / 12.4, the piles as sound, but random dense
-// configurations handed to the stage (tests/physics/test_dense_contact.cpp, 12 sweeps a listing) were
-// left with overlaps of 1.7% to 2.5% of a diameter from 3% on, where the tests allow 1%: the last
-// listing's sweeps halve what it started from, about.
+// CollisionSettings::maxListings times. Those listings are not wasted: in the landing of the 40,000-ball pile (CPU,
+// fp32, the first 2.6 s, 615 steps, 421 of them listing again, 938 listings after the first) every later listing held
+// pairs the one before did not, 195 / 1139 / 3685 of them at the 10th / 50th / 90th percentile: the sweeps' position
+// moves bring neighbours within the resting gap. So listing again only when an unlisted pair touches would save no
+// listing. 2% of a diameter, not 0.5%: at 10^6 balls some pair of the landing pile always starts a listing deeper than
+// 0.5%, so nearly every step listed again (up to 5 listings a step, each with its sweeps over the whole pile) to mend a
+// few pairs. `corebox bench pile` (an H200, fp32, the same call, 0.5% / 1% / 2%): 10^6 balls 58.5 / 53.5 / 49.8 ms a
+// frame (the last second 40.8 / 41.2 / 40.8), the largest overlap at the end 3e-4 / 3e-4 / 5e-4 of a diameter, rest
+// at 2.20 s in each; 10^5 balls 14.8 against 13.0 (0.5% / 2%), overlap 3e-4 in both. The CPU here (2 threads, 0.5% /
+// 2%): 10,000 balls 1.25 / 1.0 listings a step, 55.8 / 56.6 ms a frame (fp32) and 58.9 / 54.9 (fp64), overlaps within
+// 5e-5 in both, the same rest times. Not deeper: with the impact rounds' cell lists skipped and sorted by counting (an
+// H200, fp32, one call, 2% / 3.5% / 5%) 10^6 balls took 47.2 / 45.4 / 44.3 ms a frame, 10^5 11.0 / 10.6 / 10.4, the
+// sandbox example at 10^5 balls 13.6 / 12.2 / 12.4, the piles as sound, but random dense configurations handed to the
+// stage (tests/physics/test_dense_contact.cpp, 12 sweeps a listing) were left with overlaps of 1.7% to 2.5% of a
+// diameter from 3% on, where the tests allow 1%: the last listing's sweeps halve what it started from, about.
 constexpr double kDeepOverlap = 0.02;
-constexpr int kMaxListings = 32;
 // A listing that is listed again (its overlaps deeper than kDeepOverlap) runs at most kRelistSweeps
 // sweeps: the next listing warm-starts from what they leave and sweeps on, over the pairs the moves
 // brought into contact. In a landing every listing ran to the sweep cap (16), 2.5 listings a step at
@@ -67,6 +63,7 @@ CollisionSettings collisionSettingsFor(const InteractionDef& interaction, double
     CollisionSettings settings;
     settings.maxRounds = interaction.maxCollisionRounds;
     if (interaction.contactSweeps > 0) settings.maxSweepsJacobi = settings.maxSweepsGaussSeidel = interaction.contactSweeps;
+    if (interaction.contactListings > 0) settings.maxListings = interaction.contactListings;
     settings.dt = dt;
     const double g = std::sqrt(interaction.gravity[0] * interaction.gravity[0] + interaction.gravity[1] * interaction.gravity[1] +
                                interaction.gravity[2] * interaction.gravity[2]);
@@ -126,7 +123,7 @@ void resolveCollisions(Backend& backend, const CollisionSettings& settings, Step
     // good part of a diameter, into neighbours that were not listed: list again after such a pass.
     double kinetic0 = 0, liftWork = 0;  // kinetic0: only read when something was listed (a reduction)
     ContactResidual<double> residual{0, 0};
-    for (int listing = 0; listing < kMaxListings; ++listing) {
+    for (int listing = 0; listing < settings.maxListings; ++listing) {
         const Clock::time_point listingStart = Clock::now();
         const int64_t listed = backend.listContacts(RestingContact<double>{settings.restingSpeed, settings.restingSpeed * settings.dt});
         report.secondsListings += std::chrono::duration<double>(Clock::now() - listingStart).count();
@@ -141,7 +138,7 @@ void resolveCollisions(Backend& backend, const CollisionSettings& settings, Step
         // Listed again (known at the listing where the backend measures it there, else after the first
         // sweep): Gauss-Seidel sweeps, on which kRelistSweeps was measured, and not the last listing allowed.
         const double listedDepth = backend.listedOverlap();
-        if (backend.relaxesGaussSeidel() && listing + 1 < kMaxListings) {
+        if (backend.relaxesGaussSeidel() && listing + 1 < settings.maxListings) {
             if (listedDepth >= kDeepOverlap) {
                 plan.maxSweeps = std::min(plan.maxSweeps, kRelistSweeps);
             } else if (listedDepth < 0) {

@@ -28,8 +28,17 @@ namespace fs = std::filesystem;
 const char* const kRootKeys[] = {"box", "species", "interaction", "integrator", "thermostat", "init", "devices"};
 const char* const kBoxKeys[] = {"size", "wall_restitution"};
 const char* const kSpeciesKeys[] = {"name", "count", "mass", "radius", "sigma", "epsilon", "color", "acceleration"};
-const char* const kInteractionKeys[] = {"mixing",      "cutoff",  "shift", "restitution", "gravity", "elastic_below_speed",
-                                        "max_collision_rounds", "contact_sweeps", "forces", "skin"};
+const char* const kInteractionKeys[] = {"mixing",
+                                        "cutoff",
+                                        "shift",
+                                        "restitution",
+                                        "gravity",
+                                        "elastic_below_speed",
+                                        "max_collision_rounds",
+                                        "contact_sweeps",
+                                        "contact_listings",
+                                        "forces",
+                                        "skin"};
 const char* const kIntegratorKeys[] = {"method", "dt", "precision", "adaptive", "tolerance"};
 const char* const kThermostatKeys[] = {"kind", "temperature", "tau"};
 const char* const kInitKeys[] = {"temperature", "seed", "placement", "particles"};
@@ -253,6 +262,12 @@ private:
         readInteger(sweeps, &sweepCount);
         check(sweeps, sweepCount <= INT_MAX, "must be <= " + std::to_string(INT_MAX));
         in->contactSweeps = static_cast<int>(std::max<int64_t>(sweepCount, -1));
+
+        Field listings = field(t, "interaction", "contact_listings");
+        int64_t listingCount = in->contactListings;
+        readInteger(listings, &listingCount);
+        check(listings, listingCount <= INT_MAX, "must be <= " + std::to_string(INT_MAX));
+        in->contactListings = static_cast<int>(std::max<int64_t>(listingCount, -1));
     }
 
     // x_ij: S rows of S numbers (validation checks them); an empty array means 1 for every pair.

@@ -106,6 +106,7 @@ std::string sceneToToml(const Scene& scene) {
         << "elastic_below_speed = " << number(in.elasticBelowSpeed) << "\n"
         << "max_collision_rounds = " << in.maxCollisionRounds << "\n"
         << "contact_sweeps = " << in.contactSweeps << "\n"
+        << "contact_listings = " << in.contactListings << "\n"
         << "forces = " << quoted(forceModelName(in.forces)) << "\n"
         << "skin = " << number(in.skin) << "\n";
 

@@ -105,6 +105,10 @@ private:
         check("interaction.max_collision_rounds", in.maxCollisionRounds >= 1 && in.maxCollisionRounds <= roundsLimit,
               "must be >= 1 and <= " + std::to_string(roundsLimit));
         check("interaction.contact_sweeps", in.contactSweeps >= 0, "must be >= 0 (0: the backend's own cap)");
+        check("interaction.contact_listings",
+              in.contactListings >= 0 && in.contactListings <= InteractionDef::kMaxContactListings,
+              "must be 0 to " + std::to_string(InteractionDef::kMaxContactListings) + " (0: corebox's own cap, " +
+                  std::to_string(InteractionDef::kMaxContactListings) + ")");
         // A zero skin would rebuild the lists whenever anything moves, i.e. every step.
         check("interaction.skin", finite(in.skin) && in.skin > 0,
               "must be a finite number > 0 (neighbour lists reach r_c + skin and are rebuilt when a particle has moved skin / 2; 0.3 is typical)");

@@ -72,7 +72,7 @@ int main(void) {
     CHECK(corebox_world_create(&bad, &none) == COREBOX_INPUT_ERROR && none == NULL);
     CHECK(strstr(corebox_last_error(), "mass") != NULL);
     corebox_world_def_default(&bad);
-    CHECK(bad.contact_sweeps == 0 && bad.impact_rounds == 0);  /* corebox's own caps */
+    CHECK(bad.contact_sweeps == 0 && bad.impact_rounds == 0 && bad.contact_listings == 0); /* corebox's own caps */
     bad.impact_rounds = 5000;
     CHECK(corebox_world_create(&bad, &none) == COREBOX_INPUT_ERROR && none == NULL);
     CHECK(strstr(corebox_last_error(), "impactRounds") != NULL);
@@ -80,6 +80,10 @@ int main(void) {
     bad.contact_sweeps = -1;
     CHECK(corebox_world_create(&bad, &none) == COREBOX_INPUT_ERROR && none == NULL);
     CHECK(strstr(corebox_last_error(), "contactSweeps") != NULL);
+    bad.contact_sweeps = 0;
+    bad.contact_listings = 33;
+    CHECK(corebox_world_create(&bad, &none) == COREBOX_INPUT_ERROR && none == NULL);
+    CHECK(strstr(corebox_last_error(), "contactListings") != NULL);
     CHECK(strlen(corebox_version()) >= 5);
 
     if (failures) fprintf(stderr, "%d check(s) failed\n", failures);

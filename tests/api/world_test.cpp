@@ -605,6 +605,58 @@ TEST_P(WorldTest, ImpactRoundsCapTheRounds) {
     }
 }
 
+// WorldDef::contactListings caps the contact solver's listings a step: a column fired into a heap with one
+// impact round a step leaves its impacts to the contact phase, overlaps deeper than 2% of a diameter, which
+// corebox's own cap lists again; a cap of one lists once a step at most and ends elsewhere; 32 is 0's; StepInfo
+// reports the listings and the overlap left; a cap below 0 or above 32 is refused by name.
+TEST_P(WorldTest, ContactListingsCapTheSolver) {
+    struct Run {
+        uint64_t hash = 0;
+        int mostListings = 0;
+        double overlapLeft = -1;
+    };
+    auto drop = [&](int listings) {
+        WorldDef d = def();
+        d.impactRounds = 1;
+        d.contactListings = listings;
+        std::unique_ptr<World> w = make(d);
+        Run run;
+        if (!w) return run;
+        std::vector<ParticleDef> balls;
+        for (int k = 0; k < 200; ++k)
+            balls.push_back(ParticleDef{
+                0, Vec3d{10 + 1.05 * (k % 10), 0.6 + 1.05 * (k / 100), 10 + 1.05 * ((k / 10) % 10)}, Vec3d{0, 0, 0}});
+        for (int k = 0; k < 8; ++k) balls.push_back(ParticleDef{0, Vec3d{14.7, 4 + 1.2 * k, 14.7}, Vec3d{0, -12, 0}});
+        addAll(*w, balls);
+        for (int s = 0; s < 120; ++s) {
+            const corebox::StepInfo info = w->step(1.0 / 240.0);
+            run.mostListings = std::max(run.mostListings, info.contactListings);
+            run.overlapLeft = std::max(run.overlapLeft, info.overlapLeft);
+        }
+        run.hash = w->stateHash();
+        return run;
+    };
+    const Run own = drop(0);
+    if (own.hash == 0) GTEST_SKIP() << GetParam().name << ": not on this machine (DeviceError: " << m_missing << ")";
+    EXPECT_GE(own.mostListings, 2);
+    EXPECT_GE(own.overlapLeft, 0.0);
+    EXPECT_LT(own.overlapLeft, 0.02);  // corebox's own cap lists until the overlaps start below 2%
+    const Run one = drop(1);
+    EXPECT_EQ(one.mostListings, 1);
+    EXPECT_NE(one.hash, own.hash);
+    EXPECT_EQ(drop(32).hash, own.hash);  // corebox's own cap is 32
+    WorldDef bad = def();
+    for (const int listings : {-1, 33}) {
+        bad.contactListings = listings;
+        try {
+            World w(bad);
+            FAIL() << "contactListings = " << listings << " was accepted";
+        } catch (const corebox::InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("contactListings"), std::string::npos) << e.what();
+        }
+    }
+}
+
 TEST_P(WorldTest, StepInfoSplitsTheCollisionStagesTime) {
     MAKE_OR_SKIP(w, def());
     std::vector<ParticleDef> heap;

@@ -53,6 +53,7 @@ void expectSameScene(const Scene& a, const Scene& b) {
     EXPECT_EQ(a.interaction.elasticBelowSpeed, b.interaction.elasticBelowSpeed);
     EXPECT_EQ(a.interaction.maxCollisionRounds, b.interaction.maxCollisionRounds);
     EXPECT_EQ(a.interaction.contactSweeps, b.interaction.contactSweeps);
+    EXPECT_EQ(a.interaction.contactListings, b.interaction.contactListings);
     EXPECT_EQ(a.interaction.forces, b.interaction.forces);
     EXPECT_EQ(a.interaction.skin, b.interaction.skin);
     EXPECT_EQ(a.integrator.method, b.integrator.method);
@@ -221,6 +222,7 @@ TEST(SceneIoRoundTrip, EveryNonDefaultFieldSurvives) {
     scene.interaction.elasticBelowSpeed = 0;
     scene.interaction.maxCollisionRounds = 1;
     scene.interaction.contactSweeps = 24;
+    scene.interaction.contactListings = 3;
     scene.interaction.forces = ForceModel::NeighbourList;
     scene.interaction.skin = 0.45;
     scene.integrator.method = Method::Dp5;
@@ -266,6 +268,7 @@ TEST(SceneIoParse, MissingKeysTakeTheStructDefaults) {
     EXPECT_EQ(scene.interaction.shift, defaults.interaction.shift);
     EXPECT_EQ(scene.interaction.maxCollisionRounds, defaults.interaction.maxCollisionRounds);
     EXPECT_EQ(scene.interaction.contactSweeps, defaults.interaction.contactSweeps);
+    EXPECT_EQ(scene.interaction.contactListings, defaults.interaction.contactListings);
     EXPECT_EQ(scene.integrator.method, defaults.integrator.method);
     EXPECT_EQ(scene.integrator.dt, defaults.integrator.dt);
     EXPECT_EQ(scene.thermostat.kind, defaults.thermostat.kind);
@@ -438,7 +441,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"DuplicateKey", kOne + "count = 11 # <-\n", "", ""},
         BadScene{"UnknownTable", kOne + "[boxes] # <-\n", "boxes", "allowed: box, species, interaction"},
         BadScene{"UnknownRootKey", "dt = 0.1 # <-\n" + kOne, "dt", "allowed: box"},
-        BadScene{"UnknownBoxKey", kOne + "[box]\nsizes = [1, 1, 1] # <-\n", "box.sizes", "allowed: size, wall_restitution"},
+        BadScene{"UnknownBoxKey", kOne + "[box]\nsizes = [1, 1, 1] # <-\n", "box.sizes",
+                 "allowed: size, wall_restitution"},
         BadScene{"UnknownSpeciesKey", kOne + "[[species]]\ncount = 1\nname = \"B\"\nradios = 1 # <-\n",
                  "species[1].radios", "did you mean 'radius'"},
         BadScene{"UnknownInteractionKey", kOne + "[interaction]\nmix = 1 # <-\n", "interaction.mix", "mixing"},
@@ -446,7 +450,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"UnknownDevicesKey", kOne + "[devices]\ngpu = 2 # <-\n", "devices.gpu", "gpus"},
         BadScene{"ZeroGpus", kOne + "[devices]\ngpus = 0 # <-\n", "devices.gpus", "GPU count"},
         BadScene{"GpusNotAuto", kOne + "[devices]\ngpus = \"all\" # <-\n", "devices.gpus", "auto"},
-        BadScene{"UnknownExchange", kOne + "[devices]\nexchange = \"mpi\" # <-\n", "devices.exchange", "dts, dta, da, nccl"},
+        BadScene{"UnknownExchange", kOne + "[devices]\nexchange = \"mpi\" # <-\n", "devices.exchange",
+                 "dts, dta, da, nccl"},
         BadScene{"UnknownThermostatKey", kOne + "[thermostat]\ntarget = 1 # <-\n", "thermostat.target", "kind"},
         BadScene{"UnknownInitKey", kOne + "[init]\nfile = \"x\" # <-\n", "init.file", "particles"},
         BadScene{"BoxNotATable", "box = 10 # <-\n" + kOne, "box", "must be a table"},
@@ -476,8 +481,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"TotalCountZero", "[[species]] # <-\ncount = 0\n[[species]]\nname = \"B\"\ncount = 0\n", "species",
                  "total particle count is 0"},
         BadScene{"NameEmpty", kOne + "name = \"\" # <-\n", "species[0].name", "empty"},
-        BadScene{"NameDuplicated", kOne + "name = \"X\"\n[[species]]\ncount = 1\nname = \"X\" # <-\n", "species[1].name",
-                 "duplicate"},
+        BadScene{"NameDuplicated", kOne + "name = \"X\"\n[[species]]\ncount = 1\nname = \"X\" # <-\n",
+                 "species[1].name", "duplicate"},
         BadScene{"DefaultNameDuplicated", kOne + "[[species]]\ncount = 1\nname = \"A\" # <-\n", "species[1].name",
                  "duplicate"},
         BadScene{"ColorName", kOne + "color = \"red\" # <-\n", "species[0].color", "#rrggbb"},
@@ -502,11 +507,18 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"MixingTooBig", kOne + "[interaction]\nmixing = [[1.0, 0.5], [0.5, 1.0]] # <-\n", "interaction.mixing",
                  "1x1"},
         BadScene{"MixingNotAnArray", kOne + "[interaction]\nmixing = 0.5 # <-\n", "interaction.mixing", "1x1"},
-        BadScene{"MixingRowTooShort", kOne + "[[species]]\nname = \"B\"\ncount = 1\n[interaction]\nmixing = [\n  [1.0, 0.5],\n  [0.5]] # <-\n",
-                 "interaction.mixing[1]", "2x2"},
-        BadScene{"MixingAsymmetric", kOne + "[[species]]\nname = \"B\"\ncount = 1\n[interaction]\nmixing = [\n  [1.0, 0.5],\n  [0.4, 1.0]] # <-\n",
-                 "interaction.mixing[1][0]", "symmetric"},
-        BadScene{"MixingNegative", kOne + "[[species]]\nname = \"B\"\ncount = 1\n[interaction]\nmixing = [\n  [1.0, -0.5], # <-\n  [-0.5, 1.0]]\n",
+        BadScene{
+            "MixingRowTooShort",
+            kOne + "[[species]]\nname = \"B\"\ncount = 1\n[interaction]\nmixing = [\n  [1.0, 0.5],\n  [0.5]] # <-\n",
+            "interaction.mixing[1]", "2x2"},
+        BadScene{
+            "MixingAsymmetric",
+            kOne +
+                "[[species]]\nname = \"B\"\ncount = 1\n[interaction]\nmixing = [\n  [1.0, 0.5],\n  [0.4, 1.0]] # <-\n",
+            "interaction.mixing[1][0]", "symmetric"},
+        BadScene{"MixingNegative",
+                 kOne + "[[species]]\nname = \"B\"\ncount = 1\n[interaction]\nmixing = [\n  [1.0, -0.5], # <-\n  "
+                        "[-0.5, 1.0]]\n",
                  "interaction.mixing[0][1]", ">= 0"},
         BadScene{"MixingNotANumber", kOne + "[interaction]\nmixing = [[\"one\"]] # <-\n", "interaction.mixing[0][0]",
                  "number"},
@@ -520,7 +532,12 @@ INSTANTIATE_TEST_SUITE_P(
                  "interaction.max_collision_rounds", ">= 1"},
         BadScene{"MaxCollisionRoundsAboveTheLimit", kOne + "[interaction]\nmax_collision_rounds = 5000 # <-\n",
                  "interaction.max_collision_rounds", "<= 4096"},
-        BadScene{"ContactSweepsNegative", kOne + "[interaction]\ncontact_sweeps = -3 # <-\n", "interaction.contact_sweeps", ">= 0"},
+        BadScene{"ContactSweepsNegative", kOne + "[interaction]\ncontact_sweeps = -3 # <-\n",
+                 "interaction.contact_sweeps", ">= 0"},
+        BadScene{"ContactListingsNegative", kOne + "[interaction]\ncontact_listings = -1 # <-\n",
+                 "interaction.contact_listings", "0 to 32"},
+        BadScene{"ContactListingsAboveTheLimit", kOne + "[interaction]\ncontact_listings = 33 # <-\n",
+                 "interaction.contact_listings", "0 to 32"},
         BadScene{"MaxCollisionRoundsHuge", kOne + "[interaction]\nmax_collision_rounds = 9999999999 # <-\n",
                  "interaction.max_collision_rounds", "<="},
         // Integrator
