@@ -118,6 +118,7 @@ struct Options {
     bool softwareGl = false;
     bool vsync = true;
     bool pipelined = true;
+    int paceHz = 0;  // --pace: frames start on a grid of 1/paceHz, as a display's vertical sync paces them; 0: no wait
     int samples = corebox::GlfwWindow::kAutoSamples;  // multisampling; kAutoSamples: 4 on a GPU, 0 on software GL
     bool scripted = false;
     std::string scriptPath, screenshotPath, statsPath;
@@ -143,6 +144,9 @@ const char* const kUsage =
     "  --software-gl          headless on Mesa's software renderer even where a GPU is present\n"
     "  --size WxH             window or frame size in pixels (default 1280x720)\n"
     "  --no-vsync             do not wait for the display between frames\n"
+    "  --pace HZ              start frames on a 1/HZ grid, as a display's vertical sync does where there is\n"
+    "                         none (Xvfb, EGL): a frame presented after its period missed a refresh and the next\n"
+    "                         starts at the refresh after it (default 0: no wait)\n"
     "  --samples N|auto       multisampling of the frame (default auto: 4 on a GPU, none on a software renderer)\n"
     "  --sequential           step the world, then draw (default: the next frame's step runs while one is drawn)\n"
     "  --scripted             play the built-in session: spawn clicks, a shot at frame 30, removals\n"
@@ -229,6 +233,8 @@ Options parseOptions(int argc, char** argv) {
             o.headless = true;
         } else if (flag == "--software-gl") {
             o.softwareGl = true;
+        } else if (flag == "--pace") {
+            o.paceHz = int(parseInteger(flag, value(), 0, 1000));
         } else if (flag == "--no-vsync") {
             o.vsync = false;
         } else if (flag == "--samples") {
@@ -843,6 +849,7 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         .add("headless", o.headless)
         .add("samples", int64_t(frameSamples))
         .add("pipelined", o.pipelined)
+        .add("paced_hz", int64_t(o.paceHz))  // 0: frames ran back to back
         .add("record_contacts", o.flashes)
         .add("contact_sweeps", int64_t(o.contactSweeps))          // 0: corebox's own cap
         .add("impact_rounds", int64_t(o.impactRounds))            // 0: corebox's own cap
@@ -961,8 +968,14 @@ int run(const Options& o) {
 
     const Clock::time_point start = Clock::now();
     Clock::time_point lastReport = start;
+    // Paced frames (--pace): each starts at a refresh of a fixed grid, its time counted from that refresh,
+    // so a frame past the period is one a 60 Hz display would have shown a refresh late. The pipelined
+    // step goes on while the loop waits: the period is what one frame's step and drawing share.
+    Clock::time_point refresh = start;
+    const Clock::duration period =
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.paceHz > 0 ? 1.0 / o.paceHz : 0.0));
     for (int64_t frame = 0;; ++frame) {
-        const Clock::time_point frameStart = Clock::now();
+        const Clock::time_point frameStart = o.paceHz > 0 ? refresh : Clock::now();
         bool closed = false;
         std::vector<sandbox::Command> commands = frontend->poll(&closed);
         const auto scripted = script.equal_range(frame);
@@ -971,6 +984,7 @@ int run(const Options& o) {
         if (width <= 0 || height <= 0) {  // minimised: no frame to draw, no time to advance
             if (closed || g_interrupted) break;
             glfwWaitEventsTimeout(0.1);
+            refresh = Clock::now();  // paced: the grid starts again when there is a frame to draw
             --frame;
             continue;
         }
@@ -1112,6 +1126,13 @@ int run(const Options& o) {
             lastReport = Clock::now();
         }
         if (last) break;
+        if (o.paceHz > 0) {
+            Clock::time_point next = refresh + period;
+            const Clock::time_point now = Clock::now();
+            if (now > next) next += period * ((now - next) / period + 1);  // missed: the refresh after now
+            std::this_thread::sleep_until(next);
+            refresh = next;
+        }
     }
     if (stepping) {  // the step posted with the last frame: part of the session, not of a frame's time
         sandbox::FrameSample unused;

@@ -22,6 +22,7 @@ def row(path):
     hz = 1000.0 / frame["mean"]
     # Files from before pipelined frames and the samples choice: sequential frames, 4 samples a pixel.
     frames = "pipelined" if d.get("pipelined", False) else "sequential"
+    paced = f", paced {d['paced_hz']} Hz" if d.get("paced_hz", 0) else ""
     # The solver's caps as the run set them (0: corebox's own, 64 impact rounds, 16 sweeps and 32 listings);
     # files from before the fields name them on the command line only.
     def cap(field, flag):
@@ -39,9 +40,9 @@ def row(path):
     measured = d.get("per_frame_frame_ms", [])[d.get("skipped_frames", 10):]
     past = sum(1 for ms in measured if ms > 1000.0 / 60.0)
     late = f"{past} of {len(measured)}, {max(measured):.1f}" if measured else "n/a"
-    return (d["n_start"], d["backend"], frames != "pipelined", solver,
+    return (d["n_start"], d["backend"], frames != "pipelined", paced, solver,
             f"| {d['n_start']:,} | {d['backend']} {d['precision']} | {where} | {d['gl_renderer'].split(' (')[0]}, {samples or 1} sample{'s' if samples > 1 else ''} "
-            f"| {frames}{solver} | {sim['mean']:.1f} / {sim['median']:.1f} / {sim['p95']:.1f} | {render['mean']:.1f} "
+            f"| {frames}{paced}{solver} | {sim['mean']:.1f} / {sim['median']:.1f} / {sim['p95']:.1f} | {render['mean']:.1f} "
             f"| {frame['mean']:.1f} / {frame['median']:.1f} / {frame['p95']:.1f} "
             f"| {hz:.0f} | {late} | {d['pair_collisions']:,} | `{os.path.basename(path)}` |")
 
