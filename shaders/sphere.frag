@@ -20,7 +20,12 @@ out vec4 fragColor;
 // drawing against 4.3 to 4.5 in the landing, and the step that draws alongside slowed less (frames 7.6 to
 // 7.9 ms on average against 8.2 to 8.3); the landing's frame at 180 differed from the old drawing in 0.2%
 // of its pixels (ties where touching spheres meet). Mesa's llvmpipe draws no faster for it.
+// COREBOX_FLAT_DEPTH (RenderStyle::exactDepth false): no depth written; each sphere keeps its quad's depth,
+// that of its point nearest the eye, so the depth test runs before shading (a software rasteriser's
+// early test) and hidden fragments are never shaded.
+#ifndef COREBOX_FLAT_DEPTH
 layout(depth_greater) out float gl_FragDepth;
+#endif
 
 vec3 viridis(float t);
 
@@ -52,6 +57,8 @@ void main() {
     vec3 color = base * (0.18 + 0.62 * diffuse + 0.25 * fill) + vec3(0.28) * specular;
     fragColor = vec4(color, 1.0);
 
+#ifndef COREBOX_FLAT_DEPTH
     vec4 clip = uProjection * vec4(hit, 1.0);
     gl_FragDepth = 0.5 * (clip.z / clip.w) + 0.5;
+#endif
 }

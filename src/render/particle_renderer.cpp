@@ -53,15 +53,19 @@ std::string formatValue(float v) {
     return buf;
 }
 
+// viridis.frag before sphere.frag, the order tests/render/validate_shaders.sh links them in (glslang takes
+// sphere.frag's redeclared gl_FragDepth layout only after the units without one).
+GLuint buildSphereProgram(const char* fragmentText, const char* name) {
+    return buildProgram({{GL_VERTEX_SHADER, shaders::sphere_vert, "sphere.vert"},
+                         {GL_FRAGMENT_SHADER, shaders::viridis_frag, "viridis.frag"},
+                         {GL_FRAGMENT_SHADER, fragmentText, "sphere.frag"}},
+                        name);
+}
+
 }  // namespace
 
 ParticleRenderer::ParticleRenderer() {
-    // viridis.frag before sphere.frag, the order tests/render/validate_shaders.sh links them in (glslang
-    // takes sphere.frag's redeclared gl_FragDepth layout only after the units without one).
-    m_sphereProgram = buildProgram({{GL_VERTEX_SHADER, shaders::sphere_vert, "sphere.vert"},
-                                    {GL_FRAGMENT_SHADER, shaders::viridis_frag, "viridis.frag"},
-                                    {GL_FRAGMENT_SHADER, shaders::sphere_frag, "sphere.frag"}},
-                                   "sphere");
+    m_sphereProgram = buildSphereProgram(shaders::sphere_frag, "sphere");
     m_lineProgram = buildProgram({{GL_VERTEX_SHADER, shaders::lines_vert, "lines.vert"},
                                   {GL_FRAGMENT_SHADER, shaders::flat_frag, "flat.frag"}},
                                  "lines");
@@ -94,6 +98,7 @@ ParticleRenderer::ParticleRenderer() {
 
 ParticleRenderer::~ParticleRenderer() {
     glDeleteProgram(m_sphereProgram);
+    if (m_flatSphereProgram) glDeleteProgram(m_flatSphereProgram);
     glDeleteProgram(m_lineProgram);
     glDeleteProgram(m_overlayProgram);
     const GLuint buffers[3] = {m_instanceBuffer, m_lineBuffer, m_overlayBuffer};
@@ -127,6 +132,20 @@ void ParticleRenderer::upload(const ParticleInstance* instances, size_t n) {
     m_count = n;
 }
 
+// The flat-depth variant: sphere.frag with COREBOX_FLAT_DEPTH defined after its #version line.
+GLuint ParticleRenderer::sphereProgram(bool exactDepth) {
+    if (exactDepth) return m_sphereProgram;
+    if (!m_flatSphereProgram) {
+        std::string text = shaders::sphere_frag;
+        const size_t versionEnd = text.find('\n');
+        if (text.compare(0, 9, "#version ") != 0 || versionEnd == std::string::npos)
+            throw RenderError("sphere.frag: its first line is not a #version line");
+        text.insert(versionEnd + 1, "#define COREBOX_FLAT_DEPTH\n");
+        m_flatSphereProgram = buildSphereProgram(text.c_str(), "sphere (flat depth)");
+    }
+    return m_flatSphereProgram;
+}
+
 void ParticleRenderer::render(const OrbitCamera& camera, const std::array<float, 3>& boxSize, const RenderStyle& style,
                               int width, int height) {
     glViewport(0, 0, width, height);
@@ -141,16 +160,17 @@ void ParticleRenderer::render(const OrbitCamera& camera, const std::array<float,
     const glm::mat4 projection = camera.projection(aspect);
 
     if (m_count > 0) {
-        glUseProgram(m_sphereProgram);
-        glUniformMatrix4fv(glGetUniformLocation(m_sphereProgram, "uView"), 1, GL_FALSE, glm::value_ptr(view));
-        glUniformMatrix4fv(glGetUniformLocation(m_sphereProgram, "uProjection"), 1, GL_FALSE, glm::value_ptr(projection));
-        glUniform1i(glGetUniformLocation(m_sphereProgram, "uColorMode"), style.mode == ColorMode::Species ? 0 : 1);
+        const GLuint program = sphereProgram(style.exactDepth);
+        glUseProgram(program);
+        glUniformMatrix4fv(glGetUniformLocation(program, "uView"), 1, GL_FALSE, glm::value_ptr(view));
+        glUniformMatrix4fv(glGetUniformLocation(program, "uProjection"), 1, GL_FALSE, glm::value_ptr(projection));
+        glUniform1i(glGetUniformLocation(program, "uColorMode"), style.mode == ColorMode::Species ? 0 : 1);
         const GLsizei paletteSize = GLsizei(std::min<size_t>(style.palette.size(), 32));
         if (paletteSize > 0) {
-            glUniform3fv(glGetUniformLocation(m_sphereProgram, "uPalette"), paletteSize, style.palette[0].data());
+            glUniform3fv(glGetUniformLocation(program, "uPalette"), paletteSize, style.palette[0].data());
         }
-        glUniform1i(glGetUniformLocation(m_sphereProgram, "uPaletteSize"), paletteSize);
-        glUniform2f(glGetUniformLocation(m_sphereProgram, "uKeyRange"), style.keyMin, style.keyMax);
+        glUniform1i(glGetUniformLocation(program, "uPaletteSize"), paletteSize);
+        glUniform2f(glGetUniformLocation(program, "uKeyRange"), style.keyMin, style.keyMax);
         glBindVertexArray(m_sphereVao);
         // The impostors lie just before each sphere's tangent plane nearest the eye (sphere.vert): a sphere whose
         // nearest point is nearer than the near plane but whose centre is beyond it would lose its whole

@@ -45,8 +45,10 @@ private:
     void drawBox(const glm::mat4& viewProjection, const std::array<float, 3>& boxSize, const RenderStyle& style);
     void drawLegend(const RenderStyle& style, int width, int height);
     static float legendScale(int height);
+    GLuint sphereProgram(bool exactDepth);
 
     GLuint m_sphereProgram = 0, m_lineProgram = 0, m_overlayProgram = 0;
+    GLuint m_flatSphereProgram = 0;  // RenderStyle::exactDepth false; built when first drawn
     GLuint m_sphereVao = 0, m_instanceBuffer = 0;
     GLuint m_lineVao = 0, m_lineBuffer = 0;
     GLuint m_overlayVao = 0, m_overlayBuffer = 0;

@@ -31,6 +31,15 @@ struct RenderStyle {
     bool showBox = true;
     std::array<float, 3> background{0.055f, 0.06f, 0.075f};
     std::array<float, 3> boxColor{0.55f, 0.6f, 0.68f};
+    // true: each fragment's depth is its hit point's, so intersecting spheres meet along their true curve.
+    // false: a sphere is drawn at the depth of its point nearest the eye (shaders/sphere.frag,
+    // COREBOX_FLAT_DEPTH). Spheres that do not intersect (hard cores, equal radii) still hide each other
+    // as they should: the one nearer the eye lies on the eye's side of the plane that separates them.
+    // Intersecting spheres show the nearer one whole where they overlap on screen, and a small sphere
+    // touching a larger one near its rim can lose a sliver to it. Flat depth lets a software rasteriser
+    // test depth before shading: Mesa's llvmpipe drew the sandbox example's 2,000 balls (1280 x 720,
+    // this 2-core machine, alone) in 4.1 ms a frame against 6.1.
+    bool exactDepth = true;
 };
 
 }  // namespace corebox

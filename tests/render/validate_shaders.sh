@@ -15,6 +15,9 @@ for program in "${programs[@]}"; do
     (cd "$dir" && glslangValidator -l $program >/dev/null) || { echo "FAIL: $program"; (cd "$dir" && glslangValidator -l $program); failed=1; }
     covered+="$program "
 done
+# The sphere program's flat-depth variant (RenderStyle::exactDepth false), as the renderer builds it.
+(cd "$dir" && glslangValidator -DCOREBOX_FLAT_DEPTH -l sphere.vert viridis.frag sphere.frag >/dev/null) ||
+    { echo "FAIL: sphere program with COREBOX_FLAT_DEPTH"; (cd "$dir" && glslangValidator -DCOREBOX_FLAT_DEPTH -l sphere.vert viridis.frag sphere.frag); failed=1; }
 for f in "$dir"/*.vert "$dir"/*.frag; do
     name=$(basename "$f")
     [[ "$covered" == *" $name "* ]] || { echo "FAIL: $name is in no validated program"; failed=1; }
