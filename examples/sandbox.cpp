@@ -7,11 +7,12 @@
 //
 // What it shows of the library (include/corebox/world.h):
 // - a World from WorldDef's defaults but for a game's solver budget (kGameImpactRounds,
-//   kGameContactSweeps), a second species added with addSpecies (mass 20, radius 1), balls added with
-//   addParticles and each PlacementResult checked (overlaps are refused, never shifted),
-//   removeParticle after queryRadius, applyImpulse;
+//   kGameContactSweeps, kGameContactListings), a second species added with addSpecies (mass 20, radius 1), balls added
+//   with addParticles and each PlacementResult checked (overlaps are refused, never shifted), removeParticle after
+//   queryRadius, applyImpulse;
 // - the game loop: world.advance(1/60) once per rendered frame, spent in substeps of 1/240, on a worker
-//   thread while the main thread draws the frame before (pipelined frames; --sequential: step, then draw);
+//   thread while the main thread draws the frame before (pipelined frames; --sequential: step, then draw;
+//   --pace 60: frames start on a 60 Hz grid, as a display's vertical sync paces them);
 // - drawing from the public spans positions(), speciesIndices(), ids(): nothing of the backend;
 // - contacts(): impacts above an impulse threshold flash the balls they touch.
 // Simulation code sees <corebox/corebox.h> only; the rest is the renderer (src/render) and the
@@ -68,19 +69,23 @@ constexpr int kSkippedFrames = 10;       // --stats leaves out the first frames 
 constexpr double kBallRadius = 0.5;      // species 0: WorldDef's default ball
 constexpr double kLatticeSpacing = 1.2;  // start lattice: a diameter and a gap
 constexpr int64_t kMaxBalls = 2000000;
-// The solver's budget, as a game sets its solver iterations (WorldDef::impactRounds, contactSweeps): 16
-// impact rounds and 8 contact sweeps a listing instead of corebox's 64 and 16. What a capped step leaves
-// goes to the contact solver, which stops it (restitution 0) rather than bounce it: a dense landing
-// bounces a little less; energy is never gained. Measured with the scripted session (the same code):
-// - 10^5 balls on an H200 (fp32, 420 frames, six runs in two calls): 5.6 to 5.8 ms a frame; no frame
-//   past 1/60 s in four runs, one in two (frame 177 of the landing, 16.8 and 17.1 ms); the landing
-//   (frames 158 to 183) 13.3 to 13.7 ms a frame. With corebox's own (two runs): 6.9 and 7.0 ms, 20 and
-//   21 frames past, the slowest 21.7 and 22.6, the landing 17.6 and 18.3. At the end 0.0037 kinetic
-//   energy a ball against 0.0029, the deepest overlap 1.7e-4 of a diameter against 6.9e-5.
-// - 2,000 balls on the CPU (2 cores, fp64, Xvfb, 600 frames, five runs): 8.6 to 9.1 ms a frame, 2 to 12
-//   frames past, the slowest 17.3 to 21.3 ms; with corebox's own (two runs) 9.9 and 11.5 ms, 2 and 17
-//   past. At the end 0.0086 kinetic energy a ball against 0.0049, the deepest overlap 9.5e-6 against
-//   7.9e-6.
+// The solver's budget, as a game sets its solver iterations (WorldDef::impactRounds, contactSweeps,
+// contactListings): 16 impact rounds, 8 contact sweeps a listing and 2 listings a substep instead of
+// corebox's 64, 16 and 32. What a capped step leaves goes to the contact solver, which stops it
+// (restitution 0) rather than bounce it, or to the next step's contact solver: a dense landing bounces a
+// little less and its overlaps last a step or two longer; energy is never gained. Measured with the
+// scripted session (the same code):
+// - 10^5 balls on an H200 (fp32, 420 frames, six runs in one call): 5.6 ms a frame; no frame past 1/60 s,
+//   the slowest 12.8 to 13.7 ms; the landing (frames 158 to 183) 11.1 to 11.6 ms a frame. Without the
+//   listings' cap, 13.7 to 13.9 ms there, the slowest frame 16.1 to 16.5, and over 13 runs 4 frames past;
+//   with corebox's own caps 7.0 ms a frame and 20 past. The deepest overlap a step left 0.81% of a
+//   diameter (0.56% with 32 listings, 6.5% with one); at the end 0.0038 kinetic energy a ball against
+//   0.0029 with corebox's caps, the deepest overlap 1.5e-4 of a diameter against 6.9e-5.
+// - 2,000 balls on the CPU (2 cores, fp64, Xvfb, 600 frames, flat depth, ten runs: five unpaced, five
+//   paced at 60 Hz): 7.0 to 7.2 ms a frame unpaced, no frame past 1/60 s in any run, the slowest 12.0 to
+//   16.2 ms; with corebox's own caps 8.7 ms. This pile lists again too seldom for the listings' cap to
+//   act (the same state hash). At the end 0.0086 kinetic energy a ball against 0.0049, the deepest
+//   overlap 9.5e-6 against 7.9e-6.
 constexpr int kGameImpactRounds = 16;
 constexpr int kGameContactSweeps = 8;
 constexpr int kGameContactListings = 2;

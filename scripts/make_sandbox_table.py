@@ -19,7 +19,10 @@ def row(path):
     gpu = d["gpu"] if d["gpu"] not in (None, "cuda") else (d["gl_renderer"].split("/")[0] if d["gpu"] else None)
     where = gpu or (d["cpu"] + ", 2 cores")
     frame, sim, render = d["frame_ms"], d["sim_ms"], d["render_ms"]
-    hz = 1000.0 / frame["mean"]
+    # Paced runs wait for the next refresh between frames: their rate is the session's (frames over wall
+    # time), and a frame's time runs from its refresh to its present.
+    hz = d["frames"] / d["wall_s"] if d.get("paced_hz", 0) else 1000.0 / frame["mean"]
+    depth = ", flat depth" if d.get("exact_depth") is False else ""
     # Files from before pipelined frames and the samples choice: sequential frames, 4 samples a pixel.
     frames = "pipelined" if d.get("pipelined", False) else "sequential"
     paced = f", paced {d['paced_hz']} Hz" if d.get("paced_hz", 0) else ""
@@ -41,7 +44,7 @@ def row(path):
     past = sum(1 for ms in measured if ms > 1000.0 / 60.0)
     late = f"{past} of {len(measured)}, {max(measured):.1f}" if measured else "n/a"
     return (d["n_start"], d["backend"], frames != "pipelined", paced, solver,
-            f"| {d['n_start']:,} | {d['backend']} {d['precision']} | {where} | {d['gl_renderer'].split(' (')[0]}, {samples or 1} sample{'s' if samples > 1 else ''} "
+            f"| {d['n_start']:,} | {d['backend']} {d['precision']} | {where} | {d['gl_renderer'].split(' (')[0]}, {samples or 1} sample{'s' if samples > 1 else ''}{depth} "
             f"| {frames}{paced}{solver} | {sim['mean']:.1f} / {sim['median']:.1f} / {sim['p95']:.1f} | {render['mean']:.1f} "
             f"| {frame['mean']:.1f} / {frame['median']:.1f} / {frame['p95']:.1f} "
             f"| {hz:.0f} | {late} | {d['pair_collisions']:,} | `{os.path.basename(path)}` |")
