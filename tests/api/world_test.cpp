@@ -72,6 +72,16 @@ void addAll(World& w, const std::vector<ParticleDef>& ps) {
     for (const corebox::PlacementResult& p : w.addParticles(ps)) ASSERT_TRUE(p.placed) << p.reason;
 }
 
+// A definition the World must refuse with an InputError that names `field` (its message says what to change).
+void expectRefusedByName(const WorldDef& bad, const std::string& field, const std::string& value) {
+    try {
+        World w(bad);
+        ADD_FAILURE() << field << " = " << value << " was accepted";
+    } catch (const corebox::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+}
+
 TEST_P(WorldTest, IdsStayStableThroughAddsAndRemovals) {
     MAKE_OR_SKIP(w, def());
     addAll(*w, lattice(200, 1));
@@ -558,12 +568,7 @@ TEST_P(WorldTest, ContactSweepsCapTheSolver) {
     EXPECT_EQ(heap(16), own);  // corebox's own cap is 16
     WorldDef bad = def();
     bad.contactSweeps = -1;
-    try {
-        World w(bad);
-        FAIL() << "contactSweeps = -1 was accepted";
-    } catch (const corebox::InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("contactSweeps"), std::string::npos) << e.what();
-    }
+    expectRefusedByName(bad, "contactSweeps", "-1");
 }
 
 // WorldDef::impactRounds reaches the impact rounds: a column of balls falling onto a heap takes more
@@ -596,12 +601,7 @@ TEST_P(WorldTest, ImpactRoundsCapTheRounds) {
     WorldDef bad = def();
     for (const int rounds : {-1, 4097}) {  // at most 4096: a GPU keeps and clears two counters a round
         bad.impactRounds = rounds;
-        try {
-            World w(bad);
-            FAIL() << "impactRounds = " << rounds << " was accepted";
-        } catch (const corebox::InputError& e) {
-            EXPECT_NE(std::string(e.what()).find("impactRounds"), std::string::npos) << e.what();
-        }
+        expectRefusedByName(bad, "impactRounds", std::to_string(rounds));
     }
 }
 
@@ -648,12 +648,7 @@ TEST_P(WorldTest, ContactListingsCapTheSolver) {
     WorldDef bad = def();
     for (const int listings : {-1, 33}) {
         bad.contactListings = listings;
-        try {
-            World w(bad);
-            FAIL() << "contactListings = " << listings << " was accepted";
-        } catch (const corebox::InputError& e) {
-            EXPECT_NE(std::string(e.what()).find("contactListings"), std::string::npos) << e.what();
-        }
+        expectRefusedByName(bad, "contactListings", std::to_string(listings));
     }
 }
 

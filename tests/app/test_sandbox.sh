@@ -102,11 +102,21 @@ fi
 grep -q "^\[sandbox\] frame [0-9]*, t [0-9.]*: [0-9]* frames, [0-9.]* fps; sim [0-9.]* ms" "$work/err" && pass ||
     fail "no per-second summary on stderr: $(head -3 "$work/err")"
 grep -q "frame 30 (built-in): fire -> heavy ball from" "$work/err" && pass || fail "no shot at frame 30: $(grep fire "$work/err")"
-grep -q "no multisampling; pipelined frames" "$work/err" && pass || fail "no setup line: $(grep 'drawing with' "$work/err")"
+# On llvmpipe: no multisampling and flat sphere depth (--depth auto), the game's solver budget, unpaced.
+grep -q "no multisampling, flat depth; pipelined frames" "$work/err" && pass || fail "no setup line: $(grep 'drawing with' "$work/err")"
+python3 - "$work/s.json" <<'PY' && pass || fail "window stats: depth, pacing or solver caps not as set"
+import json, sys
+d = json.load(open(sys.argv[1]))
+want = {"exact_depth": False, "paced_hz": 0, "impact_rounds": 16, "contact_sweeps": 8, "contact_listings_cap": 2}
+bad = {k: d.get(k) for k, v in want.items() if d.get(k) != v}
+if bad:
+    print(bad)
+sys.exit(1 if bad else 0)
+PY
 
-# ---- the same session headless and sequential: the same state ------------------------------------------
+# ---- the same session headless, sequential and paced at 60 Hz, with exact depth: the same state ----------
 env -u DISPLAY -u WAYLAND_DISPLAY timeout 300 "$SANDBOX" --headless --software-gl --sequential --scripted --frames 120 --balls 500 --threads 2 --size 640x360 \
-    --screenshot "$work/h.png" --stats "$work/h.json" >"$work/hout" 2>"$work/herr"
+    --pace 60 --depth exact --screenshot "$work/h.png" --stats "$work/h.json" >"$work/hout" 2>"$work/herr"
 rc=$?
 [ $rc -eq 0 ] && pass || fail "headless run exit $rc: $(tail -5 "$work/herr")"
 if [ -s "$work/h.png" ]; then
@@ -120,6 +130,15 @@ if [ -s "$work/h.json" ]; then
 import json, sys
 a, b = (json.load(open(p)) for p in sys.argv[1:])
 sys.exit(0 if a["state_hash"] == b["state_hash"] and a["n_end"] == b["n_end"] else 1)
+PY
+    # Paced: the loop waits for each refresh, so 120 frames take at least 119 periods (a lower bound only).
+    python3 - "$work/h.json" <<'PY' && pass || fail "headless stats: not paced at 60 Hz with exact depth"
+import json, sys
+d = json.load(open(sys.argv[1]))
+ok = d.get("paced_hz") == 60 and d.get("exact_depth") is True and d.get("wall_s", 0) >= 119 / 60
+if not ok:
+    print(d.get("paced_hz"), d.get("exact_depth"), d.get("wall_s"))
+sys.exit(0 if ok else 1)
 PY
 fi
 
@@ -137,6 +156,9 @@ bad "unknown backend" "--backend" --backend gpu
 bad "negative balls" "--balls" --balls -3
 bad "zero frames" "--frames" --frames 0
 bad "unknown option" "--bogus" --bogus
+bad "unknown depth" "--depth" --depth deep
+bad "negative pace" "--pace" --pace -60
+bad "too many listings" "--contact-listings" --contact-listings 33
 bad "too many balls" "at most" --headless --balls 10000000
 bad "too many samples" "--samples: at most 16" --headless --samples 32
 bad "negative contact sweeps" "--contact-sweeps" --headless --contact-sweeps -2
