@@ -73,19 +73,10 @@ constexpr int64_t kMaxBalls = 2000000;
 // contactListings): 16 impact rounds, 8 contact sweeps a listing and 2 listings a substep instead of
 // corebox's 64, 16 and 32. What a capped step leaves goes to the contact solver, which stops it
 // (restitution 0) rather than bounce it, or to the next step's contact solver: a dense landing bounces a
-// little less and its overlaps last a step or two longer; energy is never gained. Measured with the
-// scripted session (the same code):
-// - 10^5 balls on an H200 (fp32, 420 frames, six runs in one call): 5.6 ms a frame; no frame past 1/60 s,
-//   the slowest 12.8 to 13.7 ms; the landing (frames 158 to 183) 11.1 to 11.6 ms a frame. Without the
-//   listings' cap, 13.7 to 13.9 ms there, the slowest frame 16.1 to 16.5, and over 13 runs 4 frames past;
-//   with corebox's own caps 7.0 ms a frame and 20 past. The deepest overlap a step left 0.81% of a
-//   diameter (0.56% with 32 listings, 6.5% with one); at the end 0.0038 kinetic energy a ball against
-//   0.0029 with corebox's caps, the deepest overlap 1.5e-4 of a diameter against 6.9e-5.
-// - 2,000 balls on the CPU (2 cores, fp64, Xvfb, 600 frames, flat depth, ten runs: five unpaced, five
-//   paced at 60 Hz): 7.0 to 7.2 ms a frame unpaced, no frame past 1/60 s in any run, the slowest 12.0 to
-//   16.2 ms; with corebox's own caps 8.7 ms. This pile lists again too seldom for the listings' cap to
-//   act (the same state hash). At the end 0.0086 kinetic energy a ball against 0.0049, the deepest
-//   overlap 9.5e-6 against 7.9e-6.
+// little less and its overlaps last a step or two longer; energy is never gained. With it the scripted
+// session holds 60 frames a second at 10^5 balls on an H200 and at 2,000 on a 2-core CPU, where
+// corebox's own caps miss frames of the landing; the piles end as sound (docs/library.md, "The
+// sandbox's frame times", has the figures).
 constexpr int kGameImpactRounds = 16;
 constexpr int kGameContactSweeps = 8;
 constexpr int kGameContactListings = 2;
@@ -152,7 +143,7 @@ const char* const kUsage =
     "  --no-vsync             do not wait for the display between frames\n"
     "  --pace HZ              start frames on a 1/HZ grid, as a display's vertical sync does where there is\n"
     "                         none (Xvfb, EGL): a frame presented after its period missed a refresh and the next\n"
-    "                         starts at the refresh after it (default 0: no wait)\n"
+    "                         starts at the refresh after it; the display's own sync is then off (default 0: no wait)\n"
     "  --samples N|auto       multisampling of the frame (default auto: 4 on a GPU, none on a software renderer)\n"
     "  --depth exact|flat|auto  spheres' depth: each fragment's own, or the sphere's nearest point's (touching\n"
     "                         balls look the same; a software renderer draws a third faster) (default auto:\n"
@@ -234,7 +225,7 @@ Options parseOptions(int argc, char** argv) {
         } else if (flag == "--impact-rounds") {
             o.impactRounds = int(parseInteger(flag, value(), 0, 4096));
         } else if (flag == "--contact-listings") {
-            o.contactListings = int(parseInteger(flag, value(), 0, 32));
+            o.contactListings = int(parseInteger(flag, value(), 0, corebox::WorldDef::kMaxContactListings));
         } else if (flag == "--frames") {
             o.frames = parseInteger(flag, value(), 1);
             framesGiven = true;
@@ -701,7 +692,7 @@ public:
 class WindowFrontend : public Frontend {
 public:
     explicit WindowFrontend(const Options& o) : m_window(o.width, o.height, "corebox sandbox", o.samples) {
-        m_window.setVsync(o.vsync);
+        m_window.setVsync(o.vsync && o.paceHz == 0);  // --pace is the vertical sync: the display's would fight it
     }
 
     void drawableSize(int* width, int* height) override { m_window.framebufferSize(width, height); }
@@ -837,8 +828,8 @@ struct StepTotals {
 };
 
 void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::FrameSample>& samples,
-                const StepTotals& steps, double wallSeconds, const std::string& glRenderer, int frameSamples,
-                bool exactDepth) {
+                const StepTotals& steps, double wallSeconds, double measuredSeconds, const std::string& glRenderer,
+                int frameSamples, bool exactDepth) {
     using sandbox::FrameSample;
     auto summary = [&](double FrameSample::*field) { return sandbox::summarise(sandbox::column(samples, kSkippedFrames, field)); };
     const sandbox::Summary frameSummary = summary(&FrameSample::frameMs);
@@ -866,9 +857,9 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         .add("pipelined", o.pipelined)
         .add("paced_hz", int64_t(o.paceHz))  // 0: frames ran back to back
         .add("record_contacts", o.flashes)
-        .add("contact_sweeps", int64_t(o.contactSweeps))          // 0: corebox's own cap
-        .add("impact_rounds", int64_t(o.impactRounds))            // 0: corebox's own cap
-        .add("contact_listings_cap", int64_t(o.contactListings))  // 0: corebox's own cap
+        .add("contact_sweeps", int64_t(o.contactSweeps))      // 0: corebox's own cap
+        .add("impact_rounds", int64_t(o.impactRounds))        // 0: corebox's own cap
+        .add("contact_listings", int64_t(o.contactListings))  // 0: corebox's own cap
         .add("width", int64_t(o.width))
         .add("height", int64_t(o.height))
         .add("frames", int64_t(samples.size()))
@@ -887,7 +878,7 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         .add("pair_collisions", steps.pairCollisions)
         .add("wall_collisions", steps.wallCollisions)
         .add("round_cap_hits", steps.roundCapHits)
-        .add("contact_listings", steps.contactListings)
+        .add("contact_listings_made", steps.contactListings)
         .add("overlap_left_max", steps.overlapLeft)  // the deepest a step's contact phase left [contact distances]
         .add("simulated_time", game.world().time())
         .add("state_hash", hex(game.world().stateHash()))  // same inputs, backend and threads: same hash
@@ -900,7 +891,8 @@ void writeStats(const Options& o, Sandbox& game, const std::vector<sandbox::Fram
         .add("render_ms", summary(&FrameSample::renderMs))
         .add("wait_ms", summary(&FrameSample::waitMs))
         .add("frame_ms", frameSummary)
-        .add("fps_mean", frameSummary.mean > 0 ? 1e3 / frameSummary.mean : 0.0);
+        .add("measured_s", measuredSeconds)  // from the first measured frame's start to the last one's present
+        .add("fps_mean", measuredSeconds > 0 ? double(frameSummary.count) / measuredSeconds : 0.0);
     const Sandbox::Soundness end = game.soundness();
     json.add("kinetic_per_ball_end", end.kineticPerBall).add("max_overlap_end", end.maxOverlap);
     // Every frame, the skipped ones too (scripts/plot_sandbox_frames.py draws them against time).
@@ -961,6 +953,7 @@ int run(const Options& o) {
     std::vector<sandbox::FrameSample> samples;
     sandbox::Window second;
     sandbox::Window shown;  // the last second's figures, on the HUD and in the title
+    double shownFps = 0;
     StepTotals steps;
     // Pipelined frames: the step of frame k + 1 runs on the worker while frame k is drawn (the drawing is
     // built from its own copy of the state, Sandbox::Drawn). The world is touched by one thread at a time:
@@ -991,10 +984,14 @@ int run(const Options& o) {
     // so a frame past the period is one a 60 Hz display would have shown a refresh late. The pipelined
     // step goes on while the loop waits: the period is what one frame's step and drawing share.
     Clock::time_point refresh = start;
+    // The measured frames' span (after the first kSkippedFrames), for the session's frame rate.
+    Clock::time_point measuredStart = start;
+    double measuredSeconds = 0;
     const Clock::duration period =
         std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.paceHz > 0 ? 1.0 / o.paceHz : 0.0));
     for (int64_t frame = 0;; ++frame) {
         const Clock::time_point frameStart = o.paceHz > 0 ? refresh : Clock::now();
+        if (frame == kSkippedFrames) measuredStart = frameStart;
         bool closed = false;
         std::vector<sandbox::Command> commands = frontend->poll(&closed);
         const auto scripted = script.equal_range(frame);
@@ -1093,7 +1090,7 @@ int run(const Options& o) {
             shown.frames == 0
                 ? std::string("measuring...")
                 : format("sim %.2f ms   render %.2f ms   frame %.2f ms   %.1f fps", shown.mean(shown.simMs),
-                         shown.mean(shown.renderMs), shown.mean(shown.frameMs), shown.fps()),
+                         shown.mean(shown.renderMs), shown.mean(shown.frameMs), shownFps),
             std::string(backendName(o.backend)) + " " + precisionName(o.precision) + "   " +
                 format("t %.2f   %.0f substeps of 1/240 this frame", drawn.time, double(info.substeps)),
             format("spawned %.0f (%.0f refused)   removed %.0f   fired %.0f", double(game.spawned),
@@ -1133,19 +1130,24 @@ int run(const Options& o) {
         if (msSince(lastReport) >= 1000.0 || last) {
             const double simMs = second.mean(second.simMs), renderMs = second.mean(second.renderMs);
             const double frameMs = second.mean(second.frameMs);
+            const double fps = second.fps(msSince(lastReport));
             frontend->setTitle("corebox sandbox - " + std::to_string(drawn.x.size()) + " balls - " +
-                               format("sim %.2f ms, render %.2f ms, %.1f fps", simMs, renderMs, second.fps()));
+                               format("sim %.2f ms, render %.2f ms, %.1f fps", simMs, renderMs, fps));
             std::fprintf(stderr,
                          "[sandbox] frame %lld, t %.2f: %d frames, %.1f fps; sim %.2f ms (max %.2f; impacts %.2f, "
                          "contacts %.2f), render %.2f ms, frame %.2f ms; %zu balls\n",
-                         (long long)frame, drawn.time, second.frames, second.fps(), simMs, second.simMaxMs,
+                         (long long)frame, drawn.time, second.frames, fps, simMs, second.simMaxMs,
                          second.mean(second.impactsMs), second.mean(second.contactsMs), renderMs, frameMs,
                          drawn.x.size());
             shown = second;
+            shownFps = fps;
             second = sandbox::Window{};
             lastReport = Clock::now();
         }
-        if (last) break;
+        if (last) {
+            if (frame >= kSkippedFrames) measuredSeconds = 1e-3 * msSince(measuredStart);
+            break;
+        }
         if (o.paceHz > 0) {
             Clock::time_point next = refresh + period;
             const Clock::time_point now = Clock::now();
@@ -1169,7 +1171,7 @@ int run(const Options& o) {
                  samples.size(), game.world().particleCount(), kSkippedFrames, s.mean, s.median, s.p95, s.max, f.mean,
                  f.median, f.p95, f.max);
     if (!o.statsPath.empty()) {
-        writeStats(o, game, samples, steps, wallSeconds, glRenderer, frontend->samples(), exactDepth);
+        writeStats(o, game, samples, steps, wallSeconds, measuredSeconds, glRenderer, frontend->samples(), exactDepth);
         std::fprintf(stderr, "[sandbox] statistics written to %s\n", o.statsPath.c_str());
     }
     return g_interrupted ? 130 : 0;

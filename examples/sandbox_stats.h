@@ -38,7 +38,8 @@ struct Window {
     double simMs = 0, impactsMs = 0, contactsMs = 0, renderMs = 0, frameMs = 0, simMaxMs = 0;
     int frames = 0;
     void add(const FrameSample& s);
-    double fps() const { return frameMs > 0 ? 1e3 * frames / frameMs : 0.0; }
+    // Frames over the wall time they spanned: paced frames (--pace) wait for their refresh outside frameMs.
+    double fps(double elapsedMs) const { return elapsedMs > 0 ? 1e3 * frames / elapsedMs : 0.0; }
     double mean(double total) const { return frames > 0 ? total / frames : 0.0; }
 };
 

@@ -19,9 +19,9 @@ def row(path):
     gpu = d["gpu"] if d["gpu"] not in (None, "cuda") else (d["gl_renderer"].split("/")[0] if d["gpu"] else None)
     where = gpu or (d["cpu"] + ", 2 cores")
     frame, sim, render = d["frame_ms"], d["sim_ms"], d["render_ms"]
-    # Paced runs wait for the next refresh between frames: their rate is the session's (frames over wall
-    # time), and a frame's time runs from its refresh to its present.
-    hz = d["frames"] / d["wall_s"] if d.get("paced_hz", 0) else 1000.0 / frame["mean"]
+    # The rate is the measured frames over the wall time they spanned (paced runs wait for each refresh
+    # outside a frame's time); files from before `measured_s` give 1000 / the mean frame time.
+    hz = d["fps_mean"] if "measured_s" in d else 1000.0 / frame["mean"]
     depth = ", flat depth" if d.get("exact_depth") is False else ""
     # Files from before pipelined frames and the samples choice: sequential frames, 4 samples a pixel.
     frames = "pipelined" if d.get("pipelined", False) else "sequential"
@@ -34,7 +34,7 @@ def row(path):
         found = re.search(flag + r" (\d+)", d["command_line"])
         return int(found.group(1)) if found else 0
     sweeps, rounds = cap("contact_sweeps", "--contact-sweeps"), cap("impact_rounds", "--impact-rounds")
-    listings = cap("contact_listings_cap", "--contact-listings")
+    listings = cap("contact_listings", "--contact-listings")
     solver = f", {rounds} impact rounds" if rounds else ""
     solver += f", {sweeps} sweeps" if sweeps else ""
     solver += f", {listings} listings" if listings else ""

@@ -1,6 +1,7 @@
 #version 450 core
 // Ray-sphere intersection per fragment: exact silhouette, per-pixel normal, Blinn-Phong lighting
-// and the true depth of the hit point, so spheres intersect and occlude correctly.
+// and the true depth of the hit point, so spheres intersect and occlude correctly (unless
+// COREBOX_FLAT_DEPTH, below).
 in vec3 vRayPoint;
 flat in vec3 vCentre;
 flat in float vRadius;

@@ -137,15 +137,15 @@ struct WorldDef {
     // slowest 68 / 54 / 49 / 47 (the landing's contact phase stays), the cap hit in 87 / 117 / 150 /
     // 211 of 1680 steps, 21 / 19 / 14 / 9 million pair impacts; the same rest and overlaps.
     int impactRounds = 0;
-    // Cap on the contact solver's listings per step: overlaps deeper than 2% of a diameter after a
-    // listing's sweeps are listed again, as the sweeps' moves bring neighbours into contact; 0: corebox's
-    // own, 32; at most 32. What the last listing leaves, the next step's contact solver takes on, as a
-    // game engine's fixed iteration budget does. Where it pays: a landing of many balls at once. The
-    // sandbox example at 10^5 balls (one H200, fp32, scripted, 16 impact rounds and 8 sweeps, one call)
-    // with caps 32 / 2 / 1: the landing 13.7 to 13.9 / 11.7 to 11.8 / 8.8 to 9.0 ms a frame, the slowest
-    // frame 16.1 to 16.5 / 13.8 to 14.4 / 11.5 to 11.7; the deepest overlap a step left 0.56% / 0.81% /
-    // 6.5% of a diameter (StepInfo::overlapLeft); the same rest at the end.
+    // Cap on the contact solver's listings per step: a listing whose overlaps were deeper than 2% of a
+    // diameter when it was made is listed again after its sweeps (their moves bring neighbours into
+    // contact); 0: corebox's own, kMaxContactListings. What the last listing leaves, the next step's
+    // contact solver takes on, as a game engine's fixed iteration budget does
+    // (StepInfo::overlapLeft says how deep). Where it pays: a landing of many balls at once; the
+    // sandbox example sets 2 (docs/library.md: its landing at 10^5 balls on an H200 a sixth faster,
+    // the deepest overlap a step left 0.8% of a diameter against 0.6%; with one listing 6.5%).
     int contactListings = 0;
+    static constexpr int kMaxContactListings = 32;
 };
 
 // One particle to add.

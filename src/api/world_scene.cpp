@@ -46,6 +46,7 @@ Scene sceneOfWorldDef(const WorldDef& def) {
         throw InputError("WorldDef: impactRounds: must be 0 to " + std::to_string(roundsLimit) +
                          " (0: corebox's own cap, 64)");
     if (def.impactRounds > 0) scene.interaction.maxCollisionRounds = def.impactRounds;
+    static_assert(WorldDef::kMaxContactListings == InteractionDef::kMaxContactListings, "one limit, said twice");
     const int listingsLimit = InteractionDef::kMaxContactListings;
     if (!(def.contactListings >= 0 && def.contactListings <= listingsLimit))
         throw InputError("WorldDef: contactListings: must be 0 to " + std::to_string(listingsLimit) +

@@ -50,9 +50,10 @@ struct InteractionDef {
     // Gauss-Seidel sweeps, CPU and GPU; 128 where the GPU falls back to Jacobi sweeps). Fewer trade
     // resting accuracy for speed, as a game engine's iteration count does.
     int contactSweeps = 0;
-    // Cap on the contact phase's listings per step (collision_rounds.cpp: overlaps deeper than 2% of a
-    // diameter are listed again after the sweeps); 0: corebox's own, kMaxContactListings. Fewer leave a
-    // landing's deep overlaps to the next steps, as a game engine's fixed iteration budget does.
+    // Cap on the contact phase's listings per step (collision_rounds.cpp: a listing whose overlaps were
+    // deeper than 2% of a diameter when it was made is listed again after its sweeps); 0: corebox's own,
+    // kMaxContactListings. Fewer leave a landing's deep overlaps to the next steps, as a game engine's
+    // fixed iteration budget does.
     int contactListings = 0;
     static constexpr int kMaxContactListings = 32;
     ForceModel forces = ForceModel::Auto;    // how pair forces are summed (force_model.h)

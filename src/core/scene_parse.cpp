@@ -162,6 +162,15 @@ private:
         *out = *integer;
     }
 
+    // A cap held as an int: above INT_MAX is refused here; below `floor` it is clamped to `floor`, which
+    // validation refuses alike (clamping keeps the narrowing well defined).
+    void readIntCap(const Field& f, int floor, int* out) const {
+        int64_t value = *out;
+        readInteger(f, &value);
+        check(f, value <= INT_MAX, "must be <= " + std::to_string(INT_MAX));
+        *out = static_cast<int>(std::max<int64_t>(value, floor));
+    }
+
     void readBool(const Field& f, bool* out) const {
         if (!f.node) return;
         auto value = f.node->value_exact<bool>();
@@ -250,24 +259,9 @@ private:
         readChoice(field(t, "interaction", "forces"), forceModelTable(), &in->forces);
         readNumber(field(t, "interaction", "skin"), &in->skin);
 
-        Field rounds = field(t, "interaction", "max_collision_rounds");
-        int64_t roundCount = in->maxCollisionRounds;
-        readInteger(rounds, &roundCount);
-        check(rounds, roundCount <= INT_MAX, "must be <= " + std::to_string(INT_MAX));
-        // Any count below 1 fails validation alike; clamping keeps the narrowing well defined.
-        in->maxCollisionRounds = static_cast<int>(std::max<int64_t>(roundCount, 0));
-
-        Field sweeps = field(t, "interaction", "contact_sweeps");
-        int64_t sweepCount = in->contactSweeps;
-        readInteger(sweeps, &sweepCount);
-        check(sweeps, sweepCount <= INT_MAX, "must be <= " + std::to_string(INT_MAX));
-        in->contactSweeps = static_cast<int>(std::max<int64_t>(sweepCount, -1));
-
-        Field listings = field(t, "interaction", "contact_listings");
-        int64_t listingCount = in->contactListings;
-        readInteger(listings, &listingCount);
-        check(listings, listingCount <= INT_MAX, "must be <= " + std::to_string(INT_MAX));
-        in->contactListings = static_cast<int>(std::max<int64_t>(listingCount, -1));
+        readIntCap(field(t, "interaction", "max_collision_rounds"), 0, &in->maxCollisionRounds);  // >= 1 valid
+        readIntCap(field(t, "interaction", "contact_sweeps"), -1, &in->contactSweeps);            // >= 0 valid
+        readIntCap(field(t, "interaction", "contact_listings"), -1, &in->contactListings);        // 0 to 32 valid
     }
 
     // x_ij: S rows of S numbers (validation checks them); an empty array means 1 for every pair.

@@ -98,7 +98,7 @@ ParticleRenderer::ParticleRenderer() {
 
 ParticleRenderer::~ParticleRenderer() {
     glDeleteProgram(m_sphereProgram);
-    if (m_flatSphereProgram) glDeleteProgram(m_flatSphereProgram);
+    glDeleteProgram(m_flatSphereProgram);  // 0 if never built: ignored
     glDeleteProgram(m_lineProgram);
     glDeleteProgram(m_overlayProgram);
     const GLuint buffers[3] = {m_instanceBuffer, m_lineBuffer, m_overlayBuffer};
@@ -175,7 +175,7 @@ void ParticleRenderer::render(const OrbitCamera& camera, const std::array<float,
         // The impostors lie just before each sphere's tangent plane nearest the eye (sphere.vert): a sphere whose
         // nearest point is nearer than the near plane but whose centre is beyond it would lose its whole
         // quad to the near clip. Clamped, the quad is drawn, and its fragments' hit depths (clamped as the
-        // old centre-plane quads' were) decide what shows.
+        // old centre-plane quads' were; with flat depth, the quad's own) decide what shows.
         glEnable(GL_DEPTH_CLAMP);
         glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(m_count));
         glDisable(GL_DEPTH_CLAMP);

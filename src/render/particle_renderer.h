@@ -1,5 +1,6 @@
 // OpenGL 4.5 core renderer (through libepoxy): particles as lit, ray-traced sphere impostors of
-// their true radius (instanced quads, correct depth), the box as edges, and a legend (species
+// their true radius (instanced quads; each fragment's true depth, or with RenderStyle::exactDepth false
+// each sphere's nearest point's), the box as edges, and a legend (species
 // swatches or a speed colour bar with its range). It owns its GL objects, including the particle
 // instance buffer; the CPU path uploads into it, the CUDA path (src/cuda) registers it for interop
 // and writes into it directly. Needs a current GL 4.5 context for its whole life.
@@ -18,7 +19,7 @@ namespace corebox {
 
 class ParticleRenderer {
 public:
-    ParticleRenderer();  // throws RenderError when a shader does not build
+    ParticleRenderer();  // throws RenderError when a shader does not build (the flat-depth variant: render())
     ~ParticleRenderer();
     ParticleRenderer(const ParticleRenderer&) = delete;
     ParticleRenderer& operator=(const ParticleRenderer&) = delete;

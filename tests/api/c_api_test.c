@@ -40,6 +40,7 @@ int main(void) {
     corebox_step_info info;
     CHECK(corebox_world_advance(world, 1.0 / 60.0, &info) == COREBOX_OK);
     CHECK(info.substeps == 4);
+    CHECK(info.contact_listings == 0 && info.overlap_left == 0.0); /* two balls in the air: nothing touches */
     CHECK(info.seconds_impacts >= 0 && info.seconds_listings >= 0 && info.seconds_listings <= info.seconds_contacts);
     CHECK(info.seconds_impacts + info.seconds_contacts <= info.seconds);
     const double* xyz = NULL;
@@ -48,6 +49,15 @@ int main(void) {
     CHECK(n == 2 && xyz != NULL);
     CHECK(xyz[1] > 10.0);  /* kicked up faster than gravity pulls it down in 1/60 s */
     CHECK(xyz[4] < 10.0);  /* the other fell */
+
+    /* A ball at rest on the floor: the contact solver lists it every step and leaves (almost) no overlap. */
+    uint64_t resting = 0;
+    const double floorSpot[3] = {20, 0.5, 20};
+    CHECK(corebox_world_add_particle(world, 0, floorSpot, still, &resting) == COREBOX_OK);
+    CHECK(corebox_world_step(world, 1.0 / 240.0, &info) == COREBOX_OK);
+    CHECK(info.contact_listings == 1);
+    CHECK(info.overlap_left >= 0.0 && info.overlap_left < 1e-3);
+    CHECK(corebox_world_remove_particle(world, resting) == COREBOX_OK);
 
     uint64_t found[4];
     size_t count = 0;

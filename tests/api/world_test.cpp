@@ -639,7 +639,7 @@ TEST_P(WorldTest, ContactListingsCapTheSolver) {
     const Run own = drop(0);
     if (own.hash == 0) GTEST_SKIP() << GetParam().name << ": not on this machine (DeviceError: " << m_missing << ")";
     EXPECT_GE(own.mostListings, 2);
-    EXPECT_GE(own.overlapLeft, 0.0);
+    EXPECT_GT(own.overlapLeft, 0.0);   // the pile's contacts leave some overlap: reported
     EXPECT_LT(own.overlapLeft, 0.02);  // corebox's own cap lists until the overlaps start below 2%
     const Run one = drop(1);
     EXPECT_EQ(one.mostListings, 1);

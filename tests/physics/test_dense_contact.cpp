@@ -85,6 +85,21 @@ ParticleState columnAt(int count, double bottom) {
     return st;
 }
 
+// 300 balls of radius 0.5 at random in the middle 8^3 of a 20^3 box (packing fraction 0.3 there: most
+// overlap several neighbours), with random velocities.
+ParticleState randomOverlaps(uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> where(6.0, 14.0), speed(-1.0, 1.0);
+    ParticleState st;
+    st.resize(300);
+    for (size_t i = 0; i < st.size(); ++i) {
+        st.position[i] = {where(rng), where(rng), where(rng)};
+        st.velocity[i] = {speed(rng), speed(rng), speed(rng)};
+        st.species[i] = 0;
+    }
+    return st;
+}
+
 Vec3<double> momentum(const ParticleState& st) {
     Vec3<double> p{0, 0, 0};
     for (const Vec3<double>& v : st.velocity) p += v;  // unit masses
@@ -96,21 +111,12 @@ Vec3<double> momentum(const ParticleState& st) {
 INSTANTIATE_TEST_SUITE_P(Backends, DenseContact, ::testing::ValuesIn(backendNames()), backendInstanceName);
 
 TEST_P(DenseContact, OverlapsHandedToTheStageAddNoEnergyAndKeepMomentum) {
-    // 300 balls of radius 0.5 dropped at random into the middle 8^3 of a 20^3 box (packing fraction
-    // 0.3 there: most overlap several neighbours), random velocities, no forces, no gravity. One step
-    // of 1e-6 moves nothing by itself; the collision stage must sort the overlaps out.
+    // 300 balls overlapping at random (randomOverlaps), no forces, no gravity. One step of 1e-6 moves
+    // nothing by itself; the collision stage must sort the overlaps out.
     for (uint64_t seed = 1; seed <= 8; ++seed) {
         Scene scene = hardSphereScene(300, 20.0, Method::Verlet, 1e-6);
         scene.interaction.restitution = 0.5;
-        std::mt19937_64 rng(seed);
-        std::uniform_real_distribution<double> where(6.0, 14.0), speed(-1.0, 1.0);
-        ParticleState st;
-        st.resize(300);
-        for (size_t i = 0; i < st.size(); ++i) {
-            st.position[i] = {where(rng), where(rng), where(rng)};
-            st.velocity[i] = {speed(rng), speed(rng), speed(rng)};
-            st.species[i] = 0;
-        }
+        const ParticleState st = randomOverlaps(seed);
         auto sim = makeSimulation(backendName(), scene, st);
         const ObservablesRow before = sim->observe();
         const double overlapBefore = worstOverlap(st, 0.5, scene.box.size);
@@ -428,6 +434,34 @@ TEST_P(DenseContact, TheScenesSweepCapBoundsEveryListing) {
     EXPECT_TRUE(capReached) << "no listing needed the cap: the test does not test it";
     EXPECT_GT(listings, 0);
     EXPECT_LE(sim->observe().conserved(), conserved0 + 1e-12 * std::abs(conserved0)) << sim->observe().conserved() - conserved0;
+}
+
+TEST_P(DenseContact, TheScenesListingCapLetsTheLastListingSweepToTheSweepCap) {
+    // [interaction] contact_listings caps a step's listings (a game's fixed budget). A listing that is to be
+    // listed again stops at 8 sweeps (kRelistSweeps, collision_rounds.cpp); the last one allowed has no
+    // listing after it and sweeps on to the cap (16). 300 balls overlapping by up to a third of a diameter
+    // (as in OverlapsHandedToTheStageAddNoEnergyAndKeepMomentum) list again without a cap; with a cap of 1
+    // or 2 the step lists that often at most and its last listing sweeps past 8. What is left is reported
+    // (StepReport::contactOverlap), and the step adds no energy either way.
+    auto run = [&](int cap) {
+        Scene scene = hardSphereScene(300, 20.0, Method::Verlet, 1e-6);
+        scene.interaction.restitution = 0.5;
+        scene.interaction.contactListings = cap;
+        auto sim = makeSimulation(backendName(), scene, randomOverlaps(3));
+        const double before = sim->observe().conserved();
+        const StepReport report = sim->step();
+        EXPECT_NEAR(sim->observe().conserved(), before, 1e-10) << "cap " << cap;
+        return report;
+    };
+    const StepReport uncapped = run(0);
+    ASSERT_GE(uncapped.contactListings, 3) << "the overlaps did not list again twice: the test tests nothing";
+    for (const int cap : {1, 2}) {
+        const StepReport r = run(cap);
+        EXPECT_EQ(r.contactListings, cap);
+        EXPECT_GT(r.contactSweeps, 8 * cap) << "cap " << cap << ": the last listing stopped as if listed again";
+        EXPECT_LE(r.contactSweeps, 8 * (cap - 1) + 16) << "cap " << cap;
+        EXPECT_GT(r.contactOverlap, 0.0) << "cap " << cap << ": what the capped step left is reported";
+    }
 }
 
 TEST_P(DenseContact, AWallPenetrationOlderThanTheStepAddsNoEnergy) {
