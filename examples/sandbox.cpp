@@ -101,6 +101,9 @@ struct UsageError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+// --depth: RenderStyle::exactDepth, or the renderer's choice (flat on a software rasteriser).
+enum class SphereDepth { Auto, Exact, Flat };
+
 struct Options {
     corebox::BackendKind backend = corebox::BackendKind::Cpu;
     corebox::Precision precision = corebox::Precision::Fp64;
@@ -116,7 +119,7 @@ struct Options {
     bool pipelined = true;
     int paceHz = 0;  // --pace: frames start on a grid of 1/paceHz, as a display's vertical sync paces them; 0: no wait
     int samples = corebox::GlfwWindow::kAutoSamples;  // multisampling; kAutoSamples: 4 on a GPU, 0 on software GL
-    std::string depth = "auto";                       // --depth: exact | flat | auto (flat on a software renderer)
+    SphereDepth depth = SphereDepth::Auto;            // --depth
     bool scripted = false;
     std::string scriptPath, screenshotPath, statsPath;
     int width = 1280, height = 720;
@@ -234,9 +237,15 @@ Options parseOptions(int argc, char** argv) {
         } else if (flag == "--software-gl") {
             o.softwareGl = true;
         } else if (flag == "--depth") {
-            o.depth = value();
-            if (o.depth != "exact" && o.depth != "flat" && o.depth != "auto")
-                throw UsageError("--depth: '" + o.depth + "' is not exact, flat or auto");
+            const std::string v = value();
+            if (v == "exact")
+                o.depth = SphereDepth::Exact;
+            else if (v == "flat")
+                o.depth = SphereDepth::Flat;
+            else if (v == "auto")
+                o.depth = SphereDepth::Auto;
+            else
+                throw UsageError("--depth: '" + v + "' is not exact, flat or auto");
         } else if (flag == "--pace") {
             o.paceHz = int(parseInteger(flag, value(), 0, 1000));
         } else if (flag == "--no-vsync") {
@@ -931,8 +940,8 @@ int run(const Options& o) {
     const std::string multisampling =
         frontend->samples() > 1 ? std::to_string(frontend->samples()) + " samples a pixel" : "no multisampling";
     // Flat depth where it pays: a software rasteriser then tests depth before shading (RenderStyle::exactDepth).
-    const bool exactDepth =
-        o.depth == "exact" || (o.depth == "auto" && !corebox::GlfwWindow::isSoftwareRenderer(glRenderer));
+    const bool exactDepth = o.depth == SphereDepth::Exact ||
+                            (o.depth == SphereDepth::Auto && !corebox::GlfwWindow::isSoftwareRenderer(glRenderer));
     std::fprintf(stderr,
                  "[sandbox] corebox %s, World on %s (%s), %lld balls; drawing with %s%s, %s, %s depth; %s frames\n",
                  corebox::version(), game.world().backendName().c_str(), precisionName(o.precision),
