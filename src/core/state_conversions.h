@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 
 #include "backend.h"
@@ -47,19 +48,26 @@ void conversionLoop(int64_t n, int threads, Fn&& fn) {
 
 constexpr size_t kPositionChunk = 2048;  // 48 KiB of doubles
 
-// Positions of another precision handed to a PositionSink as doubles, a chunk at a time, the chunks on
-// `threads` threads (0: every core): the sink converts them into its own memory from a chunk still in
-// cache, and no full-length array of doubles is written between.
+// Positions handed to a PositionSink (Backend::readPositions). Doubles go as they are, at once; another
+// precision as doubles a chunk at a time, the chunks on `threads` threads (0: every core): the sink
+// converts them into its own memory from a chunk still in cache, and no full-length array of doubles is
+// written between.
 template <class Real>
-void handInChunks(const Vec3<Real>* x, size_t count, const PositionSink& sink, int threads) {
-    const int64_t chunks = int64_t((count + kPositionChunk - 1) / kPositionChunk);
-    loopOnThreads(chunks, threads, int64_t(count) >= kParallelConversionFrom, [&](int64_t c) {
-        Vec3<double> chunk[kPositionChunk];
-        const size_t first = size_t(c) * kPositionChunk;
-        const size_t m = std::min(kPositionChunk, count - first);
-        for (size_t k = 0; k < m; ++k) chunk[k] = vec3Cast<double>(x[first + k]);
-        sink(first, chunk, m);
-    });
+void handPositions(const Vec3<Real>* x, size_t count, const PositionSink& sink, int threads) {
+    if (count == 0) return;
+    if constexpr (std::is_same<Real, double>::value) {
+        (void)threads;
+        sink(0, x, count);
+    } else {
+        const int64_t chunks = int64_t((count + kPositionChunk - 1) / kPositionChunk);
+        loopOnThreads(chunks, threads, int64_t(count) >= kParallelConversionFrom, [&](int64_t c) {
+            Vec3<double> chunk[kPositionChunk];
+            const size_t first = size_t(c) * kPositionChunk;
+            const size_t m = std::min(kPositionChunk, count - first);
+            for (size_t k = 0; k < m; ++k) chunk[k] = vec3Cast<double>(x[first + k]);
+            sink(first, chunk, m);
+        });
+    }
 }
 
 }  // namespace corebox

@@ -85,11 +85,7 @@ public:
     ParticleState state() const override { return toHost(m_x, m_v); }
 
     void readPositions(const PositionSink& sink) const override {
-        if constexpr (std::is_same<Real, double>::value) {
-            if (!m_x.empty()) sink(0, m_x.data(), m_x.size());
-        } else {
-            handInChunks(m_x.data(), m_x.size(), sink, m_threads);
-        }
+        handPositions(m_x.data(), m_x.size(), sink, m_threads);
     }
 
     void keepSnapshot() override {

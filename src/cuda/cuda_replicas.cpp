@@ -59,10 +59,7 @@ void CudaDevice<Real>::readPositions(const PositionSink& sink) const {
     cudaCheck(cudaMemcpyAsync(x, home().x.data(), n * sizeof(Vec3<Real>), cudaMemcpyDeviceToHost, stream()),
               "positions");
     sync();
-    if constexpr (std::is_same<Real, double>::value)
-        sink(0, x, n);
-    else
-        handInChunks(x, n, sink, 0);
+    handPositions(x, n, sink, 0);
 }
 
 template <class Real>

@@ -72,6 +72,22 @@ void addAll(World& w, const std::vector<ParticleDef>& ps) {
     for (const corebox::PlacementResult& p : w.addParticles(ps)) ASSERT_TRUE(p.placed) << p.reason;
 }
 
+// 200 balls at rest on the floor, two layers of 10 x 10 a hair apart (1.05 for a diameter of 1).
+std::vector<ParticleDef> heapOf200() {
+    std::vector<ParticleDef> heap;
+    for (int k = 0; k < 200; ++k)
+        heap.push_back(ParticleDef{0, Vec3d{10 + 1.05 * (k % 10), 0.6 + 1.05 * (k / 100), 10 + 1.05 * ((k / 10) % 10)},
+                                   Vec3d{0, 0, 0}});
+    return heap;
+}
+
+// The heap with a column of 8 balls above its middle, falling onto it at `speed`.
+std::vector<ParticleDef> heapWithColumn(double speed) {
+    std::vector<ParticleDef> balls = heapOf200();
+    for (int k = 0; k < 8; ++k) balls.push_back(ParticleDef{0, Vec3d{14.7, 4 + 1.2 * k, 14.7}, Vec3d{0, -speed, 0}});
+    return balls;
+}
+
 // A definition the World must refuse with an InputError that names `field` (its message says what to change).
 void expectRefusedByName(const WorldDef& bad, const std::string& field, const std::string& value) {
     try {
@@ -555,10 +571,7 @@ TEST_P(WorldTest, ContactSweepsCapTheSolver) {
         d.contactSweeps = sweeps;
         std::unique_ptr<World> w = make(d);
         if (!w) return uint64_t(0);
-        std::vector<ParticleDef> balls;
-        for (int k = 0; k < 200; ++k)
-            balls.push_back(ParticleDef{0, Vec3d{10 + 1.05 * (k % 10), 0.6 + 1.05 * (k / 100), 10 + 1.05 * ((k / 10) % 10)}, Vec3d{0, 0, 0}});
-        addAll(*w, balls);
+        addAll(*w, heapOf200());
         for (int f = 0; f < 30; ++f) w->advance(1.0 / 60.0);
         return w->stateHash();
     };
@@ -580,13 +593,7 @@ TEST_P(WorldTest, ImpactRoundsCapTheRounds) {
         d.impactRounds = rounds;
         std::unique_ptr<World> w = make(d);
         if (!w) return uint64_t(0);
-        std::vector<ParticleDef> balls;
-        for (int k = 0; k < 200; ++k) {
-            const Vec3d at{10 + 1.05 * (k % 10), 0.6 + 1.05 * (k / 100), 10 + 1.05 * ((k / 10) % 10)};
-            balls.push_back(ParticleDef{0, at, Vec3d{0, 0, 0}});
-        }
-        for (int k = 0; k < 8; ++k) balls.push_back(ParticleDef{0, Vec3d{14.7, 4 + 1.2 * k, 14.7}, Vec3d{0, -6, 0}});
-        addAll(*w, balls);
+        addAll(*w, heapWithColumn(6));
         *capHits = 0;
         for (int f = 0; f < 30; ++f) *capHits += w->advance(1.0 / 60.0).roundCapHits;
         return w->stateHash();
@@ -622,12 +629,7 @@ TEST_P(WorldTest, ContactListingsCapTheSolver) {
         std::unique_ptr<World> w = make(d);
         Run run;
         if (!w) return run;
-        std::vector<ParticleDef> balls;
-        for (int k = 0; k < 200; ++k)
-            balls.push_back(ParticleDef{
-                0, Vec3d{10 + 1.05 * (k % 10), 0.6 + 1.05 * (k / 100), 10 + 1.05 * ((k / 10) % 10)}, Vec3d{0, 0, 0}});
-        for (int k = 0; k < 8; ++k) balls.push_back(ParticleDef{0, Vec3d{14.7, 4 + 1.2 * k, 14.7}, Vec3d{0, -12, 0}});
-        addAll(*w, balls);
+        addAll(*w, heapWithColumn(12));
         for (int s = 0; s < 120; ++s) {
             const corebox::StepInfo info = w->step(1.0 / 240.0);
             run.mostListings = std::max(run.mostListings, info.contactListings);
@@ -654,10 +656,7 @@ TEST_P(WorldTest, ContactListingsCapTheSolver) {
 
 TEST_P(WorldTest, StepInfoSplitsTheCollisionStagesTime) {
     MAKE_OR_SKIP(w, def());
-    std::vector<ParticleDef> heap;
-    for (int k = 0; k < 200; ++k)
-        heap.push_back(ParticleDef{0, Vec3d{10 + 1.05 * (k % 10), 0.6 + 1.05 * (k / 100), 10 + 1.05 * ((k / 10) % 10)}, Vec3d{0, 0, 0}});
-    addAll(*w, heap);
+    addAll(*w, heapOf200());
     double impacts = 0, contacts = 0, listings = 0;
     for (int f = 0; f < 20; ++f) {
         const corebox::StepInfo info = w->advance(1.0 / 60.0);
